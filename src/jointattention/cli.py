@@ -1,0 +1,179 @@
+"""The command line: ``jointattention COMMAND --help`` documents each command."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from . import __version__
+from .errors import JointAttentionError
+
+__all__ = ["main"]
+
+
+def _add_config(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--config",
+        metavar="PRESET|FILE.toml",
+        help="a preset name or a TOML file (default: built-in defaults)",
+    )
+
+
+def _cmd_render(args: argparse.Namespace) -> None:
+    from .config import load_config
+    from .world.pictures import face_sheet, robot_view
+    from .world.simulator import World
+
+    config = load_config(args.config)
+    seed = config.seed if args.seed is None else args.seed
+    out = Path(args.out)
+    with World(config.world, seed=seed) as world:
+        print(robot_view(world, out / "robot_view.png"))
+        print(face_sheet(world, out / "face_windows.png"))
+
+
+def _cmd_datasets_make(args: argparse.Namespace) -> None:
+    from tqdm import tqdm
+
+    from .config import load_config
+    from .datasets import save
+    from .world.recording import make_datasets
+
+    config = load_config(args.config)
+    if args.n < 1:
+        raise JointAttentionError(f"--n {args.n}: expected at least 1 data set")
+    with tqdm(total=args.n, desc="data sets", unit="set", disable=args.quiet) as bar:
+        ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1))
+    print(save(ds, args.out))
+
+
+def _cmd_datasets_check(args: argparse.Namespace) -> None:
+    import numpy as np
+
+    from .datasets import default_datasets, load
+
+    ds = default_datasets() if args.file is None else load(args.file)
+    w, h = ds.window_size_px
+    cmd = np.rad2deg(ds.command_rad)
+    print(
+        f"{args.file or 'shipped default'}: {len(ds)} data sets, face windows {w}x{h}, "
+        f"commands pan [{cmd[:, 0].min():.1f}, {cmd[:, 0].max():.1f}] deg, "
+        f"tilt [{cmd[:, 1].min():.1f}, {cmd[:, 1].max():.1f}] deg, "
+        f"target positions {'present' if ds.target_m is not None else 'absent'}"
+    )
+
+
+def _cmd_bench(args: argparse.Namespace) -> None:
+    from .bench import run_world_benchmarks
+    from .config import load_config
+
+    for name, value, unit in run_world_benchmarks(load_config(args.config).world):
+        print(f"{name:<52} {value:>12,.0f} {unit}")
+
+
+def _cmd_config(args: argparse.Namespace) -> None:
+    from .config import load_config, preset_names, to_toml
+
+    if args.list:
+        print("\n".join(preset_names()))
+    else:
+        print(to_toml(load_config(args.config)), end="")
+
+
+def _cmd_demo(args: argparse.Namespace) -> None:
+    args.seed = None
+    _cmd_render(args)
+    args.file = None
+    _cmd_datasets_check(args)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="jointattention",
+        description="The bootstrap learning model for joint attention: simulated world, "
+        "data sets and experiments.",
+    )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    p = sub.add_parser(
+        "demo",
+        help="the main job: render the world and check the data sets",
+        description="Render the robot's view and the face windows into --out, "
+        "and check the shipped data sets.",
+    )
+    _add_config(p)
+    p.add_argument("--out", default="runs/demo", help="output folder (default: runs/demo)")
+    p.set_defaults(func=_cmd_demo)
+
+    p = sub.add_parser(
+        "render",
+        help="PNGs of the robot's view and of face windows",
+        description="Write robot_view.png (the room, the robot looking at the "
+        "caregiver and at its target) and face_windows.png (face "
+        "windows across gaze directions) into --out.",
+    )
+    _add_config(p)
+    p.add_argument("--seed", type=int, help="world seed (default: the configuration's)")
+    p.add_argument("--out", default="runs/render", help="output folder (default: runs/render)")
+    p.set_defaults(func=_cmd_render)
+
+    p = sub.add_parser(
+        "datasets",
+        help="make or check caregiver data sets",
+        description="Caregiver data sets in the paper's protocol.",
+    )
+    dsub = p.add_subparsers(dest="action", required=True, metavar="ACTION")
+    q = dsub.add_parser(
+        "make",
+        help="record N data sets from the simulated world",
+        description="Record N data sets (face window, head angle, command to "
+        "the target, target position) into OUT (.npz).",
+    )
+    _add_config(q)
+    q.add_argument("--n", type=int, default=125, help="number of data sets (default: 125)")
+    q.add_argument("--seed", type=int, default=0, help="world seed (default: 0)")
+    q.add_argument("--quiet", action="store_true", help="no progress bar")
+    q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
+    q.set_defaults(func=_cmd_datasets_make)
+    q = dsub.add_parser(
+        "check",
+        help="validate a data-set file and summarise it",
+        description="Validate FILE (default: the shipped data sets).",
+    )
+    q.add_argument("file", metavar="FILE", nargs="?", help="a data-set .npz file")
+    q.set_defaults(func=_cmd_datasets_check)
+
+    p = sub.add_parser(
+        "bench",
+        help="print rendering and fast-projection speeds",
+        description="Measure frames/s of rendering and projections/s of the "
+        "fast path at the configured image size.",
+    )
+    _add_config(p)
+    p.set_defaults(func=_cmd_bench)
+
+    p = sub.add_parser(
+        "config",
+        help="print a configuration as TOML",
+        description="Print the configuration (with every default) as TOML.",
+    )
+    _add_config(p)
+    p.add_argument("--list", action="store_true", help="list the shipped presets")
+    p.set_defaults(func=_cmd_config)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; user errors print one line and exit with status 2."""
+    args = build_parser().parse_args(argv)
+    try:
+        args.func(args)
+    except JointAttentionError as err:
+        print(f"jointattention: error: {err}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("jointattention: interrupted", file=sys.stderr)
+        return 130
+    return 0

@@ -1,0 +1,207 @@
+"""Validated configuration: one source for every parameter, with presets in TOML.
+
+Every field carries its help text and its allowed range; building a section checks them and
+raises :class:`~jointattention.errors.ConfigError` naming the field. Angles are in degrees in
+the configuration (readable) and in radians in the code that uses them (``*_rad`` names).
+"""
+
+from __future__ import annotations
+
+import tomllib
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+from ._fields import check_section, from_mapping, param, to_mapping
+from .errors import ConfigError
+
+__all__ = [
+    "CameraConfig",
+    "CaregiverConfig",
+    "Config",
+    "FaceWindowConfig",
+    "HeadConfig",
+    "LightingConfig",
+    "ObjectsConfig",
+    "WorldConfig",
+    "load_config",
+    "preset_names",
+    "to_toml",
+]
+
+
+class _Section:
+    def __post_init__(self) -> None:
+        check_section(self)
+
+
+@dataclass(frozen=True)
+class CameraConfig(_Section):
+    width_px: int = param(320, "image width W in pixels (the paper's d_th is W/6)", lo=16, hi=4096)
+    height_px: int = param(240, "image height in pixels", lo=16, hi=4096)
+    fov_deg: float = param(60.0, "horizontal field of view of the pinhole camera", lo=5, hi=150)
+    offset_m: tuple[float, float, float] = param(
+        (-0.03, 0.06, 0.05),
+        "optical centre in the head frame (right, forward, up) from the pan/tilt axes' "
+        "intersection: the left camera of a stereo head, as in the paper",
+        lo=-0.5,
+        hi=0.5,
+    )
+
+
+@dataclass(frozen=True)
+class HeadConfig(_Section):
+    pan_limits_deg: tuple[float, float] = param(
+        (-60.0, 60.0), "pan joint range (positive turns right)", lo=-170, hi=170
+    )
+    tilt_limits_deg: tuple[float, float] = param(
+        (-45.0, 35.0), "tilt joint range (positive looks up)", lo=-85, hi=85
+    )
+
+
+@dataclass(frozen=True)
+class CaregiverConfig(_Section):
+    distance_m: float = param(1.0, "distance of the caregiver's head from the robot", lo=0.3, hi=5)
+    height_m: float = param(0.05, "height of the caregiver's head above the robot's", lo=-1, hi=1)
+    position_noise_m: float = param(0.03, "s.d. of the caregiver's head position", lo=0, hi=0.3)
+    head_scale_range: tuple[float, float] = param(
+        (0.9, 1.1), "range of the caregiver's head size (identity)", lo=0.5, hi=2.0
+    )
+    head_turn_fraction: float = param(
+        0.8, "fraction of the gaze rotation made by the head; the eyes make the rest", lo=0, hi=1
+    )
+    pose_noise_deg: float = param(2.0, "s.d. of the head's yaw and pitch error", lo=0, hi=20)
+
+
+@dataclass(frozen=True)
+class ObjectsConfig(_Section):
+    n_objects: int = param(5, "number of salient objects in a scene", lo=1, hi=20)
+    radius_range_m: tuple[float, float] = param(
+        (0.025, 0.045), "range of the objects' radii", lo=0.005, hi=0.3
+    )
+    distance_range_m: tuple[float, float] = param(
+        (0.45, 0.85), "range of the objects' distances from the robot", lo=0.2, hi=5
+    )
+    pan_range_deg: tuple[float, float] = param(
+        (-45.0, 45.0), "range of the objects' directions in pan", lo=-170, hi=170
+    )
+    tilt_range_deg: tuple[float, float] = param(
+        (-35.0, 20.0), "range of the objects' directions in tilt", lo=-85, hi=85
+    )
+    min_gap_deg: float = param(
+        3.0, "least angular gap between two objects' edges, as seen by the robot", lo=0, hi=45
+    )
+    face_clearance_deg: float = param(
+        15.0,
+        "least angle between an object and the caregiver's face, as seen by the robot",
+        lo=0,
+        hi=90,
+    )
+
+
+@dataclass(frozen=True)
+class LightingConfig(_Section):
+    intensity_range: tuple[float, float] = param(
+        (0.55, 0.85), "range of the key light's diffuse intensity", lo=0, hi=1
+    )
+    position_jitter_m: float = param(0.5, "s.d. of the key light's position", lo=0, hi=3)
+
+
+@dataclass(frozen=True)
+class FaceWindowConfig(_Section):
+    width_px: int = param(30, "width of the caregiver's face window (paper: 30)", lo=4, hi=256)
+    height_px: int = param(25, "height of the caregiver's face window (paper: 25)", lo=4, hi=256)
+    margin: float = param(
+        1.15, "crop height as a multiple of the face's apparent height", lo=0.5, hi=4
+    )
+
+
+@dataclass(frozen=True)
+class WorldConfig(_Section):
+    camera: CameraConfig = CameraConfig()
+    head: HeadConfig = HeadConfig()
+    caregiver: CaregiverConfig = CaregiverConfig()
+    objects: ObjectsConfig = ObjectsConfig()
+    lighting: LightingConfig = LightingConfig()
+    face_window: FaceWindowConfig = FaceWindowConfig()
+
+    def __post_init__(self) -> None:
+        check_section(self)
+        for name, (lo, hi) in [
+            ("head.pan_limits_deg", self.head.pan_limits_deg),
+            ("head.tilt_limits_deg", self.head.tilt_limits_deg),
+            ("objects.radius_range_m", self.objects.radius_range_m),
+            ("objects.distance_range_m", self.objects.distance_range_m),
+            ("objects.pan_range_deg", self.objects.pan_range_deg),
+            ("objects.tilt_range_deg", self.objects.tilt_range_deg),
+            ("caregiver.head_scale_range", self.caregiver.head_scale_range),
+            ("lighting.intensity_range", self.lighting.intensity_range),
+        ]:
+            if lo > hi:
+                raise ConfigError(f"{name} = [{lo}, {hi}]: expected the low end first")
+        if self.objects.distance_range_m[1] >= self.caregiver.distance_m:
+            raise ConfigError(
+                f"objects.distance_range_m = {list(self.objects.distance_range_m)}: expected "
+                f"objects nearer than the caregiver (caregiver.distance_m = "
+                f"{self.caregiver.distance_m}), so that it can look at them"
+            )
+
+
+@dataclass(frozen=True)
+class Config(_Section):
+    """The whole configuration of a run."""
+
+    seed: int = param(0, "the seed every random stream of the run is born from", lo=0)
+    world: WorldConfig = WorldConfig()
+
+
+def preset_names() -> list[str]:
+    """The names of the presets shipped with the package."""
+    files = resources.files("jointattention.presets").iterdir()
+    return sorted(p.name.removesuffix(".toml") for p in files if p.name.endswith(".toml"))
+
+
+def load_config(source: str | Path | None = None) -> Config:
+    """A configuration from a preset name, a TOML file path, or the defaults if ``None``."""
+    if source is None:
+        return Config()
+    path = Path(source)
+    if path.suffix != ".toml":
+        if str(source) not in preset_names():
+            raise ConfigError(
+                f"{source}: no such preset; expected a .toml file or one of "
+                f"{', '.join(preset_names())}"
+            )
+        text = resources.files("jointattention.presets").joinpath(f"{source}.toml").read_text()
+    else:
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as err:
+            raise ConfigError(f"{path}: cannot read the configuration ({err.strerror})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise ConfigError(f"{source}: not valid TOML ({err})") from None
+    return from_mapping(Config, data)
+
+
+def to_toml(config: Config) -> str:
+    """The configuration as TOML text that :func:`load_config` reads back."""
+    return _dump_toml(to_mapping(config))
+
+
+def _dump_toml(mapping: dict, prefix: str = "") -> str:
+    def fmt(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, str):
+            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        if isinstance(v, list):
+            return "[" + ", ".join(fmt(x) for x in v) + "]"
+        return repr(v)
+
+    lines = [f"{k} = {fmt(v)}" for k, v in mapping.items() if not isinstance(v, dict)]
+    for k, v in mapping.items():
+        if isinstance(v, dict):
+            lines += ["", f"[{prefix}{k}]", _dump_toml(v, prefix=f"{prefix}{k}.").strip()]
+    return "\n".join(lines).strip() + "\n"

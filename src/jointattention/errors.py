@@ -1,0 +1,19 @@
+"""User-facing errors: each carries one line naming what was wrong and what was expected."""
+
+__all__ = ["ConfigError", "DatasetError", "JointAttentionError", "RenderingUnavailable"]
+
+
+class JointAttentionError(Exception):
+    """Base class for errors the command line reports as one line, without a traceback."""
+
+
+class ConfigError(JointAttentionError, ValueError):
+    """A configuration value or preset is out of range or malformed."""
+
+
+class DatasetError(JointAttentionError, ValueError):
+    """A caregiver data-set file is missing, malformed or of an unknown schema version."""
+
+
+class RenderingUnavailable(JointAttentionError, RuntimeError):
+    """No off-screen OpenGL backend (EGL or OSMesa) could be started."""

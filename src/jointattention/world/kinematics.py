@@ -1,0 +1,149 @@
+"""Head kinematics and the pinhole camera: where the robot looks, and where things appear.
+
+Frames. The world frame has its origin at the intersection of the pan and tilt axes, x to the
+robot's right, y forward, z up. Pan turns the head about -z (positive turns right), tilt about
+the panned x axis (positive looks up). The camera's optical centre sits at ``offset_m`` in the
+head frame, so it moves when the head turns: the nonlinearity the paper names.
+
+Pixels. ``u`` grows to the right, ``v`` downward; pixel centres lie on integers, so the image
+centre is ``((W - 1) / 2, (H - 1) / 2)``. This is OpenCV's convention, and MuJoCo renders the
+same pinhole (its frustum spans the pixel edges ``[0, W]``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..config import WorldConfig
+
+__all__ = ["HeadKinematics", "Unreachable"]
+
+
+class Unreachable(ValueError):
+    """No head angle centres the point (it is too close, or the camera cannot face it)."""
+
+
+def _rotation(pan_rad: float, tilt_rad: float) -> np.ndarray:
+    """Head orientation: columns are the head's right, forward and up axes in the world."""
+    cp, sp, ct, st = np.cos(pan_rad), np.sin(pan_rad), np.cos(tilt_rad), np.sin(tilt_rad)
+    pan = np.array([[cp, sp, 0.0], [-sp, cp, 0.0], [0.0, 0.0, 1.0]])  # rotation about -z
+    tilt = np.array([[1.0, 0.0, 0.0], [0.0, ct, -st], [0.0, st, ct]])  # rotation about +x
+    return pan @ tilt
+
+
+@dataclass(frozen=True)
+class HeadKinematics:
+    """The pan/tilt head and its offset pinhole camera (world geometry, not the robot's)."""
+
+    offset_m: tuple[float, float, float]
+    width_px: int
+    height_px: int
+    fov_deg: float
+    pan_limits_rad: tuple[float, float]
+    tilt_limits_rad: tuple[float, float]
+
+    @classmethod
+    def from_config(cls, world: WorldConfig) -> HeadKinematics:
+        cam, head = world.camera, world.head
+        return cls(
+            offset_m=cam.offset_m,
+            width_px=cam.width_px,
+            height_px=cam.height_px,
+            fov_deg=cam.fov_deg,
+            pan_limits_rad=tuple(np.deg2rad(head.pan_limits_deg)),
+            tilt_limits_rad=tuple(np.deg2rad(head.tilt_limits_deg)),
+        )
+
+    @property
+    def focal_px(self) -> float:
+        """Focal length in pixels, from the horizontal field of view."""
+        return (self.width_px / 2) / np.tan(np.deg2rad(self.fov_deg) / 2)
+
+    @property
+    def fovy_deg(self) -> float:
+        """Vertical field of view (what MuJoCo's camera takes)."""
+        return float(np.rad2deg(2 * np.arctan((self.height_px / 2) / self.focal_px)))
+
+    @property
+    def centre_px(self) -> np.ndarray:
+        """The image centre (c_x, c_y) of the paper's Eq. 2 and 3."""
+        return np.array([(self.width_px - 1) / 2, (self.height_px - 1) / 2])
+
+    def rotation(self, theta_rad) -> np.ndarray:
+        """Head orientation for head angle ``theta_rad = (pan, tilt)``."""
+        return _rotation(float(theta_rad[0]), float(theta_rad[1]))
+
+    def camera_position(self, theta_rad) -> np.ndarray:
+        """The optical centre in the world for head angle ``theta_rad``."""
+        return self.rotation(theta_rad) @ np.asarray(self.offset_m)
+
+    def gaze_direction(self, theta_rad) -> np.ndarray:
+        """Unit vector of the optical axis in the world for head angle ``theta_rad``."""
+        return self.rotation(theta_rad)[:, 1]
+
+    def to_camera(self, points_m, theta_rad) -> np.ndarray:
+        """World points (N, 3) in the camera frame: (right, depth, up)."""
+        rot = self.rotation(theta_rad)
+        return np.atleast_2d(points_m) @ rot - np.asarray(self.offset_m)
+
+    def project(self, points_m, theta_rad) -> tuple[np.ndarray, np.ndarray]:
+        """Pixel positions (N, 2) of world points and their depths (N,) along the optical axis.
+
+        Points behind the camera get NaN positions.
+        """
+        cam = self.to_camera(points_m, theta_rad)
+        depth = cam[:, 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            uv = self.centre_px + self.focal_px * np.stack(
+                [cam[:, 0] / depth, -cam[:, 2] / depth], axis=1
+            )
+        uv[depth <= 0] = np.nan
+        return uv, depth
+
+    def apparent_radius_px(self, points_m, radii_m, theta_rad) -> np.ndarray:
+        """Projected radius in pixels of spheres centred at ``points_m`` (exact on the axis)."""
+        dist = np.linalg.norm(self.to_camera(points_m, theta_rad), axis=1)
+        radii = np.asarray(radii_m, dtype=float)
+        with np.errstate(invalid="ignore"):
+            return self.focal_px * radii / np.sqrt(dist**2 - radii**2)
+
+    def within_limits(self, theta_rad) -> bool:
+        """Whether ``theta_rad`` lies inside the pan and tilt joint ranges."""
+        (p0, p1), (t0, t1) = self.pan_limits_rad, self.tilt_limits_rad
+        return bool(p0 <= theta_rad[0] <= p1 and t0 <= theta_rad[1] <= t1)
+
+    def clip(self, theta_rad) -> np.ndarray:
+        """``theta_rad`` clipped to the joint ranges."""
+        lo = (self.pan_limits_rad[0], self.tilt_limits_rad[0])
+        hi = (self.pan_limits_rad[1], self.tilt_limits_rad[1])
+        return np.clip(np.asarray(theta_rad, dtype=float), lo, hi)
+
+    def centring_angles(self, point_m) -> np.ndarray:
+        """The head angle (pan, tilt) that puts ``point_m`` on the optical axis.
+
+        Solved in closed form for the offset camera: the lateral offset fixes pan through
+        ``x' = o_x`` after un-panning, then the vertical offset fixes tilt through ``z'' = o_z``.
+        Joint limits are not applied; see :meth:`within_limits`.
+        """
+        px, py, pz = np.asarray(point_m, dtype=float)
+        ox, _, oz = self.offset_m
+        r = np.hypot(px, py)
+        if r <= abs(ox):
+            raise Unreachable(f"point {point_m} is inside the camera's lateral offset")
+        # x' = cos(pan) px - sin(pan) py = r cos(pan + gamma) must equal o_x.
+        gamma = np.arctan2(py, px)
+        candidates = [-gamma + s * np.arccos(ox / r) for s in (1.0, -1.0)]
+        pans = [np.arctan2(np.sin(p), np.cos(p)) for p in candidates]
+        # The right branch leaves the point in front (y' > 0 after un-panning).
+        pan = max(pans, key=lambda p: np.sin(p) * px + np.cos(p) * py)
+        y1 = np.sin(pan) * px + np.cos(pan) * py
+        rho = np.hypot(y1, pz)
+        if rho <= abs(oz):
+            raise Unreachable(f"point {point_m} is inside the camera's vertical offset")
+        tilt = np.arctan2(pz, y1) - np.arcsin(oz / rho)
+        theta = np.array([pan, tilt])
+        if self.to_camera(point_m, theta)[0, 1] <= 0:
+            raise Unreachable(f"point {point_m} lies behind the camera")
+        return theta

@@ -1,0 +1,62 @@
+"""Recording caregiver data sets from the simulated world (the paper's protocol)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from .. import __version__
+from ..config import WorldConfig, to_toml
+from ..datasets import CaregiverDatasets
+from ..imaging import face_window
+from .simulator import World
+
+__all__ = ["capture_face_window", "make_datasets"]
+
+
+def capture_face_window(world: World, image: np.ndarray | None = None) -> np.ndarray:
+    """The face window of the robot's current view, cropped around the caregiver's face."""
+    kin, state, fw = world.kinematics, world.state, world.config.face_window
+    theta = world.head_angle_rad
+    image = world.render() if image is None else image
+    centre = kin.project(state.head_pos_m, theta)[0][0]
+    radius = kin.apparent_radius_px(state.head_pos_m, [state.face_radius_m], theta)[0]
+    return face_window(image, centre, fw.margin * 2 * radius, (fw.width_px, fw.height_px))
+
+
+def make_datasets(
+    config: WorldConfig, n: int, seed: int, progress: Callable[[int], None] | None = None
+) -> CaregiverDatasets:
+    """``n`` data sets: in each a new scene; the robot looks at the caregiver's face, records
+    the face window and its head angle, and the command that would centre the target."""
+    if n < 1:
+        raise ValueError(f"n = {n}: expected at least one data set")
+    fw = config.face_window
+    faces = np.empty((n, fw.height_px, fw.width_px), np.uint8)
+    theta_face = np.empty((n, 2))
+    command = np.empty((n, 2))
+    target = np.empty((n, 3))
+    with World(config, seed=seed) as world:
+        for i in range(n):
+            state = world.reset()
+            theta_face[i] = world.face_angle_rad
+            world.set_head_angle(theta_face[i])
+            faces[i] = capture_face_window(world)
+            command[i] = world.kinematics.centring_angles(state.target_pos_m) - theta_face[i]
+            target[i] = state.target_pos_m
+            if progress is not None:
+                progress(i + 1)
+    meta = {
+        "generator": f"jointattention {__version__}",
+        "seed": seed,
+        "world_config_toml": to_toml_world(config),
+    }
+    return CaregiverDatasets(faces, theta_face, command, target, meta)
+
+
+def to_toml_world(config: WorldConfig) -> str:
+    """The world configuration as TOML (for provenance in the data-set file)."""
+    from ..config import Config
+
+    return to_toml(Config(world=config))

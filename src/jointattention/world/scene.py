@@ -1,0 +1,205 @@
+"""Scenes drawn at random: the caregiver (identity, place, gaze) and the salient objects.
+
+A :class:`SceneState` is a complete, immutable description of one scene; the simulator shows
+it, the fast projection projects it, and ground truth (the caregiver's target) lives in it.
+"""
+
+from __future__ import annotations
+
+import colorsys
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..config import WorldConfig
+from ..errors import ConfigError
+from .kinematics import HeadKinematics, Unreachable
+from .mjcf import HEAD_RADII_M
+
+__all__ = [
+    "Caregiver",
+    "SceneState",
+    "gaze_angles",
+    "sample_caregiver",
+    "sample_scene",
+    "with_target",
+]
+
+_SKIN_TONES = np.array(
+    [
+        [0.96, 0.80, 0.69],
+        [0.87, 0.67, 0.53],
+        [0.71, 0.51, 0.38],
+        [0.55, 0.38, 0.26],
+        [0.38, 0.26, 0.18],
+    ]
+)
+_HAIR_COLOURS = np.array(
+    [
+        [0.08, 0.06, 0.05],
+        [0.28, 0.18, 0.10],
+        [0.55, 0.42, 0.25],
+        [0.62, 0.60, 0.58],
+        [0.45, 0.20, 0.10],
+    ]
+)
+_MAX_TRIES = 2000
+
+
+@dataclass(frozen=True)
+class Caregiver:
+    """Who the caregiver is: head size and colours (its identity)."""
+
+    head_scale: float
+    skin_rgb: tuple[float, float, float]
+    hair_rgb: tuple[float, float, float]
+    shirt_rgb: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class SceneState:
+    """One scene: caregiver, its gaze, the objects, the light. Only the world sees it."""
+
+    caregiver: Caregiver
+    head_pos_m: np.ndarray  # (3,) centre of the caregiver's head
+    head_yaw_pitch_rad: np.ndarray  # (2,) head rotation; positive yaw turns to its left
+    eye_yaw_pitch_rad: np.ndarray  # (2,) eyes' rotation relative to the head
+    object_pos_m: np.ndarray  # (n, 3)
+    object_radius_m: np.ndarray  # (n,)
+    object_rgb: np.ndarray  # (n, 3) in [0, 1]
+    target_index: int  # the object the caregiver attends to
+    light_pos_m: np.ndarray  # (3,)
+    light_intensity: float
+
+    @property
+    def n_objects(self) -> int:
+        return len(self.object_radius_m)
+
+    @property
+    def target_pos_m(self) -> np.ndarray:
+        return self.object_pos_m[self.target_index]
+
+    @property
+    def face_radius_m(self) -> float:
+        """Half the apparent height of the head (the face window is cropped from it)."""
+        return HEAD_RADII_M[2] * self.caregiver.head_scale
+
+
+def gaze_angles(from_m, to_m) -> np.ndarray:
+    """(yaw, pitch) that turn a face looking along -y toward ``to_m``; pitch > 0 looks down."""
+    v = np.asarray(to_m, float) - np.asarray(from_m, float)
+    v = v / np.linalg.norm(v)
+    return np.array([np.arctan2(v[0], -v[1]), -np.arcsin(v[2])])
+
+
+def sample_caregiver(world: WorldConfig, rng: np.random.Generator) -> Caregiver:
+    """A caregiver identity: head size, skin, hair and shirt colours."""
+    lo, hi = world.caregiver.head_scale_range
+    skin = _SKIN_TONES[rng.integers(len(_SKIN_TONES))] * rng.uniform(0.93, 1.05)
+    hair = _HAIR_COLOURS[rng.integers(len(_HAIR_COLOURS))]
+    # Dull shirt: low saturation, so that only the objects are bright colours.
+    shirt = colorsys.hsv_to_rgb(rng.uniform(), rng.uniform(0.1, 0.3), rng.uniform(0.3, 0.6))
+    return Caregiver(
+        head_scale=float(rng.uniform(lo, hi)),
+        skin_rgb=tuple(float(x) for x in np.clip(skin, 0, 1)),
+        hair_rgb=tuple(float(x) for x in hair),
+        shirt_rgb=tuple(float(x) for x in shirt),
+    )
+
+
+def _direction(pan_rad: float, tilt_rad: float) -> np.ndarray:
+    return np.array(
+        [np.sin(pan_rad) * np.cos(tilt_rad), np.cos(pan_rad) * np.cos(tilt_rad), np.sin(tilt_rad)]
+    )
+
+
+def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
+    cos = np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b))
+    return float(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def _sample_objects(
+    world: WorldConfig, head_pos: np.ndarray, face_radius: float, rng: np.random.Generator, n: int
+):
+    """Objects at random, apart from each other and from the face, all reachable."""
+    cfg = world.objects
+    kin = HeadKinematics.from_config(world)
+    face_dir = head_pos / np.linalg.norm(head_pos)
+    face_half_angle = np.arcsin(face_radius / np.linalg.norm(head_pos))
+    gap, clearance = np.deg2rad(cfg.min_gap_deg), np.deg2rad(cfg.face_clearance_deg)
+    pos, rad = [], []
+    for _ in range(_MAX_TRIES):
+        if len(pos) == n:
+            break
+        pan, tilt = (
+            np.deg2rad(rng.uniform(*cfg.pan_range_deg)),
+            np.deg2rad(rng.uniform(*cfg.tilt_range_deg)),
+        )
+        dist, r = rng.uniform(*cfg.distance_range_m), rng.uniform(*cfg.radius_range_m)
+        p = dist * _direction(pan, tilt)
+        half = np.arcsin(r / dist)
+        if _angle_between(p, face_dir) - half - face_half_angle < clearance:
+            continue
+        if any(
+            _angle_between(p, q) - half - np.arcsin(s / np.linalg.norm(q)) < gap
+            for q, s in zip(pos, rad, strict=True)
+        ):
+            continue
+        try:
+            if not kin.within_limits(kin.centring_angles(p)):
+                continue
+        except Unreachable:
+            continue
+        pos.append(p)
+        rad.append(r)
+    else:
+        raise ConfigError(
+            f"objects: could not place {n} objects apart within the object region after "
+            f"{_MAX_TRIES} draws; expected fewer objects, a wider region or smaller gaps"
+        )
+    return np.array(pos), np.array(rad)
+
+
+def sample_scene(
+    world: WorldConfig,
+    rng: np.random.Generator,
+    caregiver: Caregiver | None = None,
+    n_objects: int | None = None,
+) -> SceneState:
+    """A random scene; ``caregiver`` fixes the identity (else one is drawn)."""
+    cg = world.caregiver
+    n = world.objects.n_objects if n_objects is None else n_objects
+    caregiver = caregiver if caregiver is not None else sample_caregiver(world, rng)
+    head_pos = np.array([0.0, cg.distance_m, cg.height_m]) + rng.normal(0, cg.position_noise_m, 3)
+    face_radius = HEAD_RADII_M[2] * caregiver.head_scale
+    obj_pos, obj_rad = _sample_objects(world, head_pos, face_radius, rng, n)
+    hues = (rng.uniform() + np.arange(n) / n + rng.uniform(-0.3, 0.3, n) / n) % 1.0
+    rgb = np.array(
+        [colorsys.hsv_to_rgb(h, rng.uniform(0.85, 1.0), rng.uniform(0.85, 1.0)) for h in hues]
+    )
+    target = int(rng.integers(n))
+    gaze = gaze_angles(head_pos, obj_pos[target])
+    head = cg.head_turn_fraction * gaze + rng.normal(0, np.deg2rad(cg.pose_noise_deg), 2)
+    light_lo, light_hi = world.lighting.intensity_range
+    return SceneState(
+        caregiver=caregiver,
+        head_pos_m=head_pos,
+        head_yaw_pitch_rad=head,
+        eye_yaw_pitch_rad=gaze - head,
+        object_pos_m=obj_pos,
+        object_radius_m=obj_rad,
+        object_rgb=rgb.reshape(n, 3),
+        target_index=target,
+        light_pos_m=np.array([0.3, 0.2, 1.6]) + rng.normal(0, world.lighting.position_jitter_m, 3),
+        light_intensity=float(rng.uniform(light_lo, light_hi)),
+    )
+
+
+def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneState:
+    """``state`` with its target moved to ``target_pos_m`` and the caregiver looking at it
+    without pose noise (for pictures and held-out caregiver poses)."""
+    pos = state.object_pos_m.copy()
+    pos[state.target_index] = target_pos_m
+    gaze = gaze_angles(state.head_pos_m, target_pos_m)
+    head = world.caregiver.head_turn_fraction * gaze
+    return replace(state, object_pos_m=pos, head_yaw_pitch_rad=head, eye_yaw_pitch_rad=gaze - head)
