@@ -102,12 +102,26 @@ class HeadKinematics:
         uv[depth <= 0] = np.nan
         return uv, depth
 
+    def apparent_area_px(self, points_m, radii_m, theta_rad) -> np.ndarray:
+        """Exact image area in pixels of spheres centred at ``points_m``.
+
+        A sphere of angular radius b seen at angle a off the optical axis images as an ellipse
+        with semi-axes f sin(b) cos(b) / (cos^2 a - sin^2 b) (radial) and
+        f sin(b) / sqrt(cos^2 a - sin^2 b): off-axis spheres look larger than on-axis ones.
+        """
+        cam = self.to_camera(points_m, theta_rad)
+        dist = np.linalg.norm(cam, axis=1)
+        sin_b = np.asarray(radii_m, dtype=float) / dist
+        cos2_a = (cam[:, 1] / dist) ** 2
+        with np.errstate(invalid="ignore", divide="ignore"):
+            denom = cos2_a - sin_b**2
+            radial = self.focal_px * sin_b * np.sqrt(1 - sin_b**2) / denom
+            tangential = self.focal_px * sin_b / np.sqrt(denom)
+        return np.where((cam[:, 1] > 0) & (denom > 0), np.pi * radial * tangential, np.nan)
+
     def apparent_radius_px(self, points_m, radii_m, theta_rad) -> np.ndarray:
-        """Projected radius in pixels of spheres centred at ``points_m`` (exact on the axis)."""
-        dist = np.linalg.norm(self.to_camera(points_m, theta_rad), axis=1)
-        radii = np.asarray(radii_m, dtype=float)
-        with np.errstate(invalid="ignore"):
-            return self.focal_px * radii / np.sqrt(dist**2 - radii**2)
+        """Radius of the circle with the same image area as each sphere (exact on the axis)."""
+        return np.sqrt(self.apparent_area_px(points_m, radii_m, theta_rad) / np.pi)
 
     def within_limits(self, theta_rad) -> bool:
         """Whether ``theta_rad`` lies inside the pan and tilt joint ranges."""

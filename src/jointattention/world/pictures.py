@@ -66,7 +66,7 @@ def robot_view(world: World, path: str | Path) -> Path:
     window = capture_face_window(world)
     world.set_head_angle(world.kinematics.centring_angles(world.state.target_pos_m))
     at_target = _annotate(world, world.render(), d_th, face_box=False)
-    fig, axes = plt.subplots(1, 4, figsize=(15, 3.4), gridspec_kw={"width_ratios": [4, 4, 4, 1.6]})
+    fig, axes = plt.subplots(1, 4, figsize=(15, 3.8), gridspec_kw={"width_ratios": [4, 4, 4, 1.6]})
     titles = [
         "room (experimenter's camera)",
         "robot looks at the caregiver",

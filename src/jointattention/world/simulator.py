@@ -29,14 +29,20 @@ def _quat_yaw_pitch(yaw: float, pitch: float) -> np.ndarray:
 class Projection:
     """Where each object appears for one head angle, computed without rendering.
 
-    Attributes: ``centre_px`` (n, 2) image positions, ``radius_px`` (n,) apparent radii,
-    ``in_view`` (n,) whether the centre lies in the image and in front of the camera.
+    Attributes: ``centre_px`` (n, 2) image positions, ``area_px`` (n,) image areas (of the
+    whole object, also where the image border cuts it), ``in_view`` (n,) whether the centre
+    lies in the image and in front of the camera.
     """
 
-    __slots__ = ("centre_px", "in_view", "radius_px")
+    __slots__ = ("area_px", "centre_px", "in_view")
 
-    def __init__(self, centre_px: np.ndarray, radius_px: np.ndarray, in_view: np.ndarray):
-        self.centre_px, self.radius_px, self.in_view = centre_px, radius_px, in_view
+    def __init__(self, centre_px: np.ndarray, area_px: np.ndarray, in_view: np.ndarray):
+        self.centre_px, self.area_px, self.in_view = centre_px, area_px, in_view
+
+    @property
+    def radius_px(self) -> np.ndarray:
+        """Radius of the circle with each object's image area."""
+        return np.sqrt(self.area_px / np.pi)
 
 
 class World:
@@ -149,7 +155,7 @@ class World:
         theta = self.head_angle_rad if theta_rad is None else theta_rad
         kin, s = self.kinematics, self.state
         uv, depth = kin.project(s.object_pos_m, theta)
-        radius = kin.apparent_radius_px(s.object_pos_m, s.object_radius_m, theta)
+        area = kin.apparent_area_px(s.object_pos_m, s.object_radius_m, theta)
         w, h = kin.width_px, kin.height_px
         in_view = (
             (depth > 0)
@@ -158,7 +164,7 @@ class World:
             & (uv[:, 1] >= -0.5)
             & (uv[:, 1] <= h - 0.5)
         )
-        return Projection(uv, radius, in_view)
+        return Projection(uv, area, in_view)
 
     def render(self, camera: str = "eye", *, segmentation: bool = False) -> np.ndarray:
         """The image of ``camera``: RGB uint8 (H, W, 3), or geom ids (H, W) if ``segmentation``."""

@@ -1,0 +1,30 @@
+"""Shared fixtures: a world per test, and a skip where no off-screen OpenGL exists."""
+
+from __future__ import annotations
+
+import os
+
+import matplotlib
+import pytest
+
+matplotlib.use("Agg")
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+
+@pytest.fixture(scope="session")
+def gl_available() -> bool:
+    from jointattention.errors import RenderingUnavailable
+    from jointattention.world.simulator import World
+
+    try:
+        with World(seed=0) as world:
+            world.render()
+    except RenderingUnavailable:
+        return False
+    return True
+
+
+@pytest.fixture
+def needs_gl(gl_available: bool) -> None:
+    if not gl_available:
+        pytest.skip("no off-screen OpenGL (EGL or OSMesa) on this machine")

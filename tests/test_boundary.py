@@ -1,0 +1,52 @@
+"""The robot's side never sees the experimenter's side."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import jointattention
+
+AGENT = Path(jointattention.__file__).parent / "agent"
+
+
+def _imports(path: Path) -> list[str]:
+    tree = ast.parse(path.read_text(), filename=str(path))
+    names = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names += [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            dots = "." * node.level
+            names.append(f"{dots}{node.module or ''}")
+            names += [f"{dots}{node.module or ''}.{a.name}" for a in node.names]
+    return names
+
+
+def test_agent_sources_never_import_world():
+    """No module under agent/ names the world package in an import, absolute or relative."""
+    files = sorted(AGENT.rglob("*.py"))
+    assert files, "agent/ has no modules"
+    for path in files:
+        for name in _imports(path):
+            parts = name.lstrip(".").split(".")
+            assert "world" not in parts, f"{path.name} imports {name}"
+
+
+def test_importing_agent_loads_no_world_module():
+    """Importing the agent package does not pull jointattention.world in transitively."""
+    code = (
+        "import sys, jointattention.agent\n"
+        "bad = [m for m in sys.modules if m.startswith('jointattention.world')]\n"
+        "assert not bad, bad\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_the_boundary_test_catches_a_violation(tmp_path):
+    """The import scan sees a relative import of the world package."""
+    bad = tmp_path / "bad.py"
+    bad.write_text("from ..world.simulator import World\n")
+    assert any("world" in n.split(".") for n in _imports(bad))

@@ -1,0 +1,73 @@
+"""The command line: help everywhere, the documented outputs, one-line errors."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from jointattention.cli import build_parser, main
+
+COMMANDS = [[], ["demo"], ["render"], ["datasets"], ["datasets", "make"],
+            ["datasets", "check"], ["bench"], ["config"]]
+
+
+@pytest.mark.parametrize("command", COMMANDS, ids=lambda c: " ".join(c) or "top")
+def test_every_command_has_help(command, capsys):
+    """``--help`` works on every command and describes it."""
+    with pytest.raises(SystemExit) as info:
+        build_parser().parse_args([*command, "--help"])
+    assert info.value.code == 0
+    assert "usage: jointattention" in capsys.readouterr().out
+
+
+def test_module_entry_point_runs():
+    """``python -m jointattention --version`` works."""
+    out = subprocess.run([sys.executable, "-m", "jointattention", "--version"],
+                         capture_output=True, text=True, check=True).stdout
+    assert out.startswith("jointattention ")
+
+
+def test_render_writes_pictures(tmp_path, needs_gl):
+    """``render`` writes the robot's view and the face-window sheet as PNGs."""
+    assert main(["render", "--seed", "2", "--out", str(tmp_path)]) == 0
+    for name in ("robot_view.png", "face_windows.png"):
+        assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_datasets_make_then_check(tmp_path, needs_gl, capsys):
+    """``datasets make`` writes a file that ``datasets check`` accepts."""
+    out = tmp_path / "sets.npz"
+    assert main(["datasets", "make", "--n", "4", "--seed", "1", "--quiet", str(out)]) == 0
+    assert main(["datasets", "check", str(out)]) == 0
+    assert "4 data sets, face windows 30x25" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["datasets", "check", "missing.npz"], "missing.npz: no such file"),
+        (["render", "--config", "nonexistent"], "nonexistent: no such preset"),
+        (["datasets", "make", "--n", "0", "x.npz"], "--n 0: expected at least 1"),
+    ],
+)
+def test_bad_input_is_one_line_without_traceback(argv, message, tmp_path, monkeypatch):
+    """User errors print one line naming the problem and exit with status 2."""
+    monkeypatch.chdir(tmp_path)
+    proc = subprocess.run([sys.executable, "-m", "jointattention", *argv],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], proc.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_config_prints_toml_that_reads_back(tmp_path, capsys):
+    """``config`` prints TOML that loads as the same configuration."""
+    from jointattention.config import Config, load_config
+
+    assert main(["config"]) == 0
+    path = tmp_path / "c.toml"
+    path.write_text(capsys.readouterr().out)
+    assert load_config(path) == Config()
