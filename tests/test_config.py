@@ -31,7 +31,7 @@ def test_out_of_range_value_names_the_field():
 
 def test_reversed_range_is_rejected():
     """A (low, high) pair given high first is an error naming the field."""
-    with pytest.raises(ConfigError, match="head.pan_limits_deg"):
+    with pytest.raises(ConfigError, match=r"head\.pan_limits_deg"):
         load_config_text("[world.head]\npan_limits_deg = [60, -60]\n")
 
 
@@ -43,9 +43,9 @@ def test_objects_must_be_nearer_than_the_caregiver():
 
 def test_unknown_key_and_wrong_type_are_errors(tmp_path):
     """Unknown settings and wrong types name the setting."""
-    with pytest.raises(ConfigError, match="world.camera.fov: unknown setting"):
+    with pytest.raises(ConfigError, match=r"world\.camera\.fov: unknown setting"):
         load_config_text("[world.camera]\nfov = 40\n")
-    with pytest.raises(ConfigError, match="world.camera.width_px = 'wide': expected int"):
+    with pytest.raises(ConfigError, match=r"world\.camera\.width_px = 'wide': expected int"):
         load_config_text('[world.camera]\nwidth_px = "wide"\n')
 
 

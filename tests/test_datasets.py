@@ -108,7 +108,7 @@ def test_missing_and_non_npz_files_are_rejected(tmp_path):
         load(tmp_path / "nope.npz")
     junk = tmp_path / "junk.npz"
     junk.write_text("hello")
-    with pytest.raises(DatasetError, match="not a readable .npz"):
+    with pytest.raises(DatasetError, match=r"not a readable \.npz"):
         load(junk)
 
 
@@ -116,7 +116,7 @@ def test_pickled_objects_are_refused(tmp_path):
     """An object array (which would need pickle) is refused, not executed."""
     path = tmp_path / "pickled.npz"
     _write(path, face=np.array([object()] * 3, dtype=object))
-    with pytest.raises(DatasetError, match="bad.npz|pickled.npz"):
+    with pytest.raises(DatasetError, match=r"pickled\.npz"):
         load(path)
 
 
@@ -135,6 +135,6 @@ def test_failed_save_leaves_nothing_behind(tmp_path, monkeypatch):
 
 def test_save_wants_npz_suffix(tmp_path):
     """Saving to a name without .npz is refused before anything is written."""
-    with pytest.raises(DatasetError, match="ending in .npz"):
+    with pytest.raises(DatasetError, match=r"ending in \.npz"):
         save(default_datasets(), tmp_path / "out.dat")
     assert list(tmp_path.iterdir()) == []
