@@ -31,6 +31,8 @@ def _check_value(name: str, value: Any, meta: dict) -> None:
     lo, hi, choices = meta.get("lo"), meta.get("hi"), meta.get("choices")
     values = value if isinstance(value, tuple) else (value,)
     for v in values:
+        if v is None:
+            continue
         if choices is not None and v not in choices:
             raise ConfigError(f"{name} = {v!r}: expected one of {', '.join(map(repr, choices))}")
         if (lo is not None and v < lo) or (hi is not None and v > hi):
@@ -44,6 +46,9 @@ def check_section(section: Any, prefix: str = "") -> None:
         name = f"{prefix}{f.name}"
         if dataclasses.is_dataclass(value):
             check_section(value, prefix=f"{name}.")
+        elif isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0]):
+            for i, item in enumerate(value):
+                check_section(item, prefix=f"{name}[{i}].")
         else:
             _check_value(name, value, f.metadata)
 
@@ -54,6 +59,11 @@ def _coerce(name: str, value: Any, hint: Any) -> Any:
         if not isinstance(value, dict):
             raise ConfigError(f"{name}: expected a table of settings, got {value!r}")
         return from_mapping(hint, value, prefix=f"{name}.")
+    if origin is tuple and typing.get_args(hint)[-1] is Ellipsis:
+        if not isinstance(value, (list, tuple)):
+            raise ConfigError(f"{name} = {value!r}: expected a list")
+        item = typing.get_args(hint)[0]
+        return tuple(_coerce(f"{name}[{i}]", v, item) for i, v in enumerate(value))
     if origin is tuple:
         args = typing.get_args(hint)
         if not isinstance(value, (list, tuple)) or len(value) != len(args):
@@ -95,6 +105,8 @@ def to_mapping(section: Any) -> dict:
         value = getattr(section, f.name)
         if dataclasses.is_dataclass(value):
             out[f.name] = to_mapping(value)
+        elif isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0]):
+            out[f.name] = [to_mapping(v) for v in value]
         elif value is not None:
             out[f.name] = list(value) if isinstance(value, tuple) else value
     return out

@@ -16,9 +16,12 @@ from ._fields import check_section, from_mapping, param, to_mapping
 from .errors import ConfigError
 
 __all__ = [
+    "AgentConfig",
     "CameraConfig",
     "CaregiverConfig",
+    "ConditionConfig",
     "Config",
+    "ExperimentConfig",
     "FaceWindowConfig",
     "HeadConfig",
     "LightingConfig",
@@ -148,11 +151,82 @@ class WorldConfig(_Section):
 
 
 @dataclass(frozen=True)
+class AgentConfig(_Section):
+    """The robot's embedded mechanisms (paper, section III) and their parameters."""
+
+    interest_weights: tuple[float, float, float] = param(
+        (1.0, 0.0, 0.0), "(a1, a2, a3) of Eq. 1: colour area, edge complexity, motion", lo=0)
+    vf_gain_rad_per_px: float = param(
+        0.0025, "gain g of the visual feedback controller (Eq. 2)", lo=0, hi=0.1)
+    d_th_fraction: float = param(
+        1 / 6, "evaluator threshold d_th as a fraction of the image width W (Eq. 3: W/6)",
+        lo=0.01, hi=1)
+    lm_step_deg: float = param(4.0, "length of one step of the learning module", lo=0.1, hi=30)
+    n_hidden: int = param(7, "hidden units of the learning module (paper: 7)", lo=1, hi=1000)
+    learning_rate: float = param(0.05, "back-propagation step size", lo=0, hi=10)
+    momentum: float = param(0.5, "momentum of the back-propagation updates", lo=0, hi=0.999)
+    init_scale: float = param(
+        1.0, "scale of the initial weights (times 1/sqrt(fan-in))", lo=0, hi=100)
+    gate: str = param("sigmoid", "gating function", choices=("sigmoid", "constant"))
+    gate_rate: float = param(0.9, "rate of choosing the learning module for a constant gate",
+                             lo=0, hi=1)
+    gate_midpoint_steps: float = param(
+        1.2e5, "learning time at which the sigmoid gate chooses each module equally", lo=0)
+    gate_width_steps: float = param(
+        2.0e4, "learning time over which the sigmoid gate rises by a factor e", lo=1)
+    gate_per: str = param(
+        "step", "reading: the gate decides at every step, or once per trial",
+        choices=("step", "trial"))
+    vf_fallback: str = param(
+        "lm", "reading: what moves the head when the gate picks the visual controller and no "
+        "object is in view: the learning module, or a random step", choices=("lm", "random"))
+    learning_target: str = param(
+        "final_direction", "reading: what each step of a successful trial is taught: the unit "
+        "direction to the final gaze, or the step that was executed",
+        choices=("final_direction", "executed_step"))
+    max_steps: int = param(40, "step limit of a trial", lo=1, hi=10000)
+
+
+@dataclass(frozen=True)
+class ConditionConfig(_Section):
+    """One experimental condition; unset agent fields keep the agent section's values."""
+
+    name: str = param("n5-sigmoid", "name of the condition (figure labels, file names)")
+    n_objects: int = param(5, "objects in each trial, the caregiver's target among them",
+                           lo=1, hi=20)
+    gate: str | None = param(None, "gating function", choices=("sigmoid", "constant"))
+    gate_rate: float | None = param(None, "rate of a constant gate", lo=0, hi=1)
+    gate_per: str | None = param(None, "reading: gate per step or per trial",
+                                 choices=("step", "trial"))
+    vf_fallback: str | None = param(None, "reading: VF with nothing in view",
+                                    choices=("lm", "random"))
+    learning_target: str | None = param(
+        None, "reading: learning target", choices=("final_direction", "executed_step"))
+    shuffle_faces: bool = param(
+        False, "control: pair each trial with the face window of another data set")
+
+
+@dataclass(frozen=True)
+class ExperimentConfig(_Section):
+    n_steps: int = param(300_000, "learning time of a run, in steps (paper: 3e5)", lo=1)
+    n_seeds: int = param(10, "independent runs of each condition", lo=1, hi=10_000)
+    bin_steps: int = param(10_000, "width of a learning-time bin of the success curves", lo=1)
+    n_ceiling_trials: int = param(
+        4000, "trials of the oracle that measure each object count's ceiling", lo=1)
+    conditions: tuple[ConditionConfig, ...] = param(
+        (ConditionConfig(),), "the conditions to run")
+
+
+@dataclass(frozen=True)
 class Config(_Section):
     """The whole configuration of a run."""
 
     seed: int = param(0, "the seed every random stream of the run is born from", lo=0)
     world: WorldConfig = WorldConfig()
+    agent: AgentConfig = AgentConfig()
+    experiment: ExperimentConfig = ExperimentConfig()
+    datasets: str = param(
+        "", "data-set file of the caregiver (empty: the 125 shipped with the package)")
 
 
 def preset_names() -> list[str]:
@@ -200,8 +274,15 @@ def _dump_toml(mapping: dict, prefix: str = "") -> str:
             return "[" + ", ".join(fmt(x) for x in v) + "]"
         return repr(v)
 
-    lines = [f"{k} = {fmt(v)}" for k, v in mapping.items() if not isinstance(v, dict)]
+    def is_tables(v):
+        return isinstance(v, list) and v and isinstance(v[0], dict)
+
+    lines = [f"{k} = {fmt(v)}" for k, v in mapping.items()
+             if not isinstance(v, dict) and not is_tables(v)]
     for k, v in mapping.items():
         if isinstance(v, dict):
             lines += ["", f"[{prefix}{k}]", _dump_toml(v, prefix=f"{prefix}{k}.").strip()]
+        elif is_tables(v):
+            for item in v:
+                lines += ["", f"[[{prefix}{k}]]", _dump_toml(item).strip()]
     return "\n".join(lines).strip() + "\n"

@@ -12,6 +12,7 @@ same pinhole (its frustum spans the pixel edges ``[0, W]``).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,10 +28,9 @@ class Unreachable(ValueError):
 
 def _rotation(pan_rad: float, tilt_rad: float) -> np.ndarray:
     """Head orientation: columns are the head's right, forward and up axes in the world."""
-    cp, sp, ct, st = np.cos(pan_rad), np.sin(pan_rad), np.cos(tilt_rad), np.sin(tilt_rad)
-    pan = np.array([[cp, sp, 0.0], [-sp, cp, 0.0], [0.0, 0.0, 1.0]])  # rotation about -z
-    tilt = np.array([[1.0, 0.0, 0.0], [0.0, ct, -st], [0.0, st, ct]])  # rotation about +x
-    return pan @ tilt
+    cp, sp, ct, st = math.cos(pan_rad), math.sin(pan_rad), math.cos(tilt_rad), math.sin(tilt_rad)
+    # (rotation about -z by pan) @ (rotation about +x by tilt), multiplied out
+    return np.array([[cp, sp * ct, -sp * st], [-sp, cp * ct, -cp * st], [0.0, st, ct]])
 
 
 @dataclass(frozen=True)
@@ -88,36 +88,39 @@ class HeadKinematics:
         rot = self.rotation(theta_rad)
         return np.atleast_2d(points_m) @ rot - np.asarray(self.offset_m)
 
+    def project_spheres(self, points_m, radii_m, theta_rad):
+        """Pixel positions (N, 2), depths (N,) and exact image areas (N,) of spheres.
+
+        Points behind the camera get NaN positions and areas. A sphere of angular radius b
+        seen at angle a off the optical axis images as an ellipse with semi-axes
+        f sin(b) cos(b) / (cos^2 a - sin^2 b) (radial) and f sin(b) / sqrt(cos^2 a - sin^2 b):
+        off-axis spheres look larger than on-axis ones.
+        """
+        cam = self.to_camera(points_m, theta_rad)
+        x, depth, z = cam[:, 0], cam[:, 1], cam[:, 2]
+        f = self.focal_px
+        front = depth > 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            uv = self.centre_px + f * np.stack([x / depth, -z / depth], axis=1)
+            dist2 = x * x + depth * depth + z * z
+            sin2_b = np.asarray(radii_m, dtype=float) ** 2 / dist2
+            denom = depth * depth / dist2 - sin2_b
+            area = np.pi * f * f * sin2_b * np.sqrt(1 - sin2_b) / denom**1.5
+        uv[~front] = np.nan
+        area[~front | (denom <= 0)] = np.nan
+        return uv, depth, area
+
     def project(self, points_m, theta_rad) -> tuple[np.ndarray, np.ndarray]:
         """Pixel positions (N, 2) of world points and their depths (N,) along the optical axis.
 
         Points behind the camera get NaN positions.
         """
-        cam = self.to_camera(points_m, theta_rad)
-        depth = cam[:, 1]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            uv = self.centre_px + self.focal_px * np.stack(
-                [cam[:, 0] / depth, -cam[:, 2] / depth], axis=1
-            )
-        uv[depth <= 0] = np.nan
+        uv, depth, _ = self.project_spheres(points_m, 0.0, theta_rad)
         return uv, depth
 
     def apparent_area_px(self, points_m, radii_m, theta_rad) -> np.ndarray:
-        """Exact image area in pixels of spheres centred at ``points_m``.
-
-        A sphere of angular radius b seen at angle a off the optical axis images as an ellipse
-        with semi-axes f sin(b) cos(b) / (cos^2 a - sin^2 b) (radial) and
-        f sin(b) / sqrt(cos^2 a - sin^2 b): off-axis spheres look larger than on-axis ones.
-        """
-        cam = self.to_camera(points_m, theta_rad)
-        dist = np.linalg.norm(cam, axis=1)
-        sin_b = np.asarray(radii_m, dtype=float) / dist
-        cos2_a = (cam[:, 1] / dist) ** 2
-        with np.errstate(invalid="ignore", divide="ignore"):
-            denom = cos2_a - sin_b**2
-            radial = self.focal_px * sin_b * np.sqrt(1 - sin_b**2) / denom
-            tangential = self.focal_px * sin_b / np.sqrt(denom)
-        return np.where((cam[:, 1] > 0) & (denom > 0), np.pi * radial * tangential, np.nan)
+        """Exact image area in pixels of spheres centred at ``points_m``."""
+        return self.project_spheres(points_m, radii_m, theta_rad)[2]
 
     def apparent_radius_px(self, points_m, radii_m, theta_rad) -> np.ndarray:
         """Radius of the circle with the same image area as each sphere (exact on the axis)."""

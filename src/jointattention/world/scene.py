@@ -43,7 +43,7 @@ _HAIR_COLOURS = np.array(
         [0.45, 0.20, 0.10],
     ]
 )
-_MAX_TRIES = 2000
+_MAX_TRIES = 4000
 
 
 @dataclass(frozen=True)
@@ -107,57 +107,70 @@ def sample_caregiver(world: WorldConfig, rng: np.random.Generator) -> Caregiver:
     )
 
 
-def _direction(pan_rad: float, tilt_rad: float) -> np.ndarray:
-    return np.array(
-        [np.sin(pan_rad) * np.cos(tilt_rad), np.cos(pan_rad) * np.cos(tilt_rad), np.sin(tilt_rad)]
-    )
+def _direction(pan_rad, tilt_rad) -> np.ndarray:
+    """Unit vectors (..., 3) toward directions (pan right, tilt up) from the origin."""
+    pan_rad, tilt_rad = np.asarray(pan_rad), np.asarray(tilt_rad)
+    return np.stack([np.sin(pan_rad) * np.cos(tilt_rad), np.cos(pan_rad) * np.cos(tilt_rad),
+                     np.sin(tilt_rad)], axis=-1)
 
 
-def _angle_between(a: np.ndarray, b: np.ndarray) -> float:
-    cos = np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b))
-    return float(np.arccos(np.clip(cos, -1.0, 1.0)))
+def _angles_to(points: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Angles (rad) between each point (N, 3) and one direction, seen from the origin."""
+    cos = points @ direction / (np.linalg.norm(points, axis=-1) * np.linalg.norm(direction))
+    return np.arccos(np.clip(cos, -1.0, 1.0))
 
 
-def _sample_objects(
-    world: WorldConfig, head_pos: np.ndarray, face_radius: float, rng: np.random.Generator, n: int
-):
-    """Objects at random, apart from each other and from the face, all reachable."""
+def _sample_objects(world: WorldConfig, head_pos: np.ndarray, face_radius: float,
+                    rng: np.random.Generator, n: int, fixed_pos=(), fixed_rad=()):
+    """Objects at random, apart from each other and from the face, all reachable; the
+    ``fixed`` objects (already placed) come first and count toward ``n``.
+
+    Candidates are drawn in batches and accepted in order, which is the same as drawing them
+    one by one and rejecting the ones that break a rule.
+    """
     cfg = world.objects
     kin = HeadKinematics.from_config(world)
-    face_dir = head_pos / np.linalg.norm(head_pos)
-    face_half_angle = np.arcsin(face_radius / np.linalg.norm(head_pos))
+    face_half = np.arcsin(face_radius / np.linalg.norm(head_pos))
     gap, clearance = np.deg2rad(cfg.min_gap_deg), np.deg2rad(cfg.face_clearance_deg)
-    pos, rad = [], []
-    for _ in range(_MAX_TRIES):
-        if len(pos) == n:
-            break
-        pan, tilt = (
-            np.deg2rad(rng.uniform(*cfg.pan_range_deg)),
-            np.deg2rad(rng.uniform(*cfg.tilt_range_deg)),
-        )
-        dist, r = rng.uniform(*cfg.distance_range_m), rng.uniform(*cfg.radius_range_m)
-        p = dist * _direction(pan, tilt)
-        half = np.arcsin(r / dist)
-        if _angle_between(p, face_dir) - half - face_half_angle < clearance:
-            continue
-        if any(
-            _angle_between(p, q) - half - np.arcsin(s / np.linalg.norm(q)) < gap
-            for q, s in zip(pos, rad, strict=True)
-        ):
-            continue
-        try:
-            if not kin.within_limits(kin.centring_angles(p)):
+    pos = [np.asarray(p, float) for p in fixed_pos]
+    rad = [float(r) for r in fixed_rad]
+    half = [np.arcsin(r / np.linalg.norm(p)) for p, r in zip(pos, rad, strict=True)]
+    drawn = 0
+    while len(pos) < n and drawn < _MAX_TRIES:
+        batch = 8 * (n - len(pos))
+        drawn += batch
+        pan = np.deg2rad(rng.uniform(*cfg.pan_range_deg, batch))
+        tilt = np.deg2rad(rng.uniform(*cfg.tilt_range_deg, batch))
+        dist = rng.uniform(*cfg.distance_range_m, batch)
+        radius = rng.uniform(*cfg.radius_range_m, batch)
+        cand = dist[:, None] * _direction(pan, tilt)
+        cand_half = np.arcsin(radius / dist)
+        ok = _angles_to(cand, head_pos) - cand_half - face_half >= clearance
+        for j in np.flatnonzero(ok):
+            if len(pos) == n:
+                break
+            if pos and np.any(_angles_to(np.array(pos), cand[j]) - half - cand_half[j] < gap):
                 continue
-        except Unreachable:
-            continue
-        pos.append(p)
-        rad.append(r)
-    else:
+            try:
+                if not kin.within_limits(kin.centring_angles(cand[j])):
+                    continue
+            except Unreachable:
+                continue
+            pos.append(cand[j])
+            rad.append(float(radius[j]))
+            half.append(cand_half[j])
+    if len(pos) < n:
         raise ConfigError(
             f"objects: could not place {n} objects apart within the object region after "
-            f"{_MAX_TRIES} draws; expected fewer objects, a wider region or smaller gaps"
-        )
+            f"{drawn} draws; expected fewer objects, a wider region or smaller gaps")
     return np.array(pos), np.array(rad)
+
+
+def place_objects(world: WorldConfig, head_pos_m, rng: np.random.Generator, n: int,
+                  fixed_pos=(), fixed_rad=()) -> tuple[np.ndarray, np.ndarray]:
+    """Positions (n, 3) and radii (n,) of ``n`` objects, the ``fixed`` ones first."""
+    return _sample_objects(world, np.asarray(head_pos_m, float), HEAD_RADII_M[2], rng, n,
+                           fixed_pos, fixed_rad)
 
 
 def sample_scene(

@@ -1,0 +1,37 @@
+"""What the salient feature detector reports: the same structure from images or projection."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Detections"]
+
+
+@dataclass(frozen=True)
+class Detections:
+    """Salient objects found in one camera image.
+
+    Attributes:
+        centre_px: (n, 2) image positions (x right, y down; pixel centres on integers).
+        colour_area_px: (n,) bright-colour area, the paper's f_col.
+        edge: (n,) texture complexity, the paper's f_edge.
+        motion: (n,) amount of motion, the paper's f_mot.
+        image_size_px: (W, H) of the image they were found in.
+    """
+
+    centre_px: np.ndarray
+    colour_area_px: np.ndarray
+    edge: np.ndarray
+    motion: np.ndarray
+    image_size_px: tuple[int, int]
+
+    def __len__(self) -> int:
+        return len(self.colour_area_px)
+
+    @property
+    def image_centre_px(self) -> np.ndarray:
+        """(c_x, c_y) of Eq. 2 and 3."""
+        w, h = self.image_size_px
+        return np.array([(w - 1) / 2, (h - 1) / 2])

@@ -1,0 +1,142 @@
+"""Runs of many trials (one cell = one condition x one seed), and many cells in parallel.
+
+Every cell draws from its own streams of the run's seed: the same cell gives the same
+records whatever the number of worker processes. Cells with the same seed index share the
+sequence of data sets and distractor scenes (common random numbers across conditions).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from pathlib import Path
+
+import numpy as np
+
+from . import io
+from .agent.bootstrap import BootstrapAgent
+from .config import ConditionConfig, Config
+from .datasets import CaregiverDatasets, default_datasets, load
+from .oracle import OracleAgent
+from .rng import stream
+from .trial import run_trial
+from .world.fast import FastScene
+from .world.kinematics import HeadKinematics
+
+__all__ = ["agent_config", "measure_ceiling", "run_cell", "run_experiment"]
+
+_READINGS = ("gate", "gate_rate", "gate_per", "vf_fallback", "learning_target")
+
+
+def agent_config(config: Config, condition: ConditionConfig):
+    """The agent section with the condition's overrides applied."""
+    changes = {k: getattr(condition, k) for k in _READINGS if getattr(condition, k) is not None}
+    return dataclasses.replace(config.agent, **changes)
+
+
+def _datasets(config: Config) -> CaregiverDatasets:
+    return load(config.datasets) if config.datasets else default_datasets()
+
+
+def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance_m: float):
+    """Where data set ``k``'s target and face are (the target at its recorded position, or,
+    for data sets recorded without it, 0.65 m along the recorded command)."""
+    theta_face = ds.theta_face_rad[k]
+    face = kin.camera_position(theta_face) + distance_m * kin.gaze_direction(theta_face)
+    if ds.target_m is not None:
+        return ds.target_m[k], face
+    theta = theta_face + ds.command_rad[k]
+    return kin.camera_position(theta) + 0.65 * kin.gaze_direction(theta), face
+
+
+def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
+             progress: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
+    """Learn for ``experiment.n_steps`` steps; one record per trial (see io.TRIAL_COLUMNS)."""
+    ds = _datasets(config)
+    world = config.world
+    kin = HeadKinematics.from_config(world)
+    agent = BootstrapAgent(
+        agent_config(config, condition), image_size_px=(kin.width_px, kin.height_px),
+        joint_limits_rad=(kin.pan_limits_rad, kin.tilt_limits_rad),
+        face_size_px=ds.window_size_px, rng=stream(config.seed, "agent", seed_index))
+    trials = stream(config.seed, "trials", seed_index)
+    shuffle = stream(config.seed, "shuffle", seed_index)
+    rows = []
+    n_steps = config.experiment.n_steps
+    while agent.learning_time_steps < n_steps and len(rows) < n_steps:
+        k = int(trials.integers(len(ds)))
+        target_m, face_m = _trial_geometry(ds, k, kin, world.caregiver.distance_m)
+        scene = FastScene(world, kin, target_m, face_m, condition.n_objects, trials)
+        face = ds.face[shuffle.integers(len(ds))] if condition.shuffle_faces else ds.face[k]
+        t0 = agent.learning_time_steps
+        r = run_trial(scene, agent, face, ds.theta_face_rad[k], agent.config.max_steps, kin)
+        rows.append((t0, r.n_steps, r.n_lm_steps, r.attended, r.target, r.end, r.success,
+                     r.fired))
+        if progress is not None:
+            progress(agent.learning_time_steps)
+    cols = list(zip(*rows, strict=True))
+    dtypes = (np.int64, np.int32, np.int32, np.int16, np.int16, np.int8, bool, bool)
+    return {name: np.array(c, dtype=t)
+            for name, c, t in zip(io.TRIAL_COLUMNS, cols, dtypes, strict=True)}
+
+
+def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None) -> float:
+    """Success of the oracle gaze-line follower over ``n_trials`` trials in the same world."""
+    ds = _datasets(config)
+    kin = HeadKinematics.from_config(config.world)
+    rng = stream(config.seed, "ceiling", n_objects)
+    n_trials = config.experiment.n_ceiling_trials if n_trials is None else n_trials
+    d_th = kin.width_px * config.agent.d_th_fraction
+    step = np.deg2rad(config.agent.lm_step_deg)
+    wins = 0
+    for _ in range(n_trials):
+        k = int(rng.integers(len(ds)))
+        target_m, face_m = _trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+        scene = FastScene(config.world, kin, target_m, face_m, n_objects, rng)
+        oracle = OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step, d_th)
+        r = run_trial(scene, oracle, ds.face[k], ds.theta_face_rad[k],
+                      config.agent.max_steps, kin)
+        wins += r.success
+    return wins / n_trials
+
+
+def _cell_job(args):
+    config, condition, seed_index = args
+    return condition.name, seed_index, run_cell(config, condition, seed_index)
+
+
+def run_experiment(config: Config, out: Path, workers: int = 1,
+                   progress: Callable[[str], None] | None = None):
+    """Run every condition x seed into ``out``; cells already there are kept, not re-run.
+
+    Returns {(condition, seed): records}. Each cell is saved as it finishes, so an
+    interrupted run loses only the cells in progress.
+    """
+    out = Path(out)
+    io.prepare_run_dir(out, config)
+    exp = config.experiment
+    names = [c.name for c in exp.conditions]
+    if len(set(names)) != len(names):
+        from .errors import ConfigError
+
+        raise ConfigError("experiment.conditions: expected distinct names")
+    cells = [(c, i) for c in exp.conditions for i in range(exp.n_seeds)]
+    todo = [(config, c, i) for c, i in cells if not io.cell_path(out, c.name, i).exists()]
+    if progress:
+        progress(f"{len(cells) - len(todo)} of {len(cells)} cells already done")
+    if workers <= 1:
+        finished = (_cell_job(job) for job in todo)
+        for name, i, rec in finished:
+            io.save_cell(io.cell_path(out, name, i), rec)
+            if progress:
+                progress(f"{name} seed {i}")
+    else:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            futures = [pool.submit(_cell_job, job) for job in todo]
+            for fut in as_completed(futures):
+                name, i, rec = fut.result()
+                io.save_cell(io.cell_path(out, name, i), rec)
+                if progress:
+                    progress(f"{name} seed {i}")
+    return {(c.name, i): io.load_cell(io.cell_path(out, c.name, i)) for c, i in cells}
