@@ -163,7 +163,9 @@ class AgentConfig(_Section):
         lo=0.01, hi=1)
     lm_step_deg: float = param(4.0, "length of one step of the learning module", lo=0.1, hi=30)
     n_hidden: int = param(7, "hidden units of the learning module (paper: 7)", lo=1, hi=1000)
-    learning_rate: float = param(0.05, "back-propagation step size", lo=0, hi=10)
+    learning_rate: float = param(
+        0.003, "back-propagation step size (about 750 standardised inputs: keep it small)",
+        lo=0, hi=10)
     momentum: float = param(0.5, "momentum of the back-propagation updates", lo=0, hi=0.999)
     init_scale: float = param(
         1.0, "scale of the initial weights (times 1/sqrt(fan-in))", lo=0, hi=100)

@@ -1,0 +1,78 @@
+"""The robot's mechanisms: Eq. 1-3, the learning module and the gate."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from jointattention.agent.attention import attended_object, most_interesting, visual_feedback
+from jointattention.agent.detections import Detections
+from jointattention.agent.gate import constant_rate, sigmoid_rate
+from jointattention.agent.learner import FaceStandardiser, LearningModule
+
+
+def _det(centres, areas=None, edges=None, motion=None) -> Detections:
+    c = np.asarray(centres, float).reshape(-1, 2)
+    n = len(c)
+    z = np.zeros(n)
+    return Detections(c, z + 1 if areas is None else np.asarray(areas, float),
+                      z if edges is None else np.asarray(edges, float),
+                      z if motion is None else np.asarray(motion, float), (321, 241))
+
+
+def test_eq1_picks_the_weighted_most_interesting_object():
+    """Eq. 1: colour area alone with (1,0,0); edges decide with (0,1,0); nothing seen: None."""
+    det = _det([[10, 10], [20, 20]], areas=[50, 10], edges=[0.1, 0.9])
+    assert most_interesting(det, (1, 0, 0)) == 0
+    assert most_interesting(det, (0, 1, 0)) == 1
+    assert most_interesting(_det(np.zeros((0, 2))), (1, 0, 0)) is None
+
+
+def test_eq2_turns_toward_the_object():
+    """Eq. 2: an object right of and below the centre gives pan > 0 and tilt < 0 (down)."""
+    det = _det([[200, 150]])  # centre is (160, 120)
+    dtheta = visual_feedback(det, 0, 0.01)
+    np.testing.assert_allclose(dtheta, [0.4, -0.3])
+
+
+def test_eq3_fires_only_inside_the_threshold():
+    """Eq. 3: the evaluator fires for the nearest object within d_th, else not."""
+    det = _det([[160 + 30, 120], [160, 120 + 12]])
+    assert attended_object(det, d_th_px=20) == 1
+    assert attended_object(det, d_th_px=10) is None
+
+
+def test_learning_module_learns_a_mapping():
+    """partial_fit on a smooth 2-D mapping lowers the error tenfold."""
+    rng = np.random.default_rng(0)
+    X = rng.normal(size=(200, 10))
+    Y = np.tanh(X[:, :2] @ np.array([[0.8, -0.3], [0.2, 0.5]]))
+    net = LearningModule(10, 7, 2, learning_rate=0.01, rng=np.random.default_rng(1))
+    before = np.mean((net.predict(X) - Y) ** 2)
+    for _ in range(100):
+        net.partial_fit(X, Y)
+    assert np.mean((net.predict(X) - Y) ** 2) < before / 10
+    assert net.predict(X[:3]).shape == (3, 2)
+
+
+def test_face_standardiser_matches_numpy():
+    """Running mean and s.d. equal numpy's over the faces seen."""
+    faces = np.random.default_rng(0).integers(0, 255, (50, 12)).astype(float)
+    st_ = FaceStandardiser(min_std=0).partial_fit(faces[:20]).partial_fit(faces[20:])
+    np.testing.assert_allclose(st_.transform(faces), (faces - faces.mean(0)) / faces.std(0))
+
+
+@given(t=st.lists(st.floats(0, 1e6), min_size=2, max_size=20))
+def test_sigmoid_gate_is_a_rising_rate(t):
+    """The sigmoid gate's rate lies in [0, 1] and never falls with learning time."""
+    t = np.sort(t)
+    r = sigmoid_rate(t, 1e5, 2e4)
+    assert np.all((r >= 0) & (r <= 1)) and np.all(np.diff(r) >= 0)
+
+
+def test_gate_values():
+    """The sigmoid is 0.5 at its midpoint; a constant gate is constant."""
+    assert sigmoid_rate(1e5, 1e5, 2e4) == pytest.approx(0.5)
+    assert np.all(constant_rate([0, 1e5, 3e5], 0.7) == 0.7)

@@ -1,0 +1,66 @@
+"""Trials and runs: determinism whatever the workers, resuming, the oracle's ceiling."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from jointattention import io
+from jointattention.config import ConditionConfig, Config, ExperimentConfig
+from jointattention.errors import JointAttentionError
+from jointattention.experiment import measure_ceiling, run_cell, run_experiment
+
+SMALL = Config(experiment=ExperimentConfig(
+    n_steps=400, n_seeds=2, conditions=(
+        ConditionConfig(name="a", n_objects=3),
+        ConditionConfig(name="b", n_objects=5, gate="constant", gate_rate=1.0))))
+
+
+def test_same_seed_same_records():
+    """A cell run twice gives identical records; another seed index gives others."""
+    a = run_cell(SMALL, SMALL.experiment.conditions[0], 0)
+    b = run_cell(SMALL, SMALL.experiment.conditions[0], 0)
+    c = run_cell(SMALL, SMALL.experiment.conditions[0], 1)
+    for key in a:
+        assert np.array_equal(a[key], b[key])
+    assert not np.array_equal(a["target"], c["target"])
+    assert a["learning_time"][-1] < 400 <= a["learning_time"][-1] + a["n_steps"][-1]
+
+
+def test_results_do_not_depend_on_the_number_of_workers(tmp_path):
+    """One worker and two workers write the same cells."""
+    one = run_experiment(SMALL, tmp_path / "one", workers=1)
+    two = run_experiment(SMALL, tmp_path / "two", workers=2)
+    assert one.keys() == two.keys()
+    for k in one:
+        for col in one[k]:
+            assert np.array_equal(one[k][col], two[k][col])
+
+
+def test_resume_runs_only_missing_cells(tmp_path):
+    """Re-running a run folder recomputes only cells that are missing, with equal results."""
+    out = tmp_path / "run"
+    first = run_experiment(SMALL, out)
+    missing = io.cell_path(out, "b", 1)
+    missing.unlink()
+    kept = io.cell_path(out, "a", 0)
+    stamp = kept.stat().st_mtime_ns
+    messages = []
+    again = run_experiment(SMALL, out, progress=messages.append)
+    assert messages[0] == "3 of 4 cells already done"
+    assert kept.stat().st_mtime_ns == stamp
+    assert np.array_equal(again[("b", 1)]["success"], first[("b", 1)]["success"])
+
+
+def test_run_folder_of_another_configuration_is_refused(tmp_path):
+    """Resuming into a folder made with another configuration is one clear error."""
+    run_experiment(SMALL, tmp_path / "run")
+    other = SMALL.__class__(seed=1, experiment=SMALL.experiment)
+    with pytest.raises(JointAttentionError, match="another configuration"):
+        run_experiment(other, tmp_path / "run")
+
+
+def test_oracle_ceiling_falls_with_more_objects():
+    """The oracle always succeeds with one object and less often with ten."""
+    assert measure_ceiling(SMALL, 1, 200) == 1.0
+    assert measure_ceiling(SMALL, 10, 300) < measure_ceiling(SMALL, 3, 300) < 1.0
