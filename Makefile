@@ -13,7 +13,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/jointattention demo --out runs/demo
+	$(BIN)/jointattention reproduce --preset quick --out runs/demo
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests

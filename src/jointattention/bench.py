@@ -9,7 +9,7 @@ import numpy as np
 
 from .config import WorldConfig
 
-__all__ = ["run_world_benchmarks"]
+__all__ = ["run_agent_benchmark", "run_world_benchmarks"]
 
 
 def _rate(fn: Callable[[int], object], n: int, repeats: int = 3) -> float:
@@ -57,3 +57,15 @@ def run_world_benchmarks(
         )
         rows.append(("new scene (sample + show)", _rate(lambda i: world.reset(), 200), "scenes/s"))
     return rows
+
+
+def run_agent_benchmark(n_steps: int = 20000) -> list[tuple[str, float, str]]:
+    """Agent-steps per second of a learning run in fast mode (5 objects, sigmoid gate)."""
+    from .config import ConditionConfig, Config, ExperimentConfig
+    from .experiment import run_cell
+
+    config = Config(experiment=ExperimentConfig(n_steps=n_steps))
+    start = time.perf_counter()
+    run_cell(config, ConditionConfig(n_objects=5), 0)
+    return [("agent steps, fast mode, learning (5 objects)",
+             n_steps / (time.perf_counter() - start), "steps/s")]

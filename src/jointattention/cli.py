@@ -65,10 +65,11 @@ def _cmd_datasets_check(args: argparse.Namespace) -> None:
 
 
 def _cmd_bench(args: argparse.Namespace) -> None:
-    from .bench import run_world_benchmarks
+    from .bench import run_agent_benchmark, run_world_benchmarks
     from .config import load_config
 
-    for name, value, unit in run_world_benchmarks(load_config(args.config).world):
+    rows = run_world_benchmarks(load_config(args.config).world) + run_agent_benchmark()
+    for name, value, unit in rows:
         print(f"{name:<52} {value:>12,.0f} {unit}")
 
 
@@ -81,11 +82,38 @@ def _cmd_config(args: argparse.Namespace) -> None:
         print(to_toml(load_config(args.config)), end="")
 
 
-def _cmd_demo(args: argparse.Namespace) -> None:
-    args.seed = None
-    _cmd_render(args)
-    args.file = None
-    _cmd_datasets_check(args)
+def _cmd_reproduce(args: argparse.Namespace) -> None:
+    import os
+
+    from tqdm import tqdm
+
+    from .config import load_config
+    from .experiment import measure_ceiling, run_experiment
+    from .io import save_json, write_trials_csv
+    from .plotting import write_figures
+
+    config = load_config(args.config or args.preset)
+    out = Path(args.out)
+    workers = args.workers or os.cpu_count() or 1
+    exp = config.experiment
+    with tqdm(total=len(exp.conditions) * exp.n_seeds, desc="cells", unit="cell") as bar:
+        def progress(message: str) -> None:
+            if message.endswith("already done"):
+                bar.update(int(message.split()[0]))
+                bar.write(message)
+            else:
+                bar.update(1)
+                bar.set_postfix_str(message)
+
+        cells = run_experiment(config, out, workers=workers, progress=progress)
+    ceiling_file = out / "ceilings.json"
+    if not ceiling_file.exists():
+        counts = sorted({c.n_objects for c in exp.conditions})
+        ceilings = {str(n): measure_ceiling(config, n) for n in tqdm(counts, desc="ceilings")}
+        save_json(ceilings, ceiling_file)
+    write_trials_csv(out, cells)
+    for path in write_figures(out):
+        print(path)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -97,15 +125,19 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    p = sub.add_parser(
-        "demo",
-        help="the main job: render the world and check the data sets",
-        description="Render the robot's view and the face windows into --out, "
-        "and check the shipped data sets.",
-    )
+    p = sub.add_parser("reproduce", help="the main job: run the paper's experiments",
+                       description="Run every condition x seed of the preset (learning in the "
+                                   "fast world), measure the oracle ceilings, and write "
+                                   "Fig. 4(a), Fig. 4(b), Fig. 5, table.md/csv and trials.csv "
+                                   "into --out. Re-running the same command resumes: finished "
+                                   "cells are kept.")
+    p.add_argument("--preset", default="quick",
+                   help="a shipped preset: quick (minutes) or paper (the paper's scale)")
     _add_config(p)
-    p.add_argument("--out", default="runs/demo", help="output folder (default: runs/demo)")
-    p.set_defaults(func=_cmd_demo)
+    p.add_argument("--out", default="runs/reproduce", help="run folder (default: runs/reproduce)")
+    p.add_argument("--workers", type=int, default=0,
+                   help="worker processes (default: one per core); results do not depend on it")
+    p.set_defaults(func=_cmd_reproduce)
 
     p = sub.add_parser(
         "render",
