@@ -31,6 +31,7 @@ import tempfile
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -73,7 +74,7 @@ def _describe(a: np.ndarray) -> str:
     return f"{a.dtype} array of shape {a.shape}"
 
 
-def _validate(ds: CaregiverDatasets, where: str) -> None:
+def _validate(ds, where: str) -> None:
     face = np.asarray(ds.face)
     if face.dtype != np.uint8 or face.ndim != 3 or min(face.shape[1:], default=0) < 4:
         _fail(where, "face", "uint8 array of shape (N, H, W) with H, W >= 4", _describe(face))
@@ -157,7 +158,6 @@ def load(path: str | Path) -> CaregiverDatasets:
             if int(version) != SCHEMA_VERSION:
                 _fail(where, "schema_version", f"{SCHEMA_VERSION}", f"{int(version)}")
             meta = json.loads(str(archive["meta"])) if "meta" in keys else {}
-            ds = CaregiverDatasets.__new__(CaregiverDatasets)
             fields = dict(
                 face=archive["face"],
                 theta_face_rad=archive["theta_face_rad"],
@@ -167,10 +167,8 @@ def load(path: str | Path) -> CaregiverDatasets:
             )
         except (ValueError, OSError) as err:  # corrupt member, bad JSON, pickled object
             raise DatasetError(f"{where}: a field could not be read ({err})") from None
-    for k, v in fields.items():
-        object.__setattr__(ds, k, v)
-    _validate(ds, where)
-    return ds
+    _validate(SimpleNamespace(**fields), where)  # errors name the file, not "data sets"
+    return CaregiverDatasets(**fields)
 
 
 def default_datasets() -> CaregiverDatasets:

@@ -18,6 +18,7 @@ from . import io
 from .agent.bootstrap import BootstrapAgent
 from .config import ConditionConfig, Config
 from .datasets import CaregiverDatasets, default_datasets, load
+from .errors import ConfigError
 from .oracle import OracleAgent
 from .rng import stream
 from .trial import run_trial
@@ -118,8 +119,6 @@ def run_experiment(config: Config, out: Path, workers: int = 1,
     exp = config.experiment
     names = [c.name for c in exp.conditions]
     if len(set(names)) != len(names):
-        from .errors import ConfigError
-
         raise ConfigError("experiment.conditions: expected distinct names")
     cells = [(c, i) for c in exp.conditions for i in range(exp.n_seeds)]
     todo = [(config, c, i) for c, i in cells if not io.cell_path(out, c.name, i).exists()]

@@ -7,7 +7,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .. import __version__
-from ..config import WorldConfig, to_toml
+from ..config import Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets
 from ..imaging import face_window
 from .simulator import World
@@ -50,13 +50,7 @@ def make_datasets(
     meta = {
         "generator": f"jointattention {__version__}",
         "seed": seed,
-        "world_config_toml": to_toml_world(config),
+        "world_config_toml": to_toml(Config(world=config)),
     }
     return CaregiverDatasets(faces, theta_face, command, target, meta)
 
-
-def to_toml_world(config: WorldConfig) -> str:
-    """The world configuration as TOML (for provenance in the data-set file)."""
-    from ..config import Config
-
-    return to_toml(Config(world=config))
