@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
+from contextlib import nullcontext
 from pathlib import Path
 
 import numpy as np
@@ -51,12 +52,19 @@ def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance
     return kin.camera_position(theta) + 0.65 * kin.gaze_direction(theta), face
 
 
+def _random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_objects: int,
+                  rng: np.random.Generator) -> tuple[int, FastScene]:
+    """A trial's data set index and its scene: the recorded target plus random distractors."""
+    k = int(rng.integers(len(ds)))
+    target_m, face_m = _trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+    return k, FastScene(config.world, kin, target_m, face_m, n_objects, rng)
+
+
 def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
              progress: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
     """Learn for ``experiment.n_steps`` steps; one record per trial (see io.TRIAL_COLUMNS)."""
     ds = _datasets(config)
-    world = config.world
-    kin = HeadKinematics.from_config(world)
+    kin = HeadKinematics.from_config(config.world)
     agent = BootstrapAgent(
         agent_config(config, condition), image_size_px=(kin.width_px, kin.height_px),
         joint_limits_rad=(kin.pan_limits_rad, kin.tilt_limits_rad),
@@ -66,9 +74,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     rows = []
     n_steps = config.experiment.n_steps
     while agent.learning_time_steps < n_steps and len(rows) < n_steps:
-        k = int(trials.integers(len(ds)))
-        target_m, face_m = _trial_geometry(ds, k, kin, world.caregiver.distance_m)
-        scene = FastScene(world, kin, target_m, face_m, condition.n_objects, trials)
+        k, scene = _random_scene(config, ds, kin, condition.n_objects, trials)
         face = ds.face[shuffle.integers(len(ds))] if condition.shuffle_faces else ds.face[k]
         t0 = agent.learning_time_steps
         r = run_trial(scene, agent, face, ds.theta_face_rad[k], agent.config.max_steps, kin)
@@ -92,9 +98,7 @@ def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None)
     step = np.deg2rad(config.agent.lm_step_deg)
     wins = 0
     for _ in range(n_trials):
-        k = int(rng.integers(len(ds)))
-        target_m, face_m = _trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
-        scene = FastScene(config.world, kin, target_m, face_m, n_objects, rng)
+        k, scene = _random_scene(config, ds, kin, n_objects, rng)
         oracle = OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step, d_th)
         r = run_trial(scene, oracle, ds.face[k], ds.theta_face_rad[k],
                       config.agent.max_steps, kin)
@@ -124,18 +128,14 @@ def run_experiment(config: Config, out: Path, workers: int = 1,
     todo = [(config, c, i) for c, i in cells if not io.cell_path(out, c.name, i).exists()]
     if progress:
         progress(f"{len(cells) - len(todo)} of {len(cells)} cells already done")
-    if workers <= 1:
-        finished = (_cell_job(job) for job in todo)
+    with ProcessPoolExecutor(max_workers=workers) if workers > 1 else nullcontext() as pool:
+        if pool is None:
+            finished = map(_cell_job, todo)
+        else:
+            finished = (f.result() for f in as_completed([pool.submit(_cell_job, j)
+                                                           for j in todo]))
         for name, i, rec in finished:
             io.save_cell(io.cell_path(out, name, i), rec)
             if progress:
                 progress(f"{name} seed {i}")
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = [pool.submit(_cell_job, job) for job in todo]
-            for fut in as_completed(futures):
-                name, i, rec = fut.result()
-                io.save_cell(io.cell_path(out, name, i), rec)
-                if progress:
-                    progress(f"{name} seed {i}")
     return {(c.name, i): io.load_cell(io.cell_path(out, c.name, i)) for c, i in cells}

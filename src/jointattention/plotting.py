@@ -32,6 +32,12 @@ def condition_curves(out: Path, config: Config) -> dict[str, tuple]:
     return curves
 
 
+def _is_plain(c) -> bool:
+    """A condition of the paper's own figures: default readings, faces not shuffled."""
+    return (not c.shuffle_faces and c.gate_per is None and c.vf_fallback is None
+            and c.learning_target is None)
+
+
 def _plot_conditions(ax, curves, names, config, ceilings, labels):
     import matplotlib.pyplot as plt
 
@@ -71,9 +77,8 @@ def write_figures(out: Path) -> list[Path]:
     written = []
     note = "dotted: chance 1/n; dashed: oracle gaze-line ceiling; bands: 95% interval over seeds"
 
-    fig4a = [n for n, c in conds.items() if (c.gate or config.agent.gate) == "sigmoid"
-             and not c.shuffle_faces and c.gate_per is None and c.vf_fallback is None
-             and c.learning_target is None]
+    fig4a = [n for n, c in conds.items()
+             if _is_plain(c) and (c.gate or config.agent.gate) == "sigmoid"]
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     _plot_conditions(ax, curves, fig4a, config, ceilings,
                      {n: f"{conds[n].n_objects} objects" for n in fig4a})
@@ -90,8 +95,7 @@ def write_figures(out: Path) -> list[Path]:
     ax.set_title("Fig. 4(b): gating function (sigmoid)", fontsize=9)
     written.append(_save(fig, out / "fig4b_gate.png"))
 
-    fig5 = [n for n, c in conds.items() if c.n_objects == 5 and not c.shuffle_faces
-            and c.gate_per is None and c.vf_fallback is None and c.learning_target is None]
+    fig5 = [n for n, c in conds.items() if _is_plain(c) and c.n_objects == 5]
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     labels = {n: ("sigmoid" if (conds[n].gate or a.gate) == "sigmoid"
                   else f"constant {conds[n].gate_rate}") for n in fig5}

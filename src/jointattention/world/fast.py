@@ -52,10 +52,7 @@ class FastScene:
         kin = self.kinematics
         uv, depth, area = kin.project_spheres(self.object_pos_m, self.object_radius_m, theta_rad)
         w, h = kin.width_px, kin.height_px
-        with np.errstate(invalid="ignore"):
-            seen = (depth > 0) & (uv[:, 0] >= -0.5) & (uv[:, 0] <= w - 0.5) & (
-                uv[:, 1] >= -0.5) & (uv[:, 1] <= h - 0.5)
-        ids = np.flatnonzero(seen)
+        ids = np.flatnonzero(kin.in_image(uv, depth))
         c, a = uv[ids], area[ids]
         r = np.sqrt(a / np.pi)
         # distance of each centre to the nearest image border, in radii

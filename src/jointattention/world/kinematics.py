@@ -110,6 +110,13 @@ class HeadKinematics:
         area[~front | (denom <= 0)] = np.nan
         return uv, depth, area
 
+    def in_image(self, uv: np.ndarray, depth: np.ndarray) -> np.ndarray:
+        """Whether each projected point lies in front of the camera and inside the image."""
+        w, h = self.width_px, self.height_px
+        with np.errstate(invalid="ignore"):
+            return (depth > 0) & (uv[:, 0] >= -0.5) & (uv[:, 0] <= w - 0.5) & (
+                uv[:, 1] >= -0.5) & (uv[:, 1] <= h - 0.5)
+
     def project(self, points_m, theta_rad) -> tuple[np.ndarray, np.ndarray]:
         """Pixel positions (N, 2) of world points and their depths (N,) along the optical axis.
 

@@ -156,14 +156,7 @@ class World:
         kin, s = self.kinematics, self.state
         uv, depth = kin.project(s.object_pos_m, theta)
         area = kin.apparent_area_px(s.object_pos_m, s.object_radius_m, theta)
-        w, h = kin.width_px, kin.height_px
-        in_view = (
-            (depth > 0)
-            & (uv[:, 0] >= -0.5)
-            & (uv[:, 0] <= w - 0.5)
-            & (uv[:, 1] >= -0.5)
-            & (uv[:, 1] <= h - 0.5)
-        )
+        in_view = kin.in_image(uv, depth)
         return Projection(uv, area, in_view)
 
     def render(self, camera: str = "eye", *, segmentation: bool = False) -> np.ndarray:
