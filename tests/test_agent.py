@@ -76,3 +76,39 @@ def test_gate_values():
     """The sigmoid is 0.5 at its midpoint; a constant gate is constant."""
     assert sigmoid_rate(1e5, 1e5, 2e4) == pytest.approx(0.5)
     assert np.all(constant_rate([0, 1e5, 3e5], 0.7) == 0.7)
+
+
+def _agent(**changes):
+    from jointattention.agent.bootstrap import BootstrapAgent
+    from jointattention.config import AgentConfig
+
+    return BootstrapAgent(AgentConfig(**changes), image_size_px=(321, 241),
+                          joint_limits_rad=((-1, 1), (-1, 1)), face_size_px=(3, 2),
+                          rng=np.random.default_rng(0))
+
+
+@pytest.mark.parametrize("target", ["final_direction", "object_direction", "executed_step"])
+def test_each_learning_target_teaches_its_direction(target, monkeypatch):
+    """A fired trial teaches the unit direction to the final gaze, to the attended object
+    (final gaze plus the visual controller's centring command), or of the executed step."""
+    agent = _agent(learning_target=target, gate="constant", gate_rate=1.0)
+    taught = []
+    monkeypatch.setattr(agent.learner, "partial_fit", lambda X, Y: taught.append(Y))
+    agent.begin_trial(np.zeros((2, 3)), [0.5, 0.2])
+    step, _ = agent.act(_det(np.zeros((0, 2))), [0.5, 0.2])
+    end = np.array([0.0, 0.3])
+    assert agent.evaluate(_det([[160 + 20, 120]])) == 0  # the object sits 20 px right
+    agent.end_trial(True, end)
+    aim = {"final_direction": end, "executed_step": step,
+           "object_direction": end + [20 * agent.config.vf_gain_rad_per_px, 0]}[target]
+    if target != "executed_step":
+        aim = aim - [0.5, 0.2]
+    np.testing.assert_allclose(taught[0][0], aim / np.hypot(*aim))
+
+
+def test_a_trial_that_did_not_fire_teaches_nothing():
+    """Trials ending without the evaluator firing give no learning data."""
+    agent = _agent()
+    agent.begin_trial(np.zeros((2, 3)), [0.0, 0.0])
+    agent.act(_det(np.zeros((0, 2))), [0.0, 0.0])
+    assert agent.end_trial(False, np.array([0.1, 0.0])) == 0

@@ -9,7 +9,7 @@ import numpy as np
 
 from .config import WorldConfig
 
-__all__ = ["run_agent_benchmark", "run_world_benchmarks"]
+__all__ = ["preset_estimates", "run_agent_benchmark", "run_preset", "run_world_benchmarks"]
 
 
 def _rate(fn: Callable[[int], object], n: int, repeats: int = 3) -> float:
@@ -59,13 +59,44 @@ def run_world_benchmarks(
     return rows
 
 
-def run_agent_benchmark(n_steps: int = 20000) -> list[tuple[str, float, str]]:
-    """Agent-steps per second of a learning run in fast mode (5 objects, sigmoid gate)."""
-    from .config import ConditionConfig, Config, ExperimentConfig
+def run_agent_benchmark() -> list[tuple[str, float, str]]:
+    """Agent-steps per second of one learning run in fast mode: the quick preset's 5-object
+    sigmoid cell, whose gate goes from the visual controller to the learning module."""
+    from .config import load_config
     from .experiment import run_cell
 
-    config = Config(experiment=ExperimentConfig(n_steps=n_steps))
+    config = load_config("quick")
+    cond = next(c for c in config.experiment.conditions if c.name == "n5-sigmoid")
     start = time.perf_counter()
-    run_cell(config, ConditionConfig(n_objects=5), 0)
-    return [("agent steps, fast mode, learning (5 objects)",
-             n_steps / (time.perf_counter() - start), "steps/s")]
+    run_cell(config, cond, 0)
+    rate = config.experiment.n_steps / (time.perf_counter() - start)
+    return [("agent steps, fast mode, learning (quick n5-sigmoid)", rate, "steps/s")]
+
+
+def preset_estimates(steps_per_s: float, workers: int) -> list[tuple[str, float, str]]:
+    """Estimated wall time of each shipped preset: its agent-steps over ``workers``
+    processes at ``steps_per_s`` each (``reproduce`` records the measured time)."""
+    from .config import load_config, preset_names
+
+    rows = []
+    for name in preset_names():
+        exp = load_config(name).experiment
+        cells = len(exp.conditions) * exp.n_seeds
+        rounds = np.ceil(cells / workers)  # cells are the unit of parallel work
+        rows.append((f"preset {name}: {cells} cells on {workers} workers (estimate)",
+                     rounds * exp.n_steps / steps_per_s / 60, "min"))
+    return rows
+
+
+def run_preset(name: str, workers: int) -> list[tuple[str, float, str]]:
+    """Measured wall time of running preset ``name`` from scratch (in a temporary folder)."""
+    import tempfile
+
+    from .config import load_config
+    from .experiment import run_experiment
+
+    with tempfile.TemporaryDirectory() as tmp:
+        start = time.perf_counter()
+        run_experiment(load_config(name), tmp, workers=workers)
+        wall = time.perf_counter() - start
+    return [(f"preset {name}: cells on {workers} workers (measured)", wall / 60, "min")]

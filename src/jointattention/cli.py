@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
 from pathlib import Path
 
 from . import __version__
@@ -65,12 +66,21 @@ def _cmd_datasets_check(args: argparse.Namespace) -> None:
 
 
 def _cmd_bench(args: argparse.Namespace) -> None:
-    from .bench import run_agent_benchmark, run_world_benchmarks
+    import os
+
+    from .bench import preset_estimates, run_agent_benchmark, run_preset, run_world_benchmarks
     from .config import load_config
 
-    rows = run_world_benchmarks(load_config(args.config).world) + run_agent_benchmark()
+    workers = args.workers or os.cpu_count() or 1
+    for preset in args.run:
+        load_config(preset)  # an unknown preset is refused before anything runs
+    rows = run_world_benchmarks(load_config(args.config).world)
+    agent = run_agent_benchmark()
+    rows += agent + preset_estimates(agent[0][1], workers)
+    for preset in args.run:
+        rows += run_preset(preset, workers)
     for name, value, unit in rows:
-        print(f"{name:<52} {value:>12,.0f} {unit}")
+        print(f"{name:<60} {value:>10,.{1 if unit == 'min' else 0}f} {unit}")
 
 
 def _cmd_config(args: argparse.Namespace) -> None:
@@ -96,16 +106,23 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
     out = Path(args.out)
     workers = args.workers or os.cpu_count() or 1
     exp = config.experiment
+    start, done_before = time.perf_counter(), 0
     with tqdm(total=len(exp.conditions) * exp.n_seeds, desc="cells", unit="cell") as bar:
         def progress(message: str) -> None:
+            nonlocal done_before
             if message.endswith("already done"):
-                bar.update(int(message.split()[0]))
+                done_before = int(message.split()[0])
+                bar.update(done_before)
                 bar.write(message)
             else:
                 bar.update(1)
                 bar.set_postfix_str(message)
 
         cells = run_experiment(config, out, workers=workers, progress=progress)
+    wall_min = (time.perf_counter() - start) / 60
+    save_json({"wall_min": round(wall_min, 2), "workers": workers,
+               "cells_run": len(cells) - done_before, "cells_total": len(cells)},
+              out / "timing.json")
     ceiling_file = out / "ceilings.json"
     if not ceiling_file.exists():
         counts = sorted({c.n_objects for c in exp.conditions})
@@ -114,6 +131,8 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
     write_trials_csv(out, cells)
     for path in write_figures(out):
         print(path)
+    print((out / "claims.md").read_text(), end="")
+    print(f"{len(cells) - done_before} cells in {wall_min:.1f} min on {workers} workers")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -179,11 +198,17 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser(
         "bench",
-        help="print rendering and fast-projection speeds",
-        description="Measure frames/s of rendering and projections/s of the "
-        "fast path at the configured image size.",
+        help="print speeds: rendering, projection, agent steps, preset wall times",
+        description="Measure frames/s of rendering and projections/s of the fast path at the "
+        "configured image size, agent-steps/s of a learning run, and estimate each preset's "
+        "wall time from it (--run PRESET measures it).",
     )
     _add_config(p)
+    p.add_argument("--workers", type=int, default=0,
+                   help="worker processes for the preset times (default: all cores)")
+    p.add_argument("--run", action="append", default=[], metavar="PRESET",
+                   help="also run this preset from scratch and print its wall time "
+                   "(repeatable; the paper preset takes the better part of an hour)")
     p.set_defaults(func=_cmd_bench)
 
     p = sub.add_parser(

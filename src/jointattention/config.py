@@ -42,7 +42,9 @@ class _Section:
 class CameraConfig(_Section):
     width_px: int = param(320, "image width W in pixels (the paper's d_th is W/6)", lo=16, hi=4096)
     height_px: int = param(240, "image height in pixels", lo=16, hi=4096)
-    fov_deg: float = param(60.0, "horizontal field of view of the pinhole camera", lo=5, hi=150)
+    fov_deg: float = param(
+        40.0, "horizontal field of view of the pinhole camera (40: the 10-object ceiling is "
+        "above 0.8; README, The world)", lo=5, hi=150)
     offset_m: tuple[float, float, float] = param(
         (-0.03, 0.06, 0.05),
         "optical centre in the head frame (right, forward, up) from the pan/tilt axes' "
@@ -164,7 +166,7 @@ class AgentConfig(_Section):
     lm_step_deg: float = param(4.0, "length of one step of the learning module", lo=0.1, hi=30)
     n_hidden: int = param(7, "hidden units of the learning module (paper: 7)", lo=1, hi=1000)
     learning_rate: float = param(
-        0.003, "back-propagation step size (about 750 standardised inputs: keep it small)",
+        0.0003, "back-propagation step size (about 750 standardised inputs: keep it small)",
         lo=0, hi=10)
     momentum: float = param(0.5, "momentum of the back-propagation updates", lo=0, hi=0.999)
     init_scale: float = param(
@@ -180,12 +182,13 @@ class AgentConfig(_Section):
         "step", "reading: the gate decides at every step, or once per trial",
         choices=("step", "trial"))
     vf_fallback: str = param(
-        "lm", "reading: what moves the head when the gate picks the visual controller and no "
+        "random", "reading: what moves the head when the gate picks the visual controller and no "
         "object is in view: the learning module, or a random step", choices=("lm", "random"))
     learning_target: str = param(
-        "final_direction", "reading: what each step of a successful trial is taught: the unit "
-        "direction to the final gaze, or the step that was executed",
-        choices=("final_direction", "executed_step"))
+        "object_direction", "reading: what each step of a successful trial is taught: the unit "
+        "direction to the final gaze, to the attended object (the final gaze plus the visual "
+        "controller's command that would centre it), or the step that was executed",
+        choices=("final_direction", "object_direction", "executed_step"))
     max_steps: int = param(40, "step limit of a trial", lo=1, hi=10000)
 
 
@@ -203,7 +206,8 @@ class ConditionConfig(_Section):
     vf_fallback: str | None = param(None, "reading: VF with nothing in view",
                                     choices=("lm", "random"))
     learning_target: str | None = param(
-        None, "reading: learning target", choices=("final_direction", "executed_step"))
+        None, "reading: learning target",
+        choices=("final_direction", "object_direction", "executed_step"))
     shuffle_faces: bool = param(
         False, "control: pair each trial with the face window of another data set")
 

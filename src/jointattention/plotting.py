@@ -10,6 +10,7 @@ import numpy as np
 
 from . import io
 from .agent.gate import sigmoid_rate
+from .claims import READINGS, check_claims, claims_markdown
 from .config import Config, load_config
 from .metrics import final_success, mean_interval, success_by_bin, time_to_fraction
 
@@ -32,10 +33,10 @@ def condition_curves(out: Path, config: Config) -> dict[str, tuple]:
     return curves
 
 
-def _is_plain(c) -> bool:
-    """A condition of the paper's own figures: default readings, faces not shuffled."""
-    return (not c.shuffle_faces and c.gate_per is None and c.vf_fallback is None
-            and c.learning_target is None)
+def _is_plain(c, config: Config) -> bool:
+    """A condition of the paper's own figures: the default reading, faces not shuffled."""
+    return not c.shuffle_faces and all(getattr(c, k) in (None, getattr(config.agent, k))
+                                       for k in READINGS)
 
 
 def _plot_conditions(ax, curves, names, config, ceilings, labels):
@@ -63,7 +64,8 @@ def _plot_conditions(ax, curves, names, config, ceilings, labels):
 
 
 def write_figures(out: Path) -> list[Path]:
-    """Fig. 4(a), Fig. 4(b) and Fig. 5 of the paper from the run folder ``out``."""
+    """Fig. 4(a), Fig. 4(b), Fig. 5, the table and the checked claims from the run folder
+    ``out``."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -78,7 +80,7 @@ def write_figures(out: Path) -> list[Path]:
     note = "dotted: chance 1/n; dashed: oracle gaze-line ceiling; bands: 95% interval over seeds"
 
     fig4a = [n for n, c in conds.items()
-             if _is_plain(c) and (c.gate or config.agent.gate) == "sigmoid"]
+             if _is_plain(c, config) and (c.gate or config.agent.gate) == "sigmoid"]
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     _plot_conditions(ax, curves, fig4a, config, ceilings,
                      {n: f"{conds[n].n_objects} objects" for n in fig4a})
@@ -95,7 +97,7 @@ def write_figures(out: Path) -> list[Path]:
     ax.set_title("Fig. 4(b): gating function (sigmoid)", fontsize=9)
     written.append(_save(fig, out / "fig4b_gate.png"))
 
-    fig5 = [n for n, c in conds.items() if _is_plain(c) and c.n_objects == 5]
+    fig5 = [n for n, c in conds.items() if _is_plain(c, config) and c.n_objects == 5]
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     labels = {n: ("sigmoid" if (conds[n].gate or a.gate) == "sigmoid"
                   else f"constant {conds[n].gate_rate}") for n in fig5}
@@ -103,7 +105,10 @@ def write_figures(out: Path) -> list[Path]:
     ax.set_title("Fig. 5: 5 objects, sigmoid gate against constant rates\n" + note, fontsize=8)
     written.append(_save(fig, out / "fig5_gates.png"))
     written += write_table(out, config, curves, ceilings)
-    return written
+    claims_path = out / "claims.md"
+    with io.atomic_path(claims_path) as tmp:
+        tmp.write_text(claims_markdown(check_claims(config, curves, ceilings)))
+    return [*written, claims_path]
 
 
 def write_table(out: Path, config: Config, curves, ceilings) -> list[Path]:

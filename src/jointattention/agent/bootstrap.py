@@ -86,12 +86,22 @@ class BootstrapAgent:
         self._face_x = self.faces.transform(face)
         self._thetas, self._steps = [], []
         self._trial_module = None
+        self._centring_rad = np.zeros(2)
         if self.config.gate_per == "trial":
             self._trial_module = LM if self.rng.random() < self.gate_rate() else VF
 
     def evaluate(self, det: Detections) -> int | None:
-        """The internal evaluator (Eq. 3): the detection at the image centre, if any."""
-        return attended_object(det, self.d_th_px)
+        """The internal evaluator (Eq. 3): the detection at the image centre, if any.
+
+        When it fires, the robot keeps the head angle change that would centre the attended
+        object exactly (the visual controller's command for it, Eq. 2): the
+        ``object_direction`` learning target aims at the object, not at where the head was
+        when the object entered the circle.
+        """
+        i = attended_object(det, self.d_th_px)
+        if i is not None:
+            self._centring_rad = visual_feedback(det, i, self.config.vf_gain_rad_per_px)
+        return i
 
     def act(self, det: Detections, theta_rad) -> tuple[np.ndarray, str]:
         """One step: the gate picks VF or LM; returns (dtheta, module that moved the head)."""
@@ -117,10 +127,14 @@ class BootstrapAgent:
         if not fired or not self._thetas:
             return 0
         thetas = np.array(self._thetas)
-        if self.config.learning_target == "final_direction":
-            diff = np.asarray(theta_end_rad) - thetas
-        else:
+        target = self.config.learning_target
+        if target == "executed_step":
             diff = np.array(self._steps)
+        else:
+            aim = np.asarray(theta_end_rad, dtype=float)
+            if target == "object_direction":
+                aim = aim + self._centring_rad
+            diff = aim - thetas
         norm = np.maximum(np.hypot(diff[:, 0], diff[:, 1]), 1e-12)[:, None]
         keep = norm[:, 0] > 1e-9
         self.learner.partial_fit(self._inputs(self._face_x, thetas[keep]), (diff / norm)[keep])

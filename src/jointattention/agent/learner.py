@@ -43,7 +43,7 @@ class LearningModule:
     """
 
     def __init__(self, n_in: int, n_hidden: int = 7, n_out: int = 2, *,
-                 learning_rate: float = 0.003, momentum: float = 0.5, init_scale: float = 1.0,
+                 learning_rate: float = 0.0003, momentum: float = 0.5, init_scale: float = 1.0,
                  rng: np.random.Generator):
         self.learning_rate, self.momentum = learning_rate, momentum
         self.w1_ = rng.normal(0, init_scale / np.sqrt(n_in), (n_in, n_hidden))
