@@ -86,10 +86,22 @@ def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
     argv = ["reproduce", "--config", str(cfg), "--out", str(out), "--workers", "1"]
     assert main(argv) == 0
     for name in ("fig4a_success.png", "fig4b_gate.png", "fig5_gates.png", "table.md",
-                 "table.csv", "trials.csv", "ceilings.json", "config.toml", "versions.json"):
+                 "table.csv", "trials.csv", "ceilings.json", "config.toml", "versions.json",
+                 "claims.md", "timing.json"):
         assert (out / name).exists(), name
     assert "n5-const1.0" in (out / "table.md").read_text()
     capsys.readouterr()
     assert main(argv) == 0
     captured = capsys.readouterr()
     assert "4 of 4 cells already done" in captured.out + captured.err
+
+
+def test_bench_estimates_every_preset():
+    """The benchmark's wall-time estimate covers each shipped preset, scaled by the rate."""
+    from jointattention.bench import preset_estimates
+    from jointattention.config import preset_names
+
+    slow, fast = preset_estimates(1000.0, 2), preset_estimates(2000.0, 2)
+    assert [r[0].split(":")[0] for r in slow] == [f"preset {n}" for n in preset_names()]
+    for (_, a, unit), (_, b, _) in zip(slow, fast, strict=True):
+        assert unit == "min" and a == pytest.approx(2 * b) and a > 0
