@@ -21,12 +21,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .config import Config
+from .config import READINGS, Config, agent_config
 from .metrics import final_success, mean_interval
 
-__all__ = ["READINGS", "Claim", "check_claims", "claims_markdown", "reading_of"]
-
-READINGS = ("gate_per", "vf_fallback", "learning_target")
+__all__ = ["Claim", "check_claims", "claims_markdown", "reading_of"]
 
 
 @dataclass(frozen=True)
@@ -41,8 +39,8 @@ class Claim:
 
 def reading_of(condition, config: Config) -> str:
     """The condition's reading, e.g. ``gate_per=step, vf_fallback=lm, learning_target=...``."""
-    return ", ".join(f"{k}={getattr(condition, k) or getattr(config.agent, k)}"
-                     for k in READINGS)
+    agent = agent_config(config, condition)
+    return ", ".join(f"{k}={getattr(agent, k)}" for k in READINGS)
 
 
 def _paired_lower(a: np.ndarray, b: np.ndarray) -> float:
@@ -57,6 +55,7 @@ def _finals(per_seed: np.ndarray) -> np.ndarray:
 def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
     """Every claim each reading's conditions allow; ``curves`` as from
     :func:`jointattention.plotting.condition_curves`, ``ceilings`` {str(n): ceiling}."""
+    agents = {c.name: agent_config(config, c) for c in config.experiment.conditions}
     groups: dict[str, list] = {}
     for c in config.experiment.conditions:
         groups.setdefault(reading_of(c, config), []).append(c)
@@ -65,11 +64,8 @@ def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
         def add(claim, holds, evidence, reading=reading):
             claims.append(Claim(reading, claim, bool(holds), evidence))
 
-        def gate(c):
-            return c.gate or config.agent.gate
-
         finals = {c.name: _finals(curves[c.name][1]) for c in conds}
-        sigmoid = [c for c in conds if gate(c) == "sigmoid" and not c.shuffle_faces]
+        sigmoid = [c for c in conds if agents[c.name].gate == "sigmoid" and not c.shuffle_faces]
         for c in sigmoid:
             per_seed = curves[c.name][1]
             first, final = per_seed[:, 0], finals[c.name]
@@ -89,16 +85,15 @@ def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
                     f"{ceiling:.3f}")
         sig5 = [c for c in sigmoid if c.n_objects == 5]
         for c in conds:
-            if c.n_objects != 5 or gate(c) != "constant" or c.shuffle_faces:
+            if c.n_objects != 5 or agents[c.name].gate != "constant" or c.shuffle_faces:
                 continue
-            rate = c.gate_rate if c.gate_rate is not None else config.agent.gate_rate
+            rate = agents[c.name].gate_rate
             for s in sig5:
                 diff = finals[s.name] - finals[c.name]
-                add(f"5 objects: sigmoid beats constant {rate}",
-                    _paired_lower(finals[s.name], finals[c.name]) > 0,
+                lower = _paired_lower(finals[s.name], finals[c.name])
+                add(f"5 objects: sigmoid beats constant {rate}", lower > 0,
                     f"final {finals[s.name].mean():.3f} against {finals[c.name].mean():.3f}; "
-                    f"paired difference {diff.mean():+.3f}, 95% lower bound "
-                    f"{_paired_lower(finals[s.name], finals[c.name]):+.3f}")
+                    f"paired difference {diff.mean():+.3f}, 95% lower bound {lower:+.3f}")
             if rate == 1.0:
                 add("5 objects: constant 1.0 stays near or below chance",
                     finals[c.name].mean() <= 1.25 * 0.2,

@@ -7,6 +7,7 @@ the configuration (readable) and in radians in the code that uses them (``*_rad`
 
 from __future__ import annotations
 
+import dataclasses
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
@@ -16,6 +17,7 @@ from ._fields import check_section, from_mapping, param, to_mapping
 from .errors import ConfigError
 
 __all__ = [
+    "READINGS",
     "AgentConfig",
     "CameraConfig",
     "CaregiverConfig",
@@ -27,6 +29,7 @@ __all__ = [
     "LightingConfig",
     "ObjectsConfig",
     "WorldConfig",
+    "agent_config",
     "load_config",
     "preset_names",
     "to_toml",
@@ -233,6 +236,17 @@ class Config(_Section):
     experiment: ExperimentConfig = ExperimentConfig()
     datasets: str = param(
         "", "data-set file of the caregiver (empty: the 125 shipped with the package)")
+
+
+# The agent options where the paper is silent (DESIGN.md's readings).
+READINGS = ("gate_per", "vf_fallback", "learning_target")
+
+
+def agent_config(config: Config, condition: ConditionConfig) -> AgentConfig:
+    """The agent section with the condition's overrides applied."""
+    changes = {k: getattr(condition, k) for k in ("gate", "gate_rate", *READINGS)
+               if getattr(condition, k) is not None}
+    return dataclasses.replace(config.agent, **changes)
 
 
 def preset_names() -> list[str]:

@@ -7,7 +7,6 @@ sequence of data sets and distractor scenes (common random numbers across condit
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import nullcontext
@@ -17,7 +16,7 @@ import numpy as np
 
 from . import io
 from .agent.bootstrap import BootstrapAgent
-from .config import ConditionConfig, Config
+from .config import ConditionConfig, Config, agent_config
 from .datasets import CaregiverDatasets, default_datasets, load
 from .errors import ConfigError
 from .oracle import OracleAgent
@@ -26,15 +25,7 @@ from .trial import run_trial
 from .world.fast import FastScene
 from .world.kinematics import HeadKinematics
 
-__all__ = ["agent_config", "measure_ceiling", "run_cell", "run_experiment"]
-
-_READINGS = ("gate", "gate_rate", "gate_per", "vf_fallback", "learning_target")
-
-
-def agent_config(config: Config, condition: ConditionConfig):
-    """The agent section with the condition's overrides applied."""
-    changes = {k: getattr(condition, k) for k in _READINGS if getattr(condition, k) is not None}
-    return dataclasses.replace(config.agent, **changes)
+__all__ = ["measure_ceiling", "run_cell", "run_experiment"]
 
 
 def _datasets(config: Config) -> CaregiverDatasets:

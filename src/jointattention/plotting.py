@@ -10,8 +10,8 @@ import numpy as np
 
 from . import io
 from .agent.gate import sigmoid_rate
-from .claims import READINGS, check_claims, claims_markdown
-from .config import Config, load_config
+from .claims import check_claims, claims_markdown
+from .config import READINGS, Config, agent_config, load_config
 from .metrics import final_success, mean_interval, success_by_bin, time_to_fraction
 
 __all__ = ["condition_curves", "write_figures", "write_table"]
@@ -35,7 +35,8 @@ def condition_curves(out: Path, config: Config) -> dict[str, tuple]:
 
 def _is_plain(c, config: Config) -> bool:
     """A condition of the paper's own figures: the default reading, faces not shuffled."""
-    return not c.shuffle_faces and all(getattr(c, k) in (None, getattr(config.agent, k))
+    agent = agent_config(config, c)
+    return not c.shuffle_faces and all(getattr(agent, k) == getattr(config.agent, k)
                                        for k in READINGS)
 
 
@@ -80,7 +81,7 @@ def write_figures(out: Path) -> list[Path]:
     note = "dotted: chance 1/n; dashed: oracle gaze-line ceiling; bands: 95% interval over seeds"
 
     fig4a = [n for n, c in conds.items()
-             if _is_plain(c, config) and (c.gate or config.agent.gate) == "sigmoid"]
+             if _is_plain(c, config) and agent_config(config, c).gate == "sigmoid"]
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     _plot_conditions(ax, curves, fig4a, config, ceilings,
                      {n: f"{conds[n].n_objects} objects" for n in fig4a})
@@ -99,8 +100,9 @@ def write_figures(out: Path) -> list[Path]:
 
     fig5 = [n for n, c in conds.items() if _is_plain(c, config) and c.n_objects == 5]
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    labels = {n: ("sigmoid" if (conds[n].gate or a.gate) == "sigmoid"
-                  else f"constant {conds[n].gate_rate}") for n in fig5}
+    agents = {n: agent_config(config, conds[n]) for n in fig5}
+    labels = {n: ("sigmoid" if agents[n].gate == "sigmoid" else f"constant {agents[n].gate_rate}")
+              for n in fig5}
     _plot_conditions(ax, curves, fig5, config, ceilings, labels)
     ax.set_title("Fig. 5: 5 objects, sigmoid gate against constant rates\n" + note, fontsize=8)
     written.append(_save(fig, out / "fig5_gates.png"))
