@@ -21,6 +21,31 @@ def _add_config(p: argparse.ArgumentParser) -> None:
     )
 
 
+class _CellBar:
+    """A progress bar over cells, fed by the runners' progress messages."""
+
+    def __init__(self, total: int):
+        from tqdm import tqdm
+
+        self.bar = tqdm(total=total, desc="cells", unit="cell")
+        self.done_before = 0
+
+    def __call__(self, message: str) -> None:
+        if message.endswith("already done"):  # "K of N cells already done"
+            self.done_before = int(message.split()[0])
+            self.bar.update(self.done_before)
+            self.bar.write(message)
+        else:
+            self.bar.update(1)
+            self.bar.set_postfix_str(message)
+
+    def __enter__(self) -> _CellBar:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.bar.close()
+
+
 def _cmd_render(args: argparse.Namespace) -> None:
     from .config import load_config
     from .world.pictures import face_sheet, robot_view
@@ -106,19 +131,11 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
     out = Path(args.out)
     workers = args.workers or os.cpu_count() or 1
     exp = config.experiment
-    start, done_before = time.perf_counter(), 0
-    with tqdm(total=len(exp.conditions) * exp.n_seeds, desc="cells", unit="cell") as bar:
-        def progress(message: str) -> None:
-            nonlocal done_before
-            if message.endswith("already done"):
-                done_before = int(message.split()[0])
-                bar.update(done_before)
-                bar.write(message)
-            else:
-                bar.update(1)
-                bar.set_postfix_str(message)
-
-        cells = run_experiment(config, out, workers=workers, progress=progress)
+    start = time.perf_counter()
+    with _CellBar(len(exp.conditions) * exp.n_seeds) as bar:
+        cells = run_experiment(config, out, workers=workers, progress=bar,
+                               backend=args.backend, address=args.address)
+    done_before = bar.done_before
     wall_min = (time.perf_counter() - start) / 60
     save_json({"wall_min": round(wall_min, 2), "workers": workers,
                "cells_run": len(cells) - done_before, "cells_total": len(cells)},
@@ -133,6 +150,33 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
         print(path)
     print((out / "claims.md").read_text(), end="")
     print(f"{len(cells) - done_before} cells in {wall_min:.1f} min on {workers} workers")
+
+
+def _add_backend(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--workers", type=int, default=0,
+                   help="worker processes or Ray CPUs (default: one per core); results do not "
+                        "depend on it")
+    p.add_argument("--backend", choices=("local", "ray"), default="local",
+                   help="where cells run: local processes (default) or Ray (the ray extra)")
+    p.add_argument("--address", help="with --backend ray: the address of a Ray cluster to join "
+                                     "(default: start a local Ray instance)")
+
+
+def _cmd_sweep(args: argparse.Namespace) -> None:
+    import os
+
+    from .sweep import load_sweep, run_sweep
+
+    sweep = load_sweep(args.spec)
+    out = Path(args.out or Path("runs") / Path(args.spec).stem)
+    workers = args.workers or os.cpu_count() or 1
+    total = sum(len(c.experiment.conditions) * c.experiment.n_seeds
+                for c in sweep.points.values())
+    with _CellBar(total) as bar:
+        run_sweep(sweep, out, workers=workers, backend=args.backend, address=args.address,
+                  progress=bar)
+    print((out / "summary.md").read_text(), end="")
+    print(out / "summary.csv")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -154,9 +198,19 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a shipped preset: quick (minutes) or paper (the paper's scale)")
     _add_config(p)
     p.add_argument("--out", default="runs/reproduce", help="run folder (default: runs/reproduce)")
-    p.add_argument("--workers", type=int, default=0,
-                   help="worker processes (default: one per core); results do not depend on it")
+    _add_backend(p)
     p.set_defaults(func=_cmd_reproduce)
+
+    p = sub.add_parser(
+        "sweep", help="run a grid of settings x conditions x seeds from a TOML spec",
+        description="Run every point of SPEC's grid (each a run folder under --out), every "
+                    "condition and seed; write summary.csv and summary.md. Re-running resumes: "
+                    "finished cells are kept, and an interrupt loses none of them. The spec's "
+                    "format: see examples/sweep.toml or `help(jointattention.sweep)`.")
+    p.add_argument("spec", metavar="SPEC.toml", help="the sweep spec")
+    p.add_argument("--out", help="output folder (default: runs/<SPEC's name>)")
+    _add_backend(p)
+    p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser(
         "render",

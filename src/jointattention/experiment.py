@@ -8,14 +8,13 @@ sequence of data sets and distractor scenes (common random numbers across condit
 from __future__ import annotations
 
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from contextlib import nullcontext
 from pathlib import Path
 
 import numpy as np
 
 from . import io
 from .agent.bootstrap import BootstrapAgent
+from .backends import CellJob, check_backend, run_jobs
 from .config import ConditionConfig, Config, agent_config
 from .datasets import CaregiverDatasets, default_datasets, load
 from .errors import ConfigError
@@ -48,7 +47,7 @@ def _random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_
     """A trial's data set index and its scene: the recorded target plus random distractors."""
     k = int(rng.integers(len(ds)))
     target_m, face_m = _trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
-    return k, FastScene(config.world, kin, target_m, face_m, n_objects, rng)
+    return k, FastScene.sample(config.world, kin, target_m, face_m, n_objects, rng)
 
 
 def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
@@ -97,18 +96,16 @@ def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None)
     return wins / n_trials
 
 
-def _cell_job(args):
-    config, condition, seed_index = args
-    return condition.name, seed_index, run_cell(config, condition, seed_index)
-
-
 def run_experiment(config: Config, out: Path, workers: int = 1,
-                   progress: Callable[[str], None] | None = None):
+                   progress: Callable[[str], None] | None = None, *, backend: str = "local",
+                   address: str | None = None):
     """Run every condition x seed into ``out``; cells already there are kept, not re-run.
 
     Returns {(condition, seed): records}. Each cell is saved as it finishes, so an
-    interrupted run loses only the cells in progress.
+    interrupted run loses only the cells in progress. ``backend`` and ``address``: see
+    :func:`jointattention.backends.run_jobs`.
     """
+    check_backend(backend, address)
     out = Path(out)
     io.prepare_run_dir(out, config)
     exp = config.experiment
@@ -116,17 +113,10 @@ def run_experiment(config: Config, out: Path, workers: int = 1,
     if len(set(names)) != len(names):
         raise ConfigError("experiment.conditions: expected distinct names")
     cells = [(c, i) for c in exp.conditions for i in range(exp.n_seeds)]
-    todo = [(config, c, i) for c, i in cells if not io.cell_path(out, c.name, i).exists()]
+    todo = [CellJob(config, c, i, io.cell_path(out, c.name, i)) for c, i in cells
+            if not io.cell_path(out, c.name, i).exists()]
     if progress:
         progress(f"{len(cells) - len(todo)} of {len(cells)} cells already done")
-    with ProcessPoolExecutor(max_workers=workers) if workers > 1 else nullcontext() as pool:
-        if pool is None:
-            finished = map(_cell_job, todo)
-        else:
-            finished = (f.result() for f in as_completed([pool.submit(_cell_job, j)
-                                                           for j in todo]))
-        for name, i, rec in finished:
-            io.save_cell(io.cell_path(out, name, i), rec)
-            if progress:
-                progress(f"{name} seed {i}")
+    run_jobs(todo, workers=workers, backend=backend, address=address,
+             progress=progress and (lambda j: progress(f"{j.condition.name} seed {j.seed_index}")))
     return {(c.name, i): io.load_cell(io.cell_path(out, c.name, i)) for c, i in cells}

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["final_success", "mean_interval", "success_by_bin", "time_to_fraction"]
+__all__ = ["T975", "final_success", "mean_interval", "success_by_bin", "time_to_fraction"]
 
 # Two-sided 95% Student t quantiles for 1..30 degrees of freedom; beyond, the normal's.
-_T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179,
+T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179,
          2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064,
          2.060, 2.056, 2.052, 2.048, 2.045, 2.042)
 
@@ -31,7 +31,7 @@ def mean_interval(per_seed: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndar
     if n < 2:
         return mean, mean, mean
     sem = np.nanstd(per_seed, axis=0, ddof=1) / np.sqrt(n)
-    t = _T975[n - 2] if n - 1 <= len(_T975) else 1.96
+    t = T975[n - 2] if n - 1 <= len(T975) else 1.96
     return mean, mean - t * sem, mean + t * sem
 
 

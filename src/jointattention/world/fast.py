@@ -24,27 +24,38 @@ def _inside_fraction(h: np.ndarray) -> np.ndarray:
 
 
 class FastScene:
-    """One trial's objects: the caregiver's target plus random distractors.
+    """One trial's objects as the fast detector sees them.
 
     Args:
-        world: geometry of the room and of the object region.
         kinematics: the head and camera.
-        target_m: where the caregiver's target is.
-        face_m: where the caregiver's face is (distractors keep clear of it).
-        n_objects: objects in all, the target among them.
-        rng: draws the distractors, the target's size, and every object's texture.
+        object_pos_m: (n, 3) object centres.
+        object_radius_m: (n,) object radii.
+        target_index: the caregiver's target among them.
+        edge: (n,) each object's texture complexity (the paper's f_edge).
+
+    :meth:`sample` draws one for an experiment's trial.
     """
 
-    def __init__(self, world: WorldConfig, kinematics: HeadKinematics, target_m, face_m,
-                 n_objects: int, rng: np.random.Generator):
+    def __init__(self, kinematics: HeadKinematics, object_pos_m, object_radius_m,
+                 target_index: int, edge):
         self.kinematics = kinematics
+        self.object_pos_m = np.asarray(object_pos_m, dtype=float)
+        self.object_radius_m = np.asarray(object_radius_m, dtype=float)
+        self.target_index = int(target_index)
+        self.edge = np.asarray(edge, dtype=float)
+        self.visible_ids = np.arange(0)
+
+    @classmethod
+    def sample(cls, world: WorldConfig, kinematics: HeadKinematics, target_m, face_m,
+               n_objects: int, rng: np.random.Generator) -> FastScene:
+        """The caregiver's target at ``target_m`` plus random distractors kept clear of the
+        face at ``face_m``; ``rng`` draws the distractors, the target's size, the objects'
+        order and every object's texture."""
         target_radius = rng.uniform(*world.objects.radius_range_m)
         pos, rad = place_objects(world, face_m, rng, n_objects, [target_m], [target_radius])
         order = rng.permutation(n_objects)  # the target's place in the list is random
-        self.object_pos_m, self.object_radius_m = pos[order], rad[order]
-        self.target_index = int(np.flatnonzero(order == 0)[0])
-        self.edge = rng.uniform(0, 1, n_objects)
-        self.visible_ids = np.arange(0)
+        target = int(np.flatnonzero(order == 0)[0])
+        return cls(kinematics, pos[order], rad[order], target, rng.uniform(0, 1, n_objects))
 
     def observe(self, theta_rad) -> Detections:
         """What the robot's detector reports at head angle ``theta_rad``; the object ids of

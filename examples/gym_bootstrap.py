@@ -1,0 +1,99 @@
+"""The bootstrap learning agent run through the Gymnasium environment ``JointAttention-v0``.
+
+The agent knows only what the environment gives it: the spaces (image size, joint limits,
+face-window size), the face window, the head angle and the detector's report in ``info``.
+Its success (the external reward) is compared with the library's own runner
+(``jointattention reproduce``) for the same configuration, object count and schedule.
+
+    python examples/gym_bootstrap.py --config quick --n-objects 3 --seeds 3
+
+prints the success over the last ``--tail-steps`` of learning time, for each seed, through the
+environment and through the runner, and the runner's 95% interval over its seeds.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+
+import gymnasium as gym
+import numpy as np
+
+import jointattention.env  # noqa: F401  (registers JointAttention-v0)
+from jointattention.agent.bootstrap import BootstrapAgent
+from jointattention.agent.detections import Detections
+from jointattention.config import ConditionConfig, agent_config, load_config
+from jointattention.env import FaceWindowObservation
+from jointattention.experiment import run_cell
+from jointattention.metrics import T975, mean_interval
+from jointattention.rng import stream
+
+
+def run_through_env(config, n_objects: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """Learn for ``experiment.n_steps`` steps; returns (learning time, success) per trial."""
+    env = FaceWindowObservation(gym.make("JointAttention-v0", config=config,
+                                         n_objects=n_objects))
+    spaces = env.observation_space
+    h, w, _ = spaces["image"].shape
+    head = spaces["head_angle"]
+    agent = BootstrapAgent(
+        agent_config(config, ConditionConfig(n_objects=n_objects)), image_size_px=(w, h),
+        joint_limits_rad=np.stack([head.low, head.high], axis=1).astype(float),
+        face_size_px=spaces["face"].shape[::-1], rng=stream(config.seed, "agent", seed))
+    times, successes = [], []
+    obs, info = env.reset(seed=seed)
+    while agent.learning_time_steps < config.experiment.n_steps:
+        times.append(agent.learning_time_steps)
+        agent.begin_trial(obs["face"], obs["head_angle"].astype(float))
+        done, reward = False, 0.0
+        while True:
+            det = Detections(**info["detections"], image_size_px=(w, h))
+            agent.evaluate(det)  # keeps the centring command when the evaluator fires
+            if done:
+                break
+            dtheta, _ = agent.act(det, obs["head_angle"].astype(float))
+            obs, reward, terminated, truncated, info = env.step(dtheta.astype(np.float32))
+            done = terminated or truncated
+        agent.end_trial(info["fired"], obs["head_angle"].astype(float))
+        successes.append(reward)
+        obs, info = env.reset()
+    env.close()
+    return np.array(times), np.array(successes)
+
+
+def tail_success(times, success, n_steps: int, tail_steps: int) -> float:
+    return float(np.mean(success[np.asarray(times) >= n_steps - tail_steps]))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--config", default="quick", help="preset or TOML file (default: quick)")
+    parser.add_argument("--n-objects", type=int, default=3, help="objects per scene (default 3)")
+    parser.add_argument("--seeds", type=int, default=3, help="seeds through the env (default 3)")
+    parser.add_argument("--runner-seeds", type=int, default=10,
+                        help="seeds through the runner (default 10)")
+    parser.add_argument("--n-steps", type=int, help="learning time (default: the config's)")
+    parser.add_argument("--tail-steps", type=int, default=10_000,
+                        help="success is measured over this much final learning time")
+    args = parser.parse_args()
+    config = load_config(args.config)
+    if args.n_steps:
+        config = dataclasses.replace(
+            config, experiment=dataclasses.replace(config.experiment, n_steps=args.n_steps))
+    n, tail = config.experiment.n_steps, args.tail_steps
+    condition = ConditionConfig(name=f"n{args.n_objects}", n_objects=args.n_objects)
+    runner = np.array([tail_success(r["learning_time"], r["success"], n, tail)
+                       for r in (run_cell(config, condition, s) for s in range(args.runner_seeds))])
+    env = np.array([tail_success(*run_through_env(config, args.n_objects, s), n, tail)
+                    for s in range(args.seeds)])
+    for name, x in (("runner", runner), ("env", env)):
+        mean, lo, hi = (float(v[0]) for v in mean_interval(x[:, None]))
+        print(f"{name:<6} {len(x):>2} seeds: success over the last {tail} steps {mean:.3f} "
+              f"(95% interval {lo:.3f} to {hi:.3f}); seeds " + " ".join(f"{v:.3f}" for v in x))
+    diff = env.mean() - runner.mean()
+    se = np.sqrt(env.var(ddof=1) / len(env) + runner.var(ddof=1) / len(runner))
+    t = T975[min(len(env), len(runner)) - 2]
+    print(f"env - runner: {diff:+.3f} (95% interval {diff - t * se:+.3f} to {diff + t * se:+.3f})")
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,106 @@
+"""Where cells run: in this process, in local worker processes, or on a Ray cluster.
+
+A cell's records depend only on its configuration, condition and seed index, so every
+backend gives the same results. Each finished cell is saved (atomically) by the calling
+process as soon as it arrives: an interrupted run loses only the cells in progress.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from contextlib import closing
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import io
+from .config import ConditionConfig, Config
+from .errors import ConfigError
+
+__all__ = ["BACKENDS", "CellJob", "check_backend", "run_jobs"]
+
+BACKENDS = ("local", "ray")
+
+
+@dataclass(frozen=True)
+class CellJob:
+    """One cell to run, and the file its records go to."""
+
+    config: Config
+    condition: ConditionConfig
+    seed_index: int
+    path: Path
+
+
+def _run(job: CellJob) -> tuple[CellJob, dict[str, np.ndarray]]:
+    from .experiment import run_cell  # here, so that a Ray worker imports it on demand
+
+    return job, run_cell(job.config, job.condition, job.seed_index)
+
+
+def _local(jobs: Sequence[CellJob], workers: int) -> Iterator[tuple]:
+    if workers <= 1:
+        yield from map(_run, jobs)
+        return
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(_run, j) for j in jobs]
+        try:
+            for f in as_completed(futures):
+                yield f.result()
+        finally:  # on an interrupt, do not start the cells still waiting
+            for f in futures:
+                f.cancel()
+
+
+def _ray(jobs: Sequence[CellJob], workers: int, address: str | None) -> Iterator[tuple]:
+    try:
+        import ray
+    except ImportError:
+        raise ConfigError('--backend ray: Ray is not installed; expected it installed: '
+                          'pip install "jointattention[ray]"') from None
+    started = not ray.is_initialized()
+    if started:
+        kwargs = {"address": address} if address else {"num_cpus": workers}
+        ray.init(include_dashboard=False, log_to_driver=False, **kwargs)
+    try:
+        remote = ray.remote(_run)
+        pending = [remote.remote(j) for j in jobs]
+        try:
+            while pending:
+                done, pending = ray.wait(pending, num_returns=1)
+                yield ray.get(done[0])
+        finally:
+            for ref in pending:
+                ray.cancel(ref, force=True)
+    finally:
+        if started:
+            ray.shutdown()
+
+
+def check_backend(backend: str, address: str | None) -> None:
+    """Refuse an unknown backend, or an address without Ray, before anything is written."""
+    if backend not in BACKENDS:
+        raise ConfigError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+    if address and backend != "ray":
+        raise ConfigError("--address: joins a Ray cluster; expected --backend ray with it")
+
+
+def run_jobs(jobs: Sequence[CellJob], *, workers: int = 1, backend: str = "local",
+             address: str | None = None,
+             progress: Callable[[CellJob], None] | None = None) -> None:
+    """Run ``jobs`` and save each cell's records to its ``path`` as it finishes.
+
+    ``backend`` is ``"local"`` (``workers`` processes; 1 runs in this process) or ``"ray"``
+    (a local Ray instance with ``workers`` CPUs, or the cluster at ``address``).
+    """
+    check_backend(backend, address)
+    if not jobs:
+        return
+    finished = _local(jobs, workers) if backend == "local" else _ray(jobs, workers, address)
+    with closing(finished):  # an interrupt stops the backend's waiting cells at once
+        for job, records in finished:
+            io.save_cell(job.path, records)
+            if progress is not None:
+                progress(job)
