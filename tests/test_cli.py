@@ -10,7 +10,7 @@ import pytest
 from jointattention.cli import build_parser, main
 
 COMMANDS = [[], ["reproduce"], ["render"], ["datasets"], ["datasets", "make"],
-            ["datasets", "check"], ["bench"], ["config"]]
+            ["datasets", "check"], ["bench"], ["config"], ["sweep"], ["report"]]
 
 
 @pytest.mark.parametrize("command", COMMANDS, ids=lambda c: " ".join(c) or "top")
@@ -50,6 +50,8 @@ def test_datasets_make_then_check(tmp_path, needs_gl, capsys):
         (["datasets", "check", "missing.npz"], "missing.npz: no such file"),
         (["render", "--config", "nonexistent"], "nonexistent: no such preset"),
         (["datasets", "make", "--n", "0", "x.npz"], "--n 0: expected at least 1"),
+        (["sweep", "nospec.toml"], "nospec.toml: cannot read the sweep spec"),
+        (["report", "norun"], "norun: not a run folder"),
     ],
 )
 def test_bad_input_is_one_line_without_traceback(argv, message, tmp_path, monkeypatch):

@@ -179,6 +179,12 @@ def _cmd_sweep(args: argparse.Namespace) -> None:
     print(out / "summary.csv")
 
 
+def _cmd_report(args: argparse.Namespace) -> None:
+    from .report import write_report
+
+    print(write_report(args.run, args.out))
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="jointattention",
@@ -211,6 +217,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out", help="output folder (default: runs/<SPEC's name>)")
     _add_backend(p)
     p.set_defaults(func=_cmd_sweep)
+
+    p = sub.add_parser(
+        "report", help="one self-contained HTML page of a run folder",
+        description="Write RUN_FOLDER/report.html: the claims, the table, the figures (inline), "
+                    "the ceilings, the configuration and the versions it ran with; readable "
+                    "offline. Also takes a sweep's folder.")
+    p.add_argument("run", metavar="RUN_FOLDER", help="a folder written by reproduce or sweep")
+    p.add_argument("--out", help="the HTML file (default: RUN_FOLDER/report.html)")
+    p.set_defaults(func=_cmd_report)
 
     p = sub.add_parser(
         "render",
