@@ -29,10 +29,11 @@ from jointattention.metrics import T975, mean_interval
 from jointattention.rng import stream
 
 
-def run_through_env(config, n_objects: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
+def run_through_env(config, n_objects: int, seed: int,
+                    n_poses: int | None) -> tuple[np.ndarray, np.ndarray]:
     """Learn for ``experiment.n_steps`` steps; returns (learning time, success) per trial."""
     env = FaceWindowObservation(gym.make("JointAttention-v0", config=config,
-                                         n_objects=n_objects))
+                                         n_objects=n_objects, n_poses=n_poses))
     spaces = env.observation_space
     h, w, _ = spaces["image"].shape
     head = spaces["head_angle"]
@@ -72,6 +73,9 @@ def main() -> None:
     parser.add_argument("--seeds", type=int, default=3, help="seeds through the env (default 3)")
     parser.add_argument("--runner-seeds", type=int, default=10,
                         help="seeds through the runner (default 10)")
+    parser.add_argument("--poses", type=int, default=125,
+                        help="caregiver poses the env draws from, as the runner's 125 data sets "
+                             "(default 125; 0: a new pose every episode)")
     parser.add_argument("--n-steps", type=int, help="learning time (default: the config's)")
     parser.add_argument("--tail-steps", type=int, default=10_000,
                         help="success is measured over this much final learning time")
@@ -84,7 +88,8 @@ def main() -> None:
     condition = ConditionConfig(name=f"n{args.n_objects}", n_objects=args.n_objects)
     runner = np.array([tail_success(r["learning_time"], r["success"], n, tail)
                        for r in (run_cell(config, condition, s) for s in range(args.runner_seeds))])
-    env = np.array([tail_success(*run_through_env(config, args.n_objects, s), n, tail)
+    env = np.array([tail_success(*run_through_env(config, args.n_objects, s, args.poses or None),
+                                 n, tail)
                     for s in range(args.seeds)])
     for name, x in (("runner", runner), ("env", env)):
         mean, lo, hi = (float(v[0]) for v in mean_interval(x[:, None]))

@@ -117,3 +117,17 @@ def test_bad_arguments_are_refused(kwargs, match):
     """Bad constructor arguments raise one ConfigError naming what was expected."""
     with pytest.raises(ConfigError, match=match):
         JointAttentionEnv(**kwargs)
+
+
+def test_a_pool_of_poses_keeps_targets_and_redraws_distractors():
+    """With n_poses=2, episodes reuse two caregiver poses and targets; the distractors and
+    the target's place in the object list change."""
+    env = JointAttentionEnv(n_objects=4, n_poses=2)
+    env.reset(seed=5)
+    targets, scenes = set(), set()
+    for _ in range(12):
+        env.reset()
+        state = env.unwrapped._world.state
+        targets.add(tuple(np.round(state.target_pos_m, 6)))
+        scenes.add(tuple(np.round(state.object_pos_m.ravel(), 6)))
+    assert len(targets) == 2 and len(scenes) == 12

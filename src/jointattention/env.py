@@ -24,7 +24,7 @@ from .config import Config, load_config
 from .errors import ConfigError
 from .world.fast import FastScene
 from .world.recording import capture_face_window
-from .world.scene import sample_caregiver, sample_scene
+from .world.scene import sample_caregiver, sample_scene, with_new_distractors
 from .world.simulator import World
 
 __all__ = ["ENV_ID", "FaceWindowObservation", "JointAttentionEnv"]
@@ -41,7 +41,9 @@ class JointAttentionEnv(gym.Env):
     (its target). Each episode is a new scene; the robot's head starts looking at the
     caregiver's face and the agent turns the head step by step. The scene is rendered with
     MuJoCo; the caregiver's identity (head size, colours) is drawn at each seeded reset and
-    kept until the next one.
+    kept until the next one. With ``n_poses``, the caregiver's pose and target come from a
+    pool of that many drawn at the seeded reset (the paper's robot learned from 125 recorded
+    data sets); the other objects are drawn anew each episode.
 
     **Observation** (``Dict``):
       - ``"image"``: the robot's camera image, ``Box(0, 255, (H, W, 3), uint8)`` (H, W from
@@ -76,6 +78,8 @@ class JointAttentionEnv(gym.Env):
         config: a :class:`~jointattention.config.Config`, a preset name or a TOML file
             (default: the built-in defaults); its ``world`` and ``agent`` sections are used.
         n_objects: objects in each scene (default: ``world.objects.n_objects``).
+        n_poses: size of the pool of caregiver poses and targets (default: None, a new pose
+            every episode).
         reward: ``"external"`` (default) or ``"intrinsic"``.
         max_steps: steps before truncation (default: ``agent.max_steps``).
         render_mode: ``None`` or ``"rgb_array"`` (an overview of the room).
@@ -86,8 +90,8 @@ class JointAttentionEnv(gym.Env):
     metadata: ClassVar[dict] = {"render_modes": ["rgb_array"], "render_fps": 5}
 
     def __init__(self, config: Config | str | Path | None = None, *, n_objects: int | None = None,
-                 reward: str = "external", max_steps: int | None = None,
-                 render_mode: str | None = None):
+                 n_poses: int | None = None, reward: str = "external",
+                 max_steps: int | None = None, render_mode: str | None = None):
         cfg = config if isinstance(config, Config) else load_config(config)
         if reward not in REWARDS:
             raise ConfigError(f"reward={reward!r}: expected one of {', '.join(REWARDS)}")
@@ -98,6 +102,9 @@ class JointAttentionEnv(gym.Env):
                 raise ConfigError(f"n_objects={n_objects}: expected 1 to 20")
             objects = dataclasses.replace(cfg.world.objects, n_objects=n_objects)
             cfg = dataclasses.replace(cfg, world=dataclasses.replace(cfg.world, objects=objects))
+        if n_poses is not None and n_poses < 1:
+            raise ConfigError(f"n_poses={n_poses}: expected at least 1, or None")
+        self.n_poses = n_poses
         self.max_steps = cfg.agent.max_steps if max_steps is None else max_steps
         if self.max_steps < 1:
             raise ConfigError(f"max_steps={max_steps}: expected at least 1")
@@ -112,6 +119,7 @@ class JointAttentionEnv(gym.Env):
         high = self.max_step_rad.astype(np.float32)
         self.action_space = spaces.Box(-high, high, (2,), np.float32)
         self._caregiver = None
+        self._poses: list = []
 
     @property
     def max_step_rad(self) -> np.ndarray:
@@ -126,9 +134,16 @@ class JointAttentionEnv(gym.Env):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
+        world, rng = self.config.world, self.np_random
         if seed is not None or self._caregiver is None:
-            self._caregiver = sample_caregiver(self.config.world, self.np_random)
-        state = sample_scene(self.config.world, self.np_random, self._caregiver)
+            self._caregiver = sample_caregiver(world, rng)
+            self._poses = [sample_scene(world, rng, self._caregiver)
+                           for _ in range(self.n_poses or 0)]
+        if self._poses:
+            pose = self._poses[rng.integers(len(self._poses))]
+            state = with_new_distractors(pose, world, rng)
+        else:
+            state = sample_scene(world, rng, self._caregiver)
         self._world.set_scene(state)
         self._scene = FastScene(self._world.kinematics, state.object_pos_m,
                                 state.object_radius_m, state.target_index,

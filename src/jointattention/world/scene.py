@@ -22,6 +22,7 @@ __all__ = [
     "gaze_angles",
     "sample_caregiver",
     "sample_scene",
+    "with_new_distractors",
     "with_target",
 ]
 
@@ -216,3 +217,15 @@ def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneSta
     gaze = gaze_angles(state.head_pos_m, target_pos_m)
     head = world.caregiver.head_turn_fraction * gaze
     return replace(state, object_pos_m=pos, head_yaw_pitch_rad=head, eye_yaw_pitch_rad=gaze - head)
+
+
+def with_new_distractors(state: SceneState, world: WorldConfig,
+                         rng: np.random.Generator) -> SceneState:
+    """``state`` with every object but the target drawn anew and the objects' order shuffled;
+    the caregiver, its gaze and the target stay (a recorded data set in a new scene)."""
+    n, t = state.n_objects, state.target_index
+    pos, rad = _sample_objects(world, state.head_pos_m, state.face_radius_m, rng, n,
+                               [state.target_pos_m], [state.object_radius_m[t]])
+    order = rng.permutation(n)
+    return replace(state, object_pos_m=pos[order], object_radius_m=rad[order],
+                   target_index=int(np.flatnonzero(order == 0)[0]))
