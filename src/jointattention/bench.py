@@ -9,7 +9,8 @@ import numpy as np
 
 from .config import WorldConfig
 
-__all__ = ["preset_estimates", "run_agent_benchmark", "run_preset", "run_world_benchmarks"]
+__all__ = ["preset_estimates", "run_agent_benchmark", "run_env_benchmark", "run_preset",
+           "run_world_benchmarks"]
 
 
 def _rate(fn: Callable[[int], object], n: int, repeats: int = 3) -> float:
@@ -57,6 +58,26 @@ def run_world_benchmarks(
         )
         rows.append(("new scene (sample + show)", _rate(lambda i: world.reset(), 200), "scenes/s"))
     return rows
+
+
+def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
+    """Steps per second of ``JointAttention-v0`` (render + detect + evaluate each step) under
+    random actions, resets included; empty if Gymnasium is not installed."""
+    try:
+        from .env import JointAttentionEnv
+    except ImportError:
+        return []
+    env = JointAttentionEnv()
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    start = time.perf_counter()
+    for _ in range(n_steps):
+        *_, terminated, truncated, _ = env.step(env.action_space.sample())
+        if terminated or truncated:
+            env.reset()
+    rate = n_steps / (time.perf_counter() - start)
+    env.close()
+    return [("JointAttention-v0 steps, random actions (rendered)", rate, "steps/s")]
 
 
 def run_agent_benchmark() -> list[tuple[str, float, str]]:

@@ -93,7 +93,13 @@ def _cmd_datasets_check(args: argparse.Namespace) -> None:
 def _cmd_bench(args: argparse.Namespace) -> None:
     import os
 
-    from .bench import preset_estimates, run_agent_benchmark, run_preset, run_world_benchmarks
+    from .bench import (
+        preset_estimates,
+        run_agent_benchmark,
+        run_env_benchmark,
+        run_preset,
+        run_world_benchmarks,
+    )
     from .config import load_config
 
     workers = args.workers or os.cpu_count() or 1
@@ -101,7 +107,7 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         load_config(preset)  # an unknown preset is refused before anything runs
     rows = run_world_benchmarks(load_config(args.config).world)
     agent = run_agent_benchmark()
-    rows += agent + preset_estimates(agent[0][1], workers)
+    rows += run_env_benchmark() + agent + preset_estimates(agent[0][1], workers)
     for preset in args.run:
         rows += run_preset(preset, workers)
     for name, value, unit in rows:
