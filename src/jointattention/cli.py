@@ -207,7 +207,8 @@ def build_parser() -> argparse.ArgumentParser:
                                    "into --out. Re-running the same command resumes: finished "
                                    "cells are kept.")
     p.add_argument("--preset", default="quick",
-                   help="a shipped preset: quick (minutes) or paper (the paper's scale)")
+                   help="a shipped preset (`jointattention config --list`): quick (minutes), "
+                        "paper (the paper's scale), ablation, ablation-paper")
     _add_config(p)
     p.add_argument("--out", default="runs/reproduce", help="run folder (default: runs/reproduce)")
     _add_backend(p)
