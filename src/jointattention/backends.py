@@ -87,20 +87,29 @@ def check_backend(backend: str, address: str | None) -> None:
         raise ConfigError("--address: joins a Ray cluster; expected --backend ray with it")
 
 
+def _label(job: CellJob) -> str:
+    return f"{job.condition.name} seed {job.seed_index}"
+
+
 def run_jobs(jobs: Sequence[CellJob], *, workers: int = 1, backend: str = "local",
-             address: str | None = None,
-             progress: Callable[[CellJob], None] | None = None) -> None:
-    """Run ``jobs`` and save each cell's records to its ``path`` as it finishes.
+             address: str | None = None, progress: Callable[[str], None] | None = None,
+             label: Callable[[CellJob], str] = _label) -> None:
+    """Run the ``jobs`` whose ``path`` does not exist yet, and save each cell's records to
+    its ``path`` as it finishes.
 
     ``backend`` is ``"local"`` (``workers`` processes; 1 runs in this process) or ``"ray"``
     (a local Ray instance with ``workers`` CPUs, or the cluster at ``address``).
+    ``progress`` hears "K of N cells already done", then ``label(job)`` of each finished cell.
     """
     check_backend(backend, address)
-    if not jobs:
+    todo = [j for j in jobs if not j.path.exists()]
+    if progress is not None:
+        progress(f"{len(jobs) - len(todo)} of {len(jobs)} cells already done")
+    if not todo:
         return
-    finished = _local(jobs, workers) if backend == "local" else _ray(jobs, workers, address)
+    finished = _local(todo, workers) if backend == "local" else _ray(todo, workers, address)
     with closing(finished):  # an interrupt stops the backend's waiting cells at once
         for job, records in finished:
             io.save_cell(job.path, records)
             if progress is not None:
-                progress(job)
+                progress(label(job))

@@ -46,6 +46,13 @@ class _CellBar:
         self.bar.close()
 
 
+def _workers(args: argparse.Namespace) -> int:
+    """--workers, or one per core."""
+    import os
+
+    return args.workers or os.cpu_count() or 1
+
+
 def _cmd_render(args: argparse.Namespace) -> None:
     from .config import load_config
     from .world.pictures import face_sheet, robot_view
@@ -91,8 +98,6 @@ def _cmd_datasets_check(args: argparse.Namespace) -> None:
 
 
 def _cmd_bench(args: argparse.Namespace) -> None:
-    import os
-
     from .bench import (
         preset_estimates,
         run_agent_benchmark,
@@ -102,7 +107,7 @@ def _cmd_bench(args: argparse.Namespace) -> None:
     )
     from .config import load_config
 
-    workers = args.workers or os.cpu_count() or 1
+    workers = _workers(args)
     for preset in args.run:
         load_config(preset)  # an unknown preset is refused before anything runs
     rows = run_world_benchmarks(load_config(args.config).world)
@@ -124,8 +129,6 @@ def _cmd_config(args: argparse.Namespace) -> None:
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> None:
-    import os
-
     from tqdm import tqdm
 
     from .config import load_config
@@ -135,7 +138,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
 
     config = load_config(args.config or args.preset)
     out = Path(args.out)
-    workers = args.workers or os.cpu_count() or 1
+    workers = _workers(args)
     exp = config.experiment
     start = time.perf_counter()
     with _CellBar(len(exp.conditions) * exp.n_seeds) as bar:
@@ -169,13 +172,11 @@ def _add_backend(p: argparse.ArgumentParser) -> None:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> None:
-    import os
-
     from .sweep import load_sweep, run_sweep
 
     sweep = load_sweep(args.spec)
     out = Path(args.out or Path("runs") / Path(args.spec).stem)
-    workers = args.workers or os.cpu_count() or 1
+    workers = _workers(args)
     total = sum(len(c.experiment.conditions) * c.experiment.n_seeds
                 for c in sweep.points.values())
     with _CellBar(total) as bar:

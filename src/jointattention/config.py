@@ -194,6 +194,10 @@ class AgentConfig(_Section):
         choices=("final_direction", "object_direction", "executed_step"))
     max_steps: int = param(40, "step limit of a trial", lo=1, hi=10000)
 
+    def d_th_px(self, image_width_px: int) -> float:
+        """The internal evaluator's radius (Eq. 3): d_th = W * d_th_fraction."""
+        return image_width_px * self.d_th_fraction
+
 
 @dataclass(frozen=True)
 class ConditionConfig(_Section):

@@ -130,7 +130,7 @@ class JointAttentionEnv(gym.Env):
     @property
     def d_th_px(self) -> float:
         """The internal evaluator's radius (Eq. 3)."""
-        return self._world.kinematics.width_px * self.config.agent.d_th_fraction
+        return self.config.agent.d_th_px(self._world.kinematics.width_px)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)

@@ -84,7 +84,7 @@ def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None)
     kin = HeadKinematics.from_config(config.world)
     rng = stream(config.seed, "ceiling", n_objects)
     n_trials = config.experiment.n_ceiling_trials if n_trials is None else n_trials
-    d_th = kin.width_px * config.agent.d_th_fraction
+    d_th = config.agent.d_th_px(kin.width_px)
     step = np.deg2rad(config.agent.lm_step_deg)
     wins = 0
     for _ in range(n_trials):
@@ -113,10 +113,6 @@ def run_experiment(config: Config, out: Path, workers: int = 1,
     if len(set(names)) != len(names):
         raise ConfigError("experiment.conditions: expected distinct names")
     cells = [(c, i) for c in exp.conditions for i in range(exp.n_seeds)]
-    todo = [CellJob(config, c, i, io.cell_path(out, c.name, i)) for c, i in cells
-            if not io.cell_path(out, c.name, i).exists()]
-    if progress:
-        progress(f"{len(cells) - len(todo)} of {len(cells)} cells already done")
-    run_jobs(todo, workers=workers, backend=backend, address=address,
-             progress=progress and (lambda j: progress(f"{j.condition.name} seed {j.seed_index}")))
+    run_jobs([CellJob(config, c, i, io.cell_path(out, c.name, i)) for c, i in cells],
+             workers=workers, backend=backend, address=address, progress=progress)
     return {(c.name, i): io.load_cell(io.cell_path(out, c.name, i)) for c, i in cells}

@@ -33,7 +33,8 @@ from ._fields import from_mapping, to_mapping
 from .backends import CellJob, check_backend, run_jobs
 from .config import Config, load_config
 from .errors import ConfigError
-from .metrics import final_success, mean_interval, success_by_bin
+from .metrics import final_success, mean_interval
+from .plotting import condition_curves
 
 __all__ = ["Sweep", "load_sweep", "run_sweep", "summarise"]
 
@@ -117,13 +118,9 @@ def run_sweep(sweep: Sweep, out: str | Path, *, workers: int = 1, backend: str =
     out = Path(out)
     for name, config in sweep.points.items():
         io.prepare_run_dir(out / name, config)
-    jobs = _jobs(sweep, out)
-    todo = [j for j in jobs if not j.path.exists()]
-    if progress:
-        progress(f"{len(jobs) - len(todo)} of {len(jobs)} cells already done")
-    run_jobs(todo, workers=workers, backend=backend, address=address,
-             progress=progress and (lambda j: progress(
-                 f"{j.path.parent.parent.name} {j.condition.name} seed {j.seed_index}")))
+    run_jobs(_jobs(sweep, out), workers=workers, backend=backend, address=address,
+             progress=progress, label=lambda j: (f"{j.path.parent.parent.name} "
+                                                 f"{j.condition.name} seed {j.seed_index}"))
     return summarise(sweep, out)
 
 
@@ -132,17 +129,11 @@ def summarise(sweep: Sweep, out: Path) -> list[dict]:
     ``summary.csv`` and ``summary.md`` in ``out``."""
     rows = []
     for name, config in sweep.points.items():
-        exp = config.experiment
-        for c in exp.conditions:
-            finals = []
-            for i in range(exp.n_seeds):
-                r = io.load_cell(io.cell_path(out / name, c.name, i))
-                curve = success_by_bin(r["learning_time"], r["success"], exp.bin_steps,
-                                       exp.n_steps)
-                finals.append(final_success(curve))
+        for c, (_, per_seed) in condition_curves(out / name, config).items():
+            finals = [final_success(curve) for curve in per_seed]
             mean, lo, hi = (float(v[0]) for v in mean_interval(np.array(finals)[:, None]))
             rows.append({"point": name, **dict(zip(sweep.keys, sweep.values[name], strict=True)),
-                         "condition": c.name, "seeds": exp.n_seeds, "final_success": mean,
+                         "condition": c, "seeds": len(finals), "final_success": mean,
                          "ci_low": lo, "ci_high": hi})
     _write_summary(rows, out)
     return rows

@@ -54,7 +54,7 @@ class BootstrapAgent:
     @property
     def d_th_px(self) -> float:
         """Threshold of the internal evaluator (Eq. 3), d_th = W * fraction."""
-        return self.image_size_px[0] * self.config.d_th_fraction
+        return self.config.d_th_px(self.image_size_px[0])
 
     def gate_rate(self, learning_time_steps=None):
         """Rate of choosing the learning module at a learning time (default: now)."""

@@ -12,7 +12,7 @@ import numpy as np
 from ..agent.detections import Detections
 from ..config import WorldConfig
 from .kinematics import HeadKinematics
-from .scene import place_objects
+from .scene import place_objects, shuffle_target
 
 __all__ = ["FastScene"]
 
@@ -53,9 +53,8 @@ class FastScene:
         order and every object's texture."""
         target_radius = rng.uniform(*world.objects.radius_range_m)
         pos, rad = place_objects(world, face_m, rng, n_objects, [target_m], [target_radius])
-        order = rng.permutation(n_objects)  # the target's place in the list is random
-        target = int(np.flatnonzero(order == 0)[0])
-        return cls(kinematics, pos[order], rad[order], target, rng.uniform(0, 1, n_objects))
+        pos, rad, target = shuffle_target(pos, rad, rng)  # the target's place is random
+        return cls(kinematics, pos, rad, target, rng.uniform(0, 1, n_objects))
 
     def observe(self, theta_rad) -> Detections:
         """What the robot's detector reports at head angle ``theta_rad``; the object ids of

@@ -22,6 +22,7 @@ __all__ = [
     "gaze_angles",
     "sample_caregiver",
     "sample_scene",
+    "shuffle_target",
     "with_new_distractors",
     "with_target",
 ]
@@ -219,6 +220,12 @@ def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneSta
     return replace(state, object_pos_m=pos, head_yaw_pitch_rad=head, eye_yaw_pitch_rad=gaze - head)
 
 
+def shuffle_target(pos_m: np.ndarray, radius_m: np.ndarray, rng: np.random.Generator):
+    """The objects in random order, the target (first) among them: (pos, radius, target)."""
+    order = rng.permutation(len(radius_m))
+    return pos_m[order], radius_m[order], int(np.flatnonzero(order == 0)[0])
+
+
 def with_new_distractors(state: SceneState, world: WorldConfig,
                          rng: np.random.Generator) -> SceneState:
     """``state`` with every object but the target drawn anew and the objects' order shuffled;
@@ -226,6 +233,5 @@ def with_new_distractors(state: SceneState, world: WorldConfig,
     n, t = state.n_objects, state.target_index
     pos, rad = _sample_objects(world, state.head_pos_m, state.face_radius_m, rng, n,
                                [state.target_pos_m], [state.object_radius_m[t]])
-    order = rng.permutation(n)
-    return replace(state, object_pos_m=pos[order], object_radius_m=rad[order],
-                   target_index=int(np.flatnonzero(order == 0)[0]))
+    pos, rad, target = shuffle_target(pos, rad, rng)
+    return replace(state, object_pos_m=pos, object_radius_m=rad, target_index=target)
