@@ -23,6 +23,7 @@ __all__ = [
     "CaregiverConfig",
     "ConditionConfig",
     "Config",
+    "DetectorConfig",
     "ExperimentConfig",
     "FaceWindowConfig",
     "HeadConfig",
@@ -33,6 +34,7 @@ __all__ = [
     "load_config",
     "preset_names",
     "to_toml",
+    "with_n_objects",
 ]
 
 
@@ -200,6 +202,34 @@ class AgentConfig(_Section):
 
 
 @dataclass(frozen=True)
+class DetectorConfig(_Section):
+    """The robot's image-based salient feature detector (OpenCV), used in rendered mode and by
+    ``jointattention detect``. The world paints objects with HSV saturation and value of at
+    least 0.85 and everything else below 0.8 saturation, hence the colour thresholds."""
+
+    min_saturation: float = param(
+        0.8, "least HSV saturation of a bright-colour pixel (0-1)", lo=0, hi=1)
+    min_value: float = param(0.3, "least HSV value (brightness) of a bright-colour pixel (0-1)",
+                             lo=0, hi=1)
+    hue_split_deg: float = param(
+        20.0, "hue step between neighbouring pixels that separates two touching objects",
+        lo=1, hi=180)
+    min_area_px: int = param(20, "least area of a bright-colour region kept as an object",
+                             lo=1)
+    canny_thresholds: tuple[float, float] = param(
+        (60.0, 150.0), "Canny's hysteresis thresholds for edge complexity (f_edge)", lo=0,
+        hi=1000)
+    motion_threshold: int = param(
+        15, "least grey-level change between frames counted as motion (f_mot)", lo=0, hi=255)
+    face_method: str = param(
+        "template", "how faces are found: template matching (the paper's robot) or OpenCV's "
+        "Haar cascade (real photographs)", choices=("template", "haar"))
+    face_min_score: float = param(
+        0.5, "least normalised correlation of a template match accepted as a face", lo=-1,
+        hi=1)
+
+
+@dataclass(frozen=True)
 class ConditionConfig(_Section):
     """One experimental condition; unset agent fields keep the agent section's values."""
 
@@ -224,6 +254,10 @@ class ExperimentConfig(_Section):
     n_steps: int = param(300_000, "learning time of a run, in steps (paper: 3e5)", lo=1)
     n_seeds: int = param(10, "independent runs of each condition", lo=1, hi=10_000)
     bin_steps: int = param(10_000, "width of a learning-time bin of the success curves", lo=1)
+    perception: str = param(
+        "fast", "how the robot sees during learning: fast (objects projected, no rendering) or "
+        "rendered (each step rendered with MuJoCo and detected with OpenCV; about 30x slower)",
+        choices=("fast", "rendered"))
     n_ceiling_trials: int = param(
         4000, "trials of the oracle that measure each object count's ceiling", lo=1)
     conditions: tuple[ConditionConfig, ...] = param(
@@ -237,9 +271,16 @@ class Config(_Section):
     seed: int = param(0, "the seed every random stream of the run is born from", lo=0)
     world: WorldConfig = WorldConfig()
     agent: AgentConfig = AgentConfig()
+    detector: DetectorConfig = DetectorConfig()
     experiment: ExperimentConfig = ExperimentConfig()
     datasets: str = param(
         "", "data-set file of the caregiver (empty: the 125 shipped with the package)")
+
+
+def with_n_objects(config: Config, n_objects: int) -> Config:
+    """``config`` with a world of ``n_objects`` objects."""
+    objects = dataclasses.replace(config.world.objects, n_objects=n_objects)
+    return dataclasses.replace(config, world=dataclasses.replace(config.world, objects=objects))
 
 
 # The agent options where the paper is silent (DESIGN.md's readings).

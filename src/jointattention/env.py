@@ -5,7 +5,6 @@ Needs the ``gym`` extra (``pip install "jointattention[gym]"``).
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 from typing import ClassVar
 
@@ -20,7 +19,7 @@ except ImportError:  # pragma: no cover - depends on the installed extras
 
 from .agent.attention import attended_object
 from .agent.detections import Detections
-from .config import Config, load_config
+from .config import Config, load_config, with_n_objects
 from .errors import ConfigError
 from .world.fast import FastScene
 from .world.recording import capture_face_window
@@ -100,8 +99,7 @@ class JointAttentionEnv(gym.Env):
         if n_objects is not None:
             if not 1 <= n_objects <= 20:
                 raise ConfigError(f"n_objects={n_objects}: expected 1 to 20")
-            objects = dataclasses.replace(cfg.world.objects, n_objects=n_objects)
-            cfg = dataclasses.replace(cfg, world=dataclasses.replace(cfg.world, objects=objects))
+            cfg = with_n_objects(cfg, n_objects)
         if n_poses is not None and n_poses < 1:
             raise ConfigError(f"n_poses={n_poses}: expected at least 1, or None")
         self.n_poses = n_poses

@@ -15,7 +15,7 @@ import numpy as np
 from . import io
 from .agent.bootstrap import BootstrapAgent
 from .backends import CellJob, check_backend, run_jobs
-from .config import ConditionConfig, Config, agent_config
+from .config import ConditionConfig, Config, agent_config, with_n_objects
 from .datasets import CaregiverDatasets, default_datasets, load
 from .errors import ConfigError
 from .oracle import OracleAgent
@@ -43,11 +43,30 @@ def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance
 
 
 def _random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_objects: int,
-                  rng: np.random.Generator) -> tuple[int, FastScene]:
-    """A trial's data set index and its scene: the recorded target plus random distractors."""
+                  rng: np.random.Generator) -> tuple[int, FastScene, np.ndarray]:
+    """A trial's data set index, its scene (the recorded target plus random distractors) and
+    where the caregiver's face is."""
     k = int(rng.integers(len(ds)))
     target_m, face_m = _trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
-    return k, FastScene.sample(config.world, kin, target_m, face_m, n_objects, rng)
+    return k, FastScene.sample(config.world, kin, target_m, face_m, n_objects, rng), face_m
+
+
+class _Renderer:
+    """The rendered mode: shows each trial's scene in MuJoCo for the OpenCV detector. Its own
+    stream draws colours and light, so rendered and fast cells share their trials."""
+
+    def __init__(self, config: Config, n_objects: int, seed_index: int):
+        from .agent.vision import ImageDetector
+        from .world.simulator import World
+
+        self.world = World(with_n_objects(config, n_objects).world, seed=config.seed)
+        self.detector = ImageDetector(config.detector, self.world.kinematics.focal_px)
+        self.rng = stream(config.seed, "render", seed_index)
+
+    def __call__(self, scene: FastScene, face_m):
+        from .world.rendered import RenderedScene
+
+        return RenderedScene(self.world, scene, face_m, self.detector, self.rng)
 
 
 def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
@@ -63,15 +82,23 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     shuffle = stream(config.seed, "shuffle", seed_index)
     rows = []
     n_steps = config.experiment.n_steps
-    while agent.learning_time_steps < n_steps and len(rows) < n_steps:
-        k, scene = _random_scene(config, ds, kin, condition.n_objects, trials)
-        face = ds.face[shuffle.integers(len(ds))] if condition.shuffle_faces else ds.face[k]
-        t0 = agent.learning_time_steps
-        r = run_trial(scene, agent, face, ds.theta_face_rad[k], agent.config.max_steps, kin)
-        rows.append((t0, r.n_steps, r.n_lm_steps, r.attended, r.target, r.end, r.success,
-                     r.fired))
-        if progress is not None:
-            progress(agent.learning_time_steps)
+    render = (_Renderer(config, condition.n_objects, seed_index)
+              if config.experiment.perception == "rendered" else None)
+    try:
+        while agent.learning_time_steps < n_steps and len(rows) < n_steps:
+            k, scene, face_m = _random_scene(config, ds, kin, condition.n_objects, trials)
+            if render is not None:
+                scene = render(scene, face_m)
+            face = ds.face[shuffle.integers(len(ds))] if condition.shuffle_faces else ds.face[k]
+            t0 = agent.learning_time_steps
+            r = run_trial(scene, agent, face, ds.theta_face_rad[k], agent.config.max_steps, kin)
+            rows.append((t0, r.n_steps, r.n_lm_steps, r.attended, r.target, r.end, r.success,
+                         r.fired))
+            if progress is not None:
+                progress(agent.learning_time_steps)
+    finally:
+        if render is not None:
+            render.world.close()
     cols = list(zip(*rows, strict=True))
     dtypes = (np.int64, np.int32, np.int32, np.int16, np.int16, np.int8, bool, bool)
     return {name: np.array(c, dtype=t)
@@ -88,7 +115,7 @@ def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None)
     step = np.deg2rad(config.agent.lm_step_deg)
     wins = 0
     for _ in range(n_trials):
-        k, scene = _random_scene(config, ds, kin, n_objects, rng)
+        k, scene, _ = _random_scene(config, ds, kin, n_objects, rng)
         oracle = OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step, d_th)
         r = run_trial(scene, oracle, ds.face[k], ds.theta_face_rad[k],
                       config.agent.max_steps, kin)

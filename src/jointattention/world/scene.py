@@ -22,6 +22,7 @@ __all__ = [
     "gaze_angles",
     "sample_caregiver",
     "sample_scene",
+    "scene_with",
     "shuffle_target",
     "with_new_distractors",
     "with_target",
@@ -188,14 +189,10 @@ def sample_scene(
     head_pos = np.array([0.0, cg.distance_m, cg.height_m]) + rng.normal(0, cg.position_noise_m, 3)
     face_radius = HEAD_RADII_M[2] * caregiver.head_scale
     obj_pos, obj_rad = _sample_objects(world, head_pos, face_radius, rng, n)
-    hues = (rng.uniform() + np.arange(n) / n + rng.uniform(-0.3, 0.3, n) / n) % 1.0
-    rgb = np.array(
-        [colorsys.hsv_to_rgb(h, rng.uniform(0.85, 1.0), rng.uniform(0.85, 1.0)) for h in hues]
-    )
+    rgb = _object_colours(n, rng)
     target = int(rng.integers(n))
     gaze = gaze_angles(head_pos, obj_pos[target])
     head = cg.head_turn_fraction * gaze + rng.normal(0, np.deg2rad(cg.pose_noise_deg), 2)
-    light_lo, light_hi = world.lighting.intensity_range
     return SceneState(
         caregiver=caregiver,
         head_pos_m=head_pos,
@@ -203,11 +200,37 @@ def sample_scene(
         eye_yaw_pitch_rad=gaze - head,
         object_pos_m=obj_pos,
         object_radius_m=obj_rad,
-        object_rgb=rgb.reshape(n, 3),
+        object_rgb=rgb,
         target_index=target,
-        light_pos_m=np.array([0.3, 0.2, 1.6]) + rng.normal(0, world.lighting.position_jitter_m, 3),
-        light_intensity=float(rng.uniform(light_lo, light_hi)),
+        **_light(world, rng),
     )
+
+
+def _object_colours(n: int, rng: np.random.Generator) -> np.ndarray:
+    """(n, 3) bright colours (HSV saturation and value 0.85-1), hues spread around the circle."""
+    hues = (rng.uniform() + np.arange(n) / n + rng.uniform(-0.3, 0.3, n) / n) % 1.0
+    rgb = [colorsys.hsv_to_rgb(h, rng.uniform(0.85, 1.0), rng.uniform(0.85, 1.0)) for h in hues]
+    return np.array(rgb).reshape(n, 3)
+
+
+def _light(world: WorldConfig, rng: np.random.Generator) -> dict:
+    """The key light's position and intensity."""
+    jitter = rng.normal(0, world.lighting.position_jitter_m, 3)
+    return {"light_pos_m": np.array([0.3, 0.2, 1.6]) + jitter,
+            "light_intensity": float(rng.uniform(*world.lighting.intensity_range))}
+
+
+def scene_with(world: WorldConfig, caregiver: Caregiver, head_pos_m, object_pos_m,
+               object_radius_m, target_index: int, rng: np.random.Generator) -> SceneState:
+    """A scene of given geometry (a trial's objects, the caregiver's head where a data set
+    has it) with the caregiver looking at the target without pose noise; ``rng`` draws the
+    objects' colours and the light."""
+    head_pos_m = np.asarray(head_pos_m, float)
+    object_pos_m = np.asarray(object_pos_m, float)
+    head, eyes = _look_at(world, head_pos_m, object_pos_m[target_index])
+    return SceneState(caregiver, head_pos_m, head, eyes, object_pos_m,
+                      np.asarray(object_radius_m, float), _object_colours(len(object_pos_m), rng),
+                      int(target_index), **_light(world, rng))
 
 
 def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneState:
@@ -215,9 +238,15 @@ def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneSta
     without pose noise (for pictures and held-out caregiver poses)."""
     pos = state.object_pos_m.copy()
     pos[state.target_index] = target_pos_m
-    gaze = gaze_angles(state.head_pos_m, target_pos_m)
+    head, eyes = _look_at(world, state.head_pos_m, target_pos_m)
+    return replace(state, object_pos_m=pos, head_yaw_pitch_rad=head, eye_yaw_pitch_rad=eyes)
+
+
+def _look_at(world: WorldConfig, head_pos_m, target_m) -> tuple[np.ndarray, np.ndarray]:
+    """(head, eyes) rotations of a caregiver looking at ``target_m`` without pose noise."""
+    gaze = gaze_angles(head_pos_m, target_m)
     head = world.caregiver.head_turn_fraction * gaze
-    return replace(state, object_pos_m=pos, head_yaw_pitch_rad=head, eye_yaw_pitch_rad=gaze - head)
+    return head, gaze - head
 
 
 def shuffle_target(pos_m: np.ndarray, radius_m: np.ndarray, rng: np.random.Generator):

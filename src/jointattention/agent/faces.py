@@ -1,0 +1,101 @@
+"""Finding the caregiver's face in an image: template matching, as the paper's robot did, or
+OpenCV's Haar cascade for real photographs (shipped with opencv-python-headless)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+__all__ = ["Face", "FaceFinder", "face_template"]
+
+
+@dataclass(frozen=True)
+class Face:
+    """A face found in an image: its centre, the height of its box (both in pixels), the
+    match score (normalised correlation; 1.0 for the Haar cascade, which gives none) and the
+    box's width / height."""
+
+    centre_px: np.ndarray
+    height_px: float
+    score: float
+    aspect: float = 1.0
+
+    @property
+    def box_px(self) -> tuple[int, int, int, int]:
+        """(x, y, w, h) of the box."""
+        h = self.height_px
+        w = h * self.aspect
+        x, y = self.centre_px
+        return int(round(x - w / 2)), int(round(y - h / 2)), int(round(w)), int(round(h))
+
+
+def face_template(face_windows: np.ndarray) -> np.ndarray:
+    """A template from face windows the robot has seen (n, h, w): their mean, uint8."""
+    faces = np.asarray(face_windows, dtype=float)
+    if faces.ndim != 3 or len(faces) == 0:
+        raise ValueError(f"face windows of shape {faces.shape}: expected (n, height, width)")
+    return np.clip(np.rint(faces.mean(axis=0)), 0, 255).astype(np.uint8)
+
+
+class FaceFinder:
+    """Finds faces in RGB images.
+
+    Args:
+        method: ``"template"`` (normalised correlation with ``template`` over a range of
+            scales; returns the best match above ``min_score``) or ``"haar"`` (OpenCV's
+            frontal-face cascade; returns every face it finds).
+        template: grayscale uint8 (h, w), e.g. :func:`face_template` of the data sets'
+            windows; needed for ``"template"``.
+        min_score: least score of a template match.
+        heights_px: (least, greatest) face height to look for.
+    """
+
+    def __init__(self, method: str = "template", template: np.ndarray | None = None, *,
+                 min_score: float = 0.5, heights_px: tuple[float, float] = (50.0, 200.0)):
+        if method not in ("template", "haar"):
+            raise ValueError(f"face method {method!r}: expected 'template' or 'haar'")
+        if method == "template" and template is None:
+            raise ValueError("face method 'template': expected a template image")
+        self.method, self.min_score, self.heights_px = method, min_score, heights_px
+        self.template = None if template is None else np.asarray(template, np.uint8)
+        self._cascade = None
+        if method == "haar":
+            path = cv2.data.haarcascades + "haarcascade_frontalface_default.xml"
+            self._cascade = cv2.CascadeClassifier(path)
+            if self._cascade.empty():
+                raise RuntimeError(f"{path}: OpenCV's Haar cascade did not load; expected "
+                                   "opencv-python-headless<5, which ships it")
+
+    def find(self, image_rgb: np.ndarray) -> list[Face]:
+        """The faces in an RGB uint8 image, best first."""
+        gray = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2GRAY)
+        if self.method == "haar":
+            lo, hi = (int(v) for v in self.heights_px)
+            boxes = self._cascade.detectMultiScale(gray, scaleFactor=1.1, minNeighbors=5,
+                                                   minSize=(lo, lo), maxSize=(hi, hi))
+            faces = [Face(np.array([x + w / 2, y + h / 2]), float(h), 1.0, w / h)
+                     for x, y, w, h in boxes]
+            return sorted(faces, key=lambda f: -f.height_px)
+        return self._match(gray)
+
+    def _match(self, gray: np.ndarray) -> list[Face]:
+        th, tw = self.template.shape
+        best = (-np.inf, None, 0.0)
+        height = self.heights_px[0]
+        while height <= min(self.heights_px[1], gray.shape[0]):
+            w = int(round(height * tw / th))
+            h = int(round(height))
+            if w > gray.shape[1]:
+                break
+            t = cv2.resize(self.template, (w, h), interpolation=cv2.INTER_AREA)
+            scores = cv2.matchTemplate(gray, t, cv2.TM_CCOEFF_NORMED)
+            _, score, _, (x, y) = cv2.minMaxLoc(scores)
+            if score > best[0]:
+                best = (score, np.array([x + (w - 1) / 2, y + (h - 1) / 2]), float(h))
+            height *= 1.1
+        score, centre, h = best
+        if centre is None or score < self.min_score:
+            return []
+        return [Face(centre, h, float(score), tw / th)]

@@ -1,0 +1,68 @@
+"""The rendered way to see: a trial's objects shown in MuJoCo, each view rendered and given to
+the robot's OpenCV detector (:mod:`jointattention.agent.vision`).
+
+Same interface as :class:`~jointattention.world.fast.FastScene`, so the trial loop and the
+agent cannot tell which one feeds them; the parity of the two is measured by
+:mod:`jointattention.parity`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..agent.detections import Detections
+from ..agent.vision import ImageDetector
+from .fast import FastScene
+from .scene import scene_with
+from .simulator import World
+
+__all__ = ["RenderedScene"]
+
+
+class RenderedScene:
+    """One trial's objects (those of ``fast``) in ``world``, seen through rendered images.
+
+    Args:
+        world: the MuJoCo world; its caregiver is shown with the head at ``face_m``, looking
+            at the target. It must hold as many objects as ``fast``.
+        fast: the trial's geometry (positions, radii, target).
+        face_m: the centre of the caregiver's head.
+        detector: the robot's image detector (reset here: a new trial is a new view).
+        rng: draws the objects' colours and the light.
+
+    ``visible_ids`` (the objects of the last detections) is the experimenter's knowledge:
+    each detection is given the object whose projected disc holds its centre (-1 if none).
+    """
+
+    def __init__(self, world: World, fast: FastScene, face_m, detector: ImageDetector,
+                 rng: np.random.Generator):
+        self.world, self.detector = world, detector
+        self.target_index = fast.target_index
+        self._pos, self._radius = fast.object_pos_m, fast.object_radius_m
+        world.set_scene(scene_with(world.config, world.caregiver, face_m, fast.object_pos_m,
+                                   fast.object_radius_m, fast.target_index, rng))
+        detector.reset()
+        self.visible_ids = np.arange(0)
+        self.last_image: np.ndarray | None = None
+
+    def observe(self, theta_rad) -> Detections:
+        """Turn the head to ``theta_rad``, render the robot's view and detect in it."""
+        self.world.set_head_angle(theta_rad)
+        self.last_image = self.world.render()
+        det = self.detector.detect(self.last_image)
+        kin = self.world.kinematics
+        uv, _, area = kin.project_spheres(self._pos, self._radius, theta_rad)
+        self.visible_ids = object_ids(det.centre_px, uv, np.sqrt(area / np.pi))
+        return det
+
+
+def object_ids(centres_px: np.ndarray, uv: np.ndarray, radius_px: np.ndarray) -> np.ndarray:
+    """The object each detection belongs to: the nearest projected centre whose disc (one
+    pixel wider) holds it, else -1."""
+    ids = np.full(len(centres_px), -1)
+    for j, c in enumerate(centres_px):
+        d = np.hypot(*(uv - c).T)
+        d[~(d <= radius_px + 1)] = np.inf
+        if np.isfinite(d).any():
+            ids[j] = int(np.argmin(d))
+    return ids
