@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from . import __version__
+from ._cli_vision import add_commands as add_vision_commands
 from .errors import JointAttentionError
 
 __all__ = ["main"]
@@ -234,6 +235,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("run", metavar="RUN_FOLDER", help="a folder written by reproduce or sweep")
     p.add_argument("--out", help="the HTML file (default: RUN_FOLDER/report.html)")
     p.set_defaults(func=_cmd_report)
+
+    add_vision_commands(sub, _add_config)
 
     p = sub.add_parser(
         "render",

@@ -221,9 +221,6 @@ class DetectorConfig(_Section):
         hi=1000)
     motion_threshold: int = param(
         15, "least grey-level change between frames counted as motion (f_mot)", lo=0, hi=255)
-    face_method: str = param(
-        "template", "how faces are found: template matching (the paper's robot) or OpenCV's "
-        "Haar cascade (real photographs)", choices=("template", "haar"))
     face_min_score: float = param(
         0.5, "least normalised correlation of a template match accepted as a face", lo=-1,
         hi=1)
