@@ -10,7 +10,8 @@ import pytest
 from jointattention.cli import build_parser, main
 
 COMMANDS = [[], ["reproduce"], ["render"], ["datasets"], ["datasets", "make"],
-            ["datasets", "check"], ["bench"], ["config"], ["sweep"], ["report"]]
+            ["datasets", "check"], ["bench"], ["config"], ["sweep"], ["report"], ["parity"],
+            ["detect"], ["gaze"]]
 
 
 @pytest.mark.parametrize("command", COMMANDS, ids=lambda c: " ".join(c) or "top")
@@ -107,3 +108,10 @@ def test_bench_estimates_every_preset():
     assert [r[0].split(":")[0] for r in slow] == [f"preset {n}" for n in preset_names()]
     for (_, a, unit), (_, b, _) in zip(slow, fast, strict=True):
         assert unit == "min" and a == pytest.approx(2 * b) and a > 0
+
+
+def test_gaze_refuses_an_unknown_condition(capsys):
+    """`gaze --condition` with a name the preset lacks: one line naming the choices."""
+    assert main(["gaze", "--preset", "quick", "--condition", "n7", "--out", "/nonexistent"]) == 2
+    err = capsys.readouterr().err
+    assert "expected one of n1-sigmoid" in err and err.count("\n") == 1

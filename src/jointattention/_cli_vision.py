@@ -1,4 +1,4 @@
-"""The command line's vision commands: ``parity`` and ``detect``."""
+"""The command line's vision commands: ``parity``, ``detect`` and ``gaze``."""
 
 from __future__ import annotations
 
@@ -46,8 +46,29 @@ def _cmd_detect(args: argparse.Namespace) -> None:
               f"{len(found.edge_regions)} edge-rich regions")
 
 
+def _cmd_gaze(args: argparse.Namespace) -> None:
+    from tqdm import tqdm
+
+    from .config import load_config
+    from .gaze import condition_named
+    from .gaze_figures import write_gaze_figures
+
+    config = load_config(args.config or args.preset)
+    condition_named(config, args.condition)  # before the progress bar
+    with tqdm(total=config.experiment.n_steps, desc="learning", unit="step") as bar:
+        numbers = write_gaze_figures(config, args.condition, args.seed_index, Path(args.out),
+                                     progress=lambda t: bar.update(t - bar.n))
+    errors = numbers["median_error_deg"]
+    before, after = errors["0"], errors[str(config.experiment.n_steps)]
+    print(f"median angle error, data sets: {before['data_sets']:.1f} -> "
+          f"{after['data_sets']:.1f} deg; held-out poses: {before['held_out']:.1f} -> "
+          f"{after['held_out']:.1f} deg")
+    for name in ("fig6.png", "lm_error.png", "fig7.png", "fig7.gif", "gaze.json"):
+        print(Path(args.out) / name)
+
+
 def add_commands(sub, add_config) -> None:
-    """Register ``parity`` and ``detect`` on the subparsers ``sub``."""
+    """Register ``parity``, ``detect`` and ``gaze`` on the subparsers ``sub``."""
     p = sub.add_parser(
         "parity", help="how often the OpenCV and fast detectors agree in rendered scenes",
         description="Render random scenes from random head angles and compare the image "
@@ -74,3 +95,19 @@ def add_commands(sub, add_config) -> None:
                         "template of the shipped data sets' caregiver (for the simulation)")
     p.add_argument("--out", default="runs/detect", help="output folder (default: runs/detect)")
     p.set_defaults(func=_cmd_detect)
+
+    p = sub.add_parser(
+        "gaze", help="the paper's Fig. 6 and Fig. 7: what the learning module learned",
+        description="Learn one cell (fast mode), then write into --out: fig6.png (the "
+                    "module's output on face windows over a grid of gaze directions, some "
+                    "unseen in the data sets), lm_error.png (median angle to the target on the "
+                    "data sets and on held-out poses, over learning time), fig7.png and "
+                    "fig7.gif (one rendered trial after learning) and gaze.json.")
+    p.add_argument("--preset", default="paper", help="a shipped preset (default: paper)")
+    add_config(p)
+    p.add_argument("--condition", default="n5-sigmoid",
+                   help="the condition to learn (default: n5-sigmoid)")
+    p.add_argument("--seed-index", type=int, default=0, help="the cell's seed index "
+                                                             "(default: 0)")
+    p.add_argument("--out", default="runs/gaze", help="output folder (default: runs/gaze)")
+    p.set_defaults(func=_cmd_gaze)

@@ -24,10 +24,11 @@ from .trial import run_trial
 from .world.fast import FastScene
 from .world.kinematics import HeadKinematics
 
-__all__ = ["measure_ceiling", "run_cell", "run_experiment"]
+__all__ = ["Renderer", "datasets_of", "make_agent", "measure_ceiling", "random_scene",
+           "run_cell", "run_experiment"]
 
 
-def _datasets(config: Config) -> CaregiverDatasets:
+def datasets_of(config: Config) -> CaregiverDatasets:
     return load(config.datasets) if config.datasets else default_datasets()
 
 
@@ -42,7 +43,7 @@ def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance
     return kin.camera_position(theta) + 0.65 * kin.gaze_direction(theta), face
 
 
-def _random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_objects: int,
+def random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_objects: int,
                   rng: np.random.Generator) -> tuple[int, FastScene, np.ndarray]:
     """A trial's data set index, its scene (the recorded target plus random distractors) and
     where the caregiver's face is."""
@@ -51,7 +52,17 @@ def _random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_
     return k, FastScene.sample(config.world, kin, target_m, face_m, n_objects, rng), face_m
 
 
-class _Renderer:
+def make_agent(config: Config, condition: ConditionConfig, seed_index: int,
+               ds: CaregiverDatasets) -> BootstrapAgent:
+    """The untrained agent of a cell (its own stream of the run's seed)."""
+    kin = HeadKinematics.from_config(config.world)
+    return BootstrapAgent(
+        agent_config(config, condition), image_size_px=(kin.width_px, kin.height_px),
+        joint_limits_rad=(kin.pan_limits_rad, kin.tilt_limits_rad),
+        face_size_px=ds.window_size_px, rng=stream(config.seed, "agent", seed_index))
+
+
+class Renderer:
     """The rendered mode: shows each trial's scene in MuJoCo for the OpenCV detector. Its own
     stream draws colours and light, so rendered and fast cells share their trials."""
 
@@ -70,23 +81,23 @@ class _Renderer:
 
 
 def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
-             progress: Callable[[int], None] | None = None) -> dict[str, np.ndarray]:
-    """Learn for ``experiment.n_steps`` steps; one record per trial (see io.TRIAL_COLUMNS)."""
-    ds = _datasets(config)
+             progress: Callable[[int], None] | None = None,
+             on_trial: Callable[[BootstrapAgent], None] | None = None) -> dict[str, np.ndarray]:
+    """Learn for ``experiment.n_steps`` steps; one record per trial (see io.TRIAL_COLUMNS).
+
+    ``progress`` gets the learning time after each trial, ``on_trial`` the agent."""
+    ds = datasets_of(config)
     kin = HeadKinematics.from_config(config.world)
-    agent = BootstrapAgent(
-        agent_config(config, condition), image_size_px=(kin.width_px, kin.height_px),
-        joint_limits_rad=(kin.pan_limits_rad, kin.tilt_limits_rad),
-        face_size_px=ds.window_size_px, rng=stream(config.seed, "agent", seed_index))
+    agent = make_agent(config, condition, seed_index, ds)
     trials = stream(config.seed, "trials", seed_index)
     shuffle = stream(config.seed, "shuffle", seed_index)
     rows = []
     n_steps = config.experiment.n_steps
-    render = (_Renderer(config, condition.n_objects, seed_index)
+    render = (Renderer(config, condition.n_objects, seed_index)
               if config.experiment.perception == "rendered" else None)
     try:
         while agent.learning_time_steps < n_steps and len(rows) < n_steps:
-            k, scene, face_m = _random_scene(config, ds, kin, condition.n_objects, trials)
+            k, scene, face_m = random_scene(config, ds, kin, condition.n_objects, trials)
             if render is not None:
                 scene = render(scene, face_m)
             face = ds.face[shuffle.integers(len(ds))] if condition.shuffle_faces else ds.face[k]
@@ -96,6 +107,8 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
                          r.fired))
             if progress is not None:
                 progress(agent.learning_time_steps)
+            if on_trial is not None:
+                on_trial(agent)
     finally:
         if render is not None:
             render.world.close()
@@ -107,7 +120,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
 
 def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None) -> float:
     """Success of the oracle gaze-line follower over ``n_trials`` trials in the same world."""
-    ds = _datasets(config)
+    ds = datasets_of(config)
     kin = HeadKinematics.from_config(config.world)
     rng = stream(config.seed, "ceiling", n_objects)
     n_trials = config.experiment.n_ceiling_trials if n_trials is None else n_trials
@@ -115,7 +128,7 @@ def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None)
     step = np.deg2rad(config.agent.lm_step_deg)
     wins = 0
     for _ in range(n_trials):
-        k, scene, _ = _random_scene(config, ds, kin, n_objects, rng)
+        k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
         oracle = OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step, d_th)
         r = run_trial(scene, oracle, ds.face[k], ds.theta_face_rad[k],
                       config.agent.max_steps, kin)
