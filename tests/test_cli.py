@@ -100,14 +100,16 @@ def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
 
 
 def test_bench_estimates_every_preset():
-    """The benchmark's wall-time estimate covers each shipped preset, scaled by the rate."""
+    """The benchmark's wall-time estimate covers each shipped preset, scaled by the rate of
+    its perception mode (the rendered preset by the rendered rate only)."""
     from jointattention.bench import preset_estimates
     from jointattention.config import preset_names
 
-    slow, fast = preset_estimates(1000.0, 2), preset_estimates(2000.0, 2)
+    slow, fast = preset_estimates(1000.0, 50.0, 2), preset_estimates(2000.0, 50.0, 2)
     assert [r[0].split(":")[0] for r in slow] == [f"preset {n}" for n in preset_names()]
-    for (_, a, unit), (_, b, _) in zip(slow, fast, strict=True):
-        assert unit == "min" and a == pytest.approx(2 * b) and a > 0
+    for (name, a, unit), (_, b, _) in zip(slow, fast, strict=True):
+        expected = 1.0 if name.startswith("preset rendered") else 2.0
+        assert unit == "min" and a == pytest.approx(expected * b) and a > 0
 
 
 def test_gaze_refuses_an_unknown_condition(capsys):

@@ -80,9 +80,12 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
     return [("JointAttention-v0 steps, random actions (rendered)", rate, "steps/s")]
 
 
-def run_agent_benchmark() -> list[tuple[str, float, str]]:
-    """Agent-steps per second of one learning run in fast mode: the quick preset's 5-object
-    sigmoid cell, whose gate goes from the visual controller to the learning module."""
+def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
+    """Agent-steps per second of learning: the quick preset's 5-object sigmoid cell in fast
+    mode (whose gate goes from the visual controller to the learning module), and its first
+    ``rendered_steps`` steps in rendered mode (MuJoCo render + OpenCV detection each step)."""
+    import dataclasses
+
     from .config import load_config
     from .experiment import run_cell
 
@@ -90,22 +93,30 @@ def run_agent_benchmark() -> list[tuple[str, float, str]]:
     cond = next(c for c in config.experiment.conditions if c.name == "n5-sigmoid")
     start = time.perf_counter()
     run_cell(config, cond, 0)
-    rate = config.experiment.n_steps / (time.perf_counter() - start)
-    return [("agent steps, fast mode, learning (quick n5-sigmoid)", rate, "steps/s")]
+    fast = config.experiment.n_steps / (time.perf_counter() - start)
+    exp = dataclasses.replace(config.experiment, n_steps=rendered_steps, perception="rendered")
+    start = time.perf_counter()
+    run_cell(dataclasses.replace(config, experiment=exp), cond, 0)
+    rendered = rendered_steps / (time.perf_counter() - start)
+    return [("agent steps, fast mode, learning (quick n5-sigmoid)", fast, "steps/s"),
+            ("agent steps, rendered mode + OpenCV, learning (same cell)", rendered, "steps/s"),
+            ("fast / rendered", fast / rendered, "x")]
 
 
-def preset_estimates(steps_per_s: float, workers: int) -> list[tuple[str, float, str]]:
+def preset_estimates(fast_steps_per_s: float, rendered_steps_per_s: float,
+                     workers: int) -> list[tuple[str, float, str]]:
     """Estimated wall time of each shipped preset: its agent-steps over ``workers``
-    processes at ``steps_per_s`` each (``reproduce`` records the measured time)."""
+    processes at the rate of its perception mode (``reproduce`` records the measured time)."""
     from .config import load_config, preset_names
 
     rows = []
     for name in preset_names():
         exp = load_config(name).experiment
+        rate = rendered_steps_per_s if exp.perception == "rendered" else fast_steps_per_s
         cells = len(exp.conditions) * exp.n_seeds
         rounds = np.ceil(cells / workers)  # cells are the unit of parallel work
         rows.append((f"preset {name}: {cells} cells on {workers} workers (estimate)",
-                     rounds * exp.n_steps / steps_per_s / 60, "min"))
+                     rounds * exp.n_steps / rate / 60, "min"))
     return rows
 
 

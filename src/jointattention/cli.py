@@ -113,11 +113,11 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         load_config(preset)  # an unknown preset is refused before anything runs
     rows = run_world_benchmarks(load_config(args.config).world)
     agent = run_agent_benchmark()
-    rows += run_env_benchmark() + agent + preset_estimates(agent[0][1], workers)
+    rows += run_env_benchmark() + agent + preset_estimates(agent[0][1], agent[1][1], workers)
     for preset in args.run:
         rows += run_preset(preset, workers)
     for name, value, unit in rows:
-        print(f"{name:<60} {value:>10,.{1 if unit == 'min' else 0}f} {unit}")
+        print(f"{name:<60} {value:>10,.{1 if unit in ('min', 'x') else 0}f} {unit}")
 
 
 def _cmd_config(args: argparse.Namespace) -> None:
