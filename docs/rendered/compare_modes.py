@@ -1,0 +1,80 @@
+"""Rendered mode against fast mode on a short run: writes modes.png and modes.md here.
+
+Run first (about 15 min on 2 cores):
+    jointattention reproduce --preset rendered --out runs/rendered
+then:
+    python docs/rendered/compare_modes.py [runs/rendered] [--fast-seeds 10]
+
+It runs the same preset in the fast mode with --fast-seeds seeds (seconds) into
+runs/rendered-fast, and checks, bin by bin, whether the rendered mode's mean success lies
+inside the fast mode's 95% interval (t interval of the mean over seeds).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from jointattention.config import load_config  # noqa: E402
+from jointattention.experiment import run_experiment  # noqa: E402
+from jointattention.metrics import mean_interval  # noqa: E402
+from jointattention.plotting import condition_curves  # noqa: E402
+
+HERE = Path(__file__).parent
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("run", nargs="?", default="runs/rendered")
+    ap.add_argument("--fast-seeds", type=int, default=10)
+    args = ap.parse_args()
+    run = Path(args.run)
+    rendered_cfg = load_config(run / "config.toml")
+    exp = dataclasses.replace(rendered_cfg.experiment, perception="fast",
+                              n_seeds=args.fast_seeds)
+    fast_cfg = dataclasses.replace(rendered_cfg, experiment=exp)
+    fast_run = run.parent / f"{run.name}-fast"
+    run_experiment(fast_cfg, fast_run, workers=2)
+    rendered, fast = condition_curves(run, rendered_cfg), condition_curves(fast_run, fast_cfg)
+    timing = json.loads((run / "timing.json").read_text())
+    steps = rendered_cfg.experiment.n_steps * len(rendered) * rendered_cfg.experiment.n_seeds
+    lines = [f"Rendered mode: `{run}` ({rendered_cfg.experiment.n_seeds} seeds); fast mode: "
+             f"`{fast_run}` ({args.fast_seeds} seeds). Rendered run: {steps:,} agent steps in "
+             f"{timing['wall_min']:.1f} min on {timing['workers']} workers.", "",
+             "| condition | bins inside the fast 95% interval | rendered final | fast final "
+             "(95% interval) |", "|---|---|---|---|"]
+    fig, axes = plt.subplots(1, len(rendered), figsize=(5 * len(rendered), 3.6), squeeze=False)
+    for ax, name in zip(axes[0], rendered, strict=True):
+        ends, per_seed = fast[name]
+        f_mean, f_lo, f_hi = mean_interval(per_seed)
+        r_mean = np.nanmean(rendered[name][1], axis=0)
+        inside = (r_mean >= f_lo) & (r_mean <= f_hi)
+        x = ends / 1e4
+        ax.fill_between(x, f_lo, f_hi, alpha=0.3, label=f"fast, 95% interval ({args.fast_seeds} "
+                                                        "seeds)")
+        ax.plot(x, f_mean, color="tab:blue")
+        ax.plot(x, r_mean, "o-", color="tab:red",
+                label=f"rendered + OpenCV ({rendered_cfg.experiment.n_seeds} seeds)")
+        ax.set_title(name)
+        ax.set_xlabel("learning time (x 10^4 steps)")
+        ax.set_ylabel("success of joint attention")
+        ax.set_ylim(0, 1)
+        ax.legend(fontsize=8)
+        lines.append(f"| {name} | {int(inside.sum())} of {len(inside)} | {r_mean[-1]:.3f} | "
+                     f"{f_mean[-1]:.3f} ({f_lo[-1]:.3f}-{f_hi[-1]:.3f}) |")
+    fig.tight_layout()
+    fig.savefig(HERE / "modes.png", dpi=120)
+    (HERE / "modes.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
