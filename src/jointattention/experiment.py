@@ -79,6 +79,10 @@ class Renderer:
 
         return RenderedScene(self.world, scene, face_m, self.detector, self.rng)
 
+    def close(self) -> None:
+        """Free the world's renderer."""
+        self.world.close()
+
 
 def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
              progress: Callable[[int], None] | None = None,
@@ -111,7 +115,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
                 on_trial(agent)
     finally:
         if render is not None:
-            render.world.close()
+            render.close()
     cols = list(zip(*rows, strict=True))
     dtypes = (np.int64, np.int32, np.int32, np.int16, np.int16, np.int8, bool, bool)
     return {name: np.array(c, dtype=t)

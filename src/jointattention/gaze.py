@@ -28,7 +28,7 @@ from .world.recording import capture_face_window, make_datasets
 from .world.scene import with_target
 from .world.simulator import World
 
-__all__ = ["Frame", "angle_errors", "condition_named", "grid_faces", "held_out_poses",
+__all__ = ["Frame", "angle_deg", "angle_errors", "condition_named", "grid_faces", "held_out_poses",
            "record_trial", "train"]
 
 
@@ -67,8 +67,12 @@ def angle_errors(agent: BootstrapAgent, ds: CaregiverDatasets) -> np.ndarray:
     command that centres the target."""
     out = np.array([agent.lm_command(f, t) for f, t in zip(ds.face, ds.theta_face_rad,
                                                              strict=True)])
-    cos = np.sum(out * ds.command_rad, axis=1) / (
-        np.linalg.norm(out, axis=1) * np.linalg.norm(ds.command_rad, axis=1))
+    return angle_deg(out, ds.command_rad)
+
+
+def angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The angle (deg) between vectors ``a`` and ``b`` along their last axis."""
+    cos = np.sum(a * b, axis=-1) / (np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1))
     return np.rad2deg(np.arccos(np.clip(cos, -1, 1)))
 
 
@@ -179,6 +183,6 @@ def record_trial(config: Config, agent: BootstrapAgent, n_objects: int, seed: in
             if r.success and r.n_lm_steps >= min_lm_steps:
                 return rec.frames, r
     finally:
-        render.world.close()
+        render.close()
     raise JointAttentionError(f"no trial of {max_tries} achieved joint attention with "
                               f"{min_lm_steps} learning-module steps; expected a trained agent")

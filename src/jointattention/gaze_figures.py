@@ -16,24 +16,13 @@ from PIL import Image
 from . import gaze
 from .config import Config
 from .io import atomic_path, save_json
+from .plotting import save_figure
 
 __all__ = ["write_gaze_figures"]
 
 PAN_DEG = (-40, -20, 0, 20, 40)
 TILT_DEG = (15, 0, -15, -30)
 UNSEEN_DEG = 5.0  # a grid direction farther than this from every data set's is unseen
-
-
-def _save(fig, path: Path) -> Path:
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format=path.suffix[1:], dpi=130, bbox_inches="tight")
-    plt.close(fig)
-    return path
-
-
-def _angle_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    cos = np.sum(a * b, axis=-1) / (np.linalg.norm(a, axis=-1) * np.linalg.norm(b, axis=-1))
-    return np.rad2deg(np.arccos(np.clip(cos, -1, 1)))
 
 
 def fig6(agent, faces, thetas, commands, seen_commands, path: Path) -> dict:
@@ -53,8 +42,8 @@ def fig6(agent, faces, thetas, commands, seen_commands, path: Path) -> dict:
                                (out, dict(color="r", lw=2.5))):
                 d = vec / np.linalg.norm(vec) * 0.45 * h
                 ax.plot(*np.array([centre, centre + [d[0], -d[1]]]).T, **style)
-            near = float(np.min(_angle_deg(seen_commands, commands[i, j])))
-            err = float(_angle_deg(out, commands[i, j]))
+            near = float(np.min(gaze.angle_deg(seen_commands, commands[i, j])))
+            err = float(gaze.angle_deg(out, commands[i, j]))
             is_unseen = near > UNSEEN_DEG
             errors.append(err)
             unseen.append(is_unseen)
@@ -65,7 +54,7 @@ def fig6(agent, faces, thetas, commands, seen_commands, path: Path) -> dict:
     fig.suptitle("Learning module's output (red) and the true direction (white) on the "
                  "caregiver's face window\ntarget 0.65 m away in each direction; blue: "
                  f"no data set within {UNSEEN_DEG:.0f}°", fontsize=9)
-    _save(fig, path)
+    save_figure(fig, path, dpi=130)
     errors, unseen = np.array(errors), np.array(unseen)
     return {"grid_median_error_deg": float(np.median(errors)),
             "grid_unseen": int(unseen.sum()),
@@ -86,7 +75,7 @@ def error_figure(curve: dict[int, tuple[float, float]], path: Path) -> None:
     ax.set_ylim(0, 100)
     ax.legend(fontsize=8)
     ax.set_title("Learning module's output against the direction to the target", fontsize=9)
-    _save(fig, path)
+    save_figure(fig, path, dpi=130)
 
 
 def _annotate(frame: gaze.Frame, d_th_px: float, step: int, scale: int = 2) -> np.ndarray:
@@ -117,7 +106,7 @@ def fig7(frames: list[gaze.Frame], d_th_px: float, png: Path, gif: Path) -> None
         ax.imshow(img)
     fig.suptitle("One trial after learning: white circle, the gazing area (d_th); magenta, "
                  "detected objects; yellow, the caregiver's target", fontsize=9)
-    _save(fig, png)
+    save_figure(fig, png, dpi=130)
     pics = [Image.fromarray(img) for img in images]
     with atomic_path(gif) as tmp:
         pics[0].save(tmp, format="GIF", save_all=True, append_images=pics[1:],

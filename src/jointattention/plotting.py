@@ -14,7 +14,7 @@ from .claims import check_claims, claims_markdown
 from .config import READINGS, Config, agent_config, load_config
 from .metrics import final_success, mean_interval, success_by_bin, time_to_fraction
 
-__all__ = ["condition_curves", "write_figures", "write_table"]
+__all__ = ["condition_curves", "save_figure", "write_figures", "write_table"]
 
 
 def condition_curves(out: Path, config: Config) -> dict[str, tuple]:
@@ -86,7 +86,7 @@ def write_figures(out: Path) -> list[Path]:
     _plot_conditions(ax, curves, fig4a, config, ceilings,
                      {n: f"{conds[n].n_objects} objects" for n in fig4a})
     ax.set_title("Fig. 4(a): success against learning time (sigmoid gate)\n" + note, fontsize=8)
-    written.append(_save(fig, out / "fig4a_success.png"))
+    written.append(save_figure(fig, out / "fig4a_success.png"))
 
     fig, ax = plt.subplots(figsize=(6.4, 3.2))
     t = np.linspace(0, config.experiment.n_steps, 400)
@@ -96,7 +96,7 @@ def write_figures(out: Path) -> list[Path]:
     ax.set_ylabel("rate of choosing LM Δθ")
     ax.set_ylim(-0.02, 1.02)
     ax.set_title("Fig. 4(b): gating function (sigmoid)", fontsize=9)
-    written.append(_save(fig, out / "fig4b_gate.png"))
+    written.append(save_figure(fig, out / "fig4b_gate.png"))
 
     fig5 = [n for n, c in conds.items() if _is_plain(c, config) and c.n_objects == 5]
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
@@ -105,7 +105,7 @@ def write_figures(out: Path) -> list[Path]:
               for n in fig5}
     _plot_conditions(ax, curves, fig5, config, ceilings, labels)
     ax.set_title("Fig. 5: 5 objects, sigmoid gate against constant rates\n" + note, fontsize=8)
-    written.append(_save(fig, out / "fig5_gates.png"))
+    written.append(save_figure(fig, out / "fig5_gates.png"))
     written += write_table(out, config, curves, ceilings)
     claims_path = out / "claims.md"
     with io.atomic_path(claims_path) as tmp:
@@ -143,11 +143,12 @@ def write_table(out: Path, config: Config, curves, ceilings) -> list[Path]:
     return [csv_path, md_path]
 
 
-def _save(fig, path: Path) -> Path:
+def save_figure(fig, path: Path, dpi: int = 110) -> Path:
+    """Lay out ``fig``, write it to ``path`` (format from its suffix) atomically, close it."""
     import matplotlib.pyplot as plt
 
     fig.tight_layout()
     with io.atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=110, format="png")
+        fig.savefig(tmp, dpi=dpi, format=path.suffix[1:])
     plt.close(fig)
     return path

@@ -37,15 +37,10 @@ def _hue_cuts(hue: np.ndarray, mask: np.ndarray, split_deg: float) -> np.ndarray
     """Pixels (right or lower of a pair of bright neighbours) where the hue jumps."""
     h = hue.astype(np.int16)  # OpenCV hue: 0-179, two degrees per unit
     cut = np.zeros_like(mask)
-    for axis in (0, 1):
-        d = np.abs(np.diff(h, axis=axis))
-        jump = np.minimum(d, 180 - d) * 2 > split_deg
-        pair = np.logical_and(mask[1:, :], mask[:-1, :]) if axis == 0 else np.logical_and(
-            mask[:, 1:], mask[:, :-1])
-        if axis == 0:
-            cut[1:, :] |= jump & pair
-        else:
-            cut[:, 1:] |= jump & pair
+    for later, earlier in (((slice(1, None), slice(None)), (slice(None, -1), slice(None))),
+                           ((slice(None), slice(1, None)), (slice(None), slice(None, -1)))):
+        d = np.abs(h[later] - h[earlier])
+        cut[later] |= (np.minimum(d, 180 - d) * 2 > split_deg) & mask[later] & mask[earlier]
     return cut
 
 

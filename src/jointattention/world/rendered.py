@@ -38,7 +38,6 @@ class RenderedScene:
                  rng: np.random.Generator):
         self.world, self.detector = world, detector
         self.target_index = fast.target_index
-        self._pos, self._radius = fast.object_pos_m, fast.object_radius_m
         world.set_scene(scene_with(world.config, world.caregiver, face_m, fast.object_pos_m,
                                    fast.object_radius_m, fast.target_index, rng))
         detector.reset()
@@ -50,8 +49,9 @@ class RenderedScene:
         self.world.set_head_angle(theta_rad)
         self.last_image = self.world.render()
         det = self.detector.detect(self.last_image)
-        kin = self.world.kinematics
-        uv, _, area = kin.project_spheres(self._pos, self._radius, theta_rad)
+        s = self.world.state
+        uv, _, area = self.world.kinematics.project_spheres(s.object_pos_m, s.object_radius_m,
+                                                            theta_rad)
         self.visible_ids = object_ids(det.centre_px, uv, np.sqrt(area / np.pi))
         return det
 
