@@ -19,13 +19,11 @@ import dataclasses
 import gymnasium as gym
 import numpy as np
 
-import jointattention.env  # noqa: F401  (registers JointAttention-v0)
-from jointattention.agent.bootstrap import BootstrapAgent
-from jointattention.agent.detections import Detections
-from jointattention.config import ConditionConfig, agent_config, load_config
-from jointattention.env import FaceWindowObservation
-from jointattention.experiment import run_cell
-from jointattention.metrics import T975, mean_interval
+from jointattention import Body, BootstrapOptions, ConditionConfig, load_config, run_cell
+from jointattention.analysis.metrics import T975, mean_interval
+from jointattention.config import model_options
+from jointattention.env import EnvTrial, FaceWindowObservation
+from jointattention.experiment.trial import run_trial
 from jointattention.rng import stream
 
 
@@ -37,27 +35,20 @@ def run_through_env(config, n_objects: int, seed: int,
     spaces = env.observation_space
     h, w, _ = spaces["image"].shape
     head = spaces["head_angle"]
-    agent = BootstrapAgent(
-        agent_config(config, ConditionConfig(n_objects=n_objects)), image_size_px=(w, h),
-        joint_limits_rad=np.stack([head.low, head.high], axis=1).astype(float),
-        face_size_px=spaces["face"].shape[::-1], rng=stream(config.seed, "agent", seed))
+    body = Body(image_size_px=(w, h),
+                joint_limits_rad=tuple(zip(head.low.astype(float), head.high.astype(float),
+                                           strict=True)),
+                face_size_px=spaces["face"].shape[::-1])
+    options: BootstrapOptions = model_options(config, ConditionConfig(n_objects=n_objects))
+    agent = options.build(config.agent, body, stream(config.seed, "agent", seed))
     times, successes = [], []
-    obs, info = env.reset(seed=seed)
+    trial = EnvTrial(env, seed=seed)
     while agent.learning_time_steps < config.experiment.n_steps:
-        times.append(agent.learning_time_steps)
-        agent.begin_trial(obs["face"], obs["head_angle"].astype(float))
-        done, reward = False, 0.0
-        while True:
-            det = Detections(**info["detections"], image_size_px=(w, h))
-            agent.evaluate(det)  # keeps the centring command when the evaluator fires
-            if done:
-                break
-            dtheta, _ = agent.act(det, obs["head_angle"].astype(float))
-            obs, reward, terminated, truncated, info = env.step(dtheta.astype(np.float32))
-            done = terminated or truncated
-        agent.end_trial(info["fired"], obs["head_angle"].astype(float))
-        successes.append(reward)
-        obs, info = env.reset()
+        # the trial loop itself, each step an env.step: the agent sees only obs and info
+        result = run_trial(trial, agent, trial.observation["face"])
+        times.append(result.learning_time)
+        successes.append(trial.reward)
+        trial = EnvTrial(env)
     env.close()
     return np.array(times), np.array(successes)
 

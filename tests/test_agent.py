@@ -8,9 +8,12 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from jointattention.agent.attention import attended_object, most_interesting, visual_feedback
+from jointattention.agent.bootstrap import BootstrapAgent, BootstrapOptions
 from jointattention.agent.detections import Detections
-from jointattention.agent.gate import constant_rate, sigmoid_rate
+from jointattention.agent.gates import ConstantGate, SigmoidGate
 from jointattention.agent.learner import FaceStandardiser, LearningModule
+from jointattention.agent.protocol import Agent, Body, Outcome
+from jointattention.config import AgentConfig
 
 
 def _det(centres, areas=None, edges=None, motion=None) -> Detections:
@@ -68,39 +71,41 @@ def test_face_standardiser_matches_numpy():
 def test_sigmoid_gate_is_a_rising_rate(t):
     """The sigmoid gate's rate lies in [0, 1] and never falls with learning time."""
     t = np.sort(t)
-    r = sigmoid_rate(t, 1e5, 2e4)
+    r = SigmoidGate(midpoint_steps=1e5, width_steps=2e4).rate_at(t)
     assert np.all((r >= 0) & (r <= 1)) and np.all(np.diff(r) >= 0)
 
 
 def test_gate_values():
     """The sigmoid is 0.5 at its midpoint; a constant gate is constant."""
-    assert sigmoid_rate(1e5, 1e5, 2e4) == pytest.approx(0.5)
-    assert np.all(constant_rate([0, 1e5, 3e5], 0.7) == 0.7)
+    assert SigmoidGate(midpoint_steps=1e5, width_steps=2e4).rate_at(1e5) == pytest.approx(0.5)
+    assert np.all(ConstantGate(rate=0.7).rate_at([0, 1e5, 3e5]) == 0.7)
+    assert ConstantGate(rate=0.7).label == "constant 0.7" and SigmoidGate().label == "sigmoid"
 
 
-def _agent(**changes):
-    from jointattention.agent.bootstrap import BootstrapAgent
-    from jointattention.config import AgentConfig
+def _agent(**changes) -> BootstrapAgent:
+    body = Body(image_size_px=(321, 241), joint_limits_rad=((-1, 1), (-1, 1)),
+                face_size_px=(3, 2))
+    return BootstrapOptions(**changes).build(AgentConfig(), body, np.random.default_rng(0))
 
-    return BootstrapAgent(AgentConfig(**changes), image_size_px=(321, 241),
-                          joint_limits_rad=((-1, 1), (-1, 1)), face_size_px=(3, 2),
-                          rng=np.random.default_rng(0))
+
+def test_the_bootstrap_agent_is_an_agent():
+    """The paper's agent meets the Agent protocol the trial loop is written against."""
+    assert isinstance(_agent(), Agent)
 
 
 @pytest.mark.parametrize("target", ["final_direction", "object_direction", "executed_step"])
 def test_each_learning_target_teaches_its_direction(target, monkeypatch):
     """A fired trial teaches the unit direction to the final gaze, to the attended object
     (final gaze plus the visual controller's centring command), or of the executed step."""
-    agent = _agent(learning_target=target, gate="constant", gate_rate=1.0)
+    agent = _agent(learning_target=target, gate=ConstantGate(rate=1.0))
     taught = []
     monkeypatch.setattr(agent.learner, "partial_fit", lambda X, Y: taught.append(Y))
     agent.begin_trial(np.zeros((2, 3)), [0.5, 0.2])
     step, _ = agent.act(_det(np.zeros((0, 2))), [0.5, 0.2])
     end = np.array([0.0, 0.3])
-    assert agent.evaluate(_det([[160 + 20, 120]])) == 0  # the object sits 20 px right
-    agent.end_trial(True, end)
+    agent.end_trial(Outcome(True, end, _det([[160 + 20, 120]]), 0))  # the object: 20 px right
     aim = {"final_direction": end, "executed_step": step,
-           "object_direction": end + [20 * agent.config.vf_gain_rad_per_px, 0]}[target]
+           "object_direction": end + [20 * agent.agent.vf_gain_rad_per_px, 0]}[target]
     if target != "executed_step":
         aim = aim - [0.5, 0.2]
     np.testing.assert_allclose(taught[0][0], aim / np.hypot(*aim))
@@ -111,4 +116,4 @@ def test_a_trial_that_did_not_fire_teaches_nothing():
     agent = _agent()
     agent.begin_trial(np.zeros((2, 3)), [0.0, 0.0])
     agent.act(_det(np.zeros((0, 2))), [0.0, 0.0])
-    assert agent.end_trial(False, np.array([0.1, 0.0])) == 0
+    assert agent.end_trial(Outcome(False, np.array([0.1, 0.0]), _det(np.zeros((0, 2))), None)) == 0

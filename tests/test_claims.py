@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from jointattention.claims import check_claims, claims_markdown, reading_of
+from jointattention.analysis.claims import check_claims, claims_table, reading_of
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 
 CONDS = (
     ConditionConfig(name="sig", n_objects=5),
-    ConditionConfig(name="c07", n_objects=5, gate="constant", gate_rate=0.7),
-    ConditionConfig(name="c10", n_objects=5, gate="constant", gate_rate=1.0),
+    ConditionConfig(name="c07", n_objects=5, model={"gate": {"kind": "constant", "rate": 0.7}}),
+    ConditionConfig(name="c10", n_objects=5, model={"gate": {"kind": "constant", "rate": 1.0}}),
     ConditionConfig(name="shuf", n_objects=5, shuffle_faces=True),
-    ConditionConfig(name="trial-sig", n_objects=5, gate_per="trial"),
+    ConditionConfig(name="trial-sig", n_objects=5, model={"gate_per": "trial"}),
 )
 CONFIG = Config(experiment=ExperimentConfig(n_seeds=3, conditions=CONDS))
 CEILINGS = {"5": 0.9}
@@ -59,4 +59,4 @@ def test_claims_fail_when_the_curves_contradict_them():
     assert not step["5 objects: sigmoid beats constant 0.7"]
     assert not step["5 objects: constant 1.0 stays near or below chance"]
     assert not step["5 objects, shuffled faces: stays at chance"]
-    assert "| NO |" in claims_markdown(claims)
+    assert "| NO |" in claims_table(claims).to_markdown()

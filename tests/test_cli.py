@@ -84,7 +84,7 @@ def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
         "[experiment]\nn_steps = 300\nn_seeds = 2\nbin_steps = 100\nn_ceiling_trials = 50\n"
         '[[experiment.conditions]]\nname = "n5-sigmoid"\nn_objects = 5\n'
         '[[experiment.conditions]]\nname = "n5-const1.0"\nn_objects = 5\n'
-        'gate = "constant"\ngate_rate = 1.0\n')
+        'model = { gate = { kind = "constant", rate = 1.0 } }\n')
     out = tmp_path / "run"
     argv = ["reproduce", "--config", str(cfg), "--out", str(out), "--workers", "1"]
     assert main(argv) == 0

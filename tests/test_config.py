@@ -6,11 +6,16 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from jointattention.agent.bootstrap import BootstrapOptions
+from jointattention.agent.gates import ConstantGate, SigmoidGate
 from jointattention.config import (
     CameraConfig,
+    ConditionConfig,
     Config,
+    ExperimentConfig,
     WorldConfig,
     load_config,
+    model_options,
     preset_names,
     to_toml,
 )
@@ -84,6 +89,54 @@ def test_toml_round_trip(tmp_path_factory, seed, fov, width, n):
     path = tmp_path_factory.mktemp("cfg") / "c.toml"
     path.write_text(to_toml(cfg))
     assert load_config(path) == cfg
+
+
+def test_a_condition_changes_the_run_model_field_by_field():
+    """A condition's model table changes only what it names; a new gate kind starts from its
+    own defaults, the same kind keeps the run's parameters."""
+    cfg = load_config_text(
+        "[model]\nlearning_rate = 0.001\n[model.gate]\nmidpoint_steps = 5000.0\n"
+        "[[experiment.conditions]]\nname = 'c'\nn_objects = 3\n"
+        "model = { gate = { kind = 'constant', rate = 0.7 }, vf_fallback = 'lm' }\n"
+        "[[experiment.conditions]]\nname = 's'\nn_objects = 3\n"
+        "model = { gate = { width_steps = 10.0 } }\n")
+    c, s = (model_options(cfg, x) for x in cfg.experiment.conditions)
+    assert c == BootstrapOptions(learning_rate=0.001, vf_fallback="lm", gate=ConstantGate(0.7))
+    assert s.gate == SigmoidGate(midpoint_steps=5000.0, width_steps=10.0)
+    assert load_config_text(to_toml(cfg)) == cfg
+
+
+def test_bad_model_settings_name_the_field():
+    """An unknown gate kind, a rate out of range, an unknown model option and a duplicate
+    condition name each give one error naming the field."""
+    cases = [
+        ("[model.gate]\nkind = 'step'\n", r"model\.gate\.kind = 'step': expected one of"),
+        ("[[experiment.conditions]]\nname = 'a'\nmodel = { gate = { kind = 'constant', "
+         "rate = 2.0 } }\n", r"experiment\.conditions\[0\]\.model\.gate\.rate = 2\.0"),
+        ("[[experiment.conditions]]\nname = 'a'\nmodel = { n_hiden = 3 }\n",
+         r"experiment\.conditions\[0\]\.model\.n_hiden: unknown setting"),
+        ("[model]\nkind = 'nonesuch'\n", r"model\.kind = 'nonesuch': expected one of"),
+        ("[[experiment.conditions]]\nname = 'a'\n[[experiment.conditions]]\nname = 'a'\n",
+         r"experiment\.conditions\[1\]\.name = 'a': expected distinct"),
+    ]
+    for text, message in cases:
+        with pytest.raises(ConfigError, match=message):
+            load_config_text(text)
+
+
+def test_non_finite_numbers_are_refused():
+    """NaN and infinity fail the range checks with the field named."""
+    with pytest.raises(ConfigError, match=r"model\.learning_rate = nan: expected a finite"):
+        load_config_text("[model]\nlearning_rate = nan\n")
+    with pytest.raises(ConfigError, match=r"world\.camera\.fov_deg = inf"):
+        load_config_text("[world.camera]\nfov_deg = inf\n")
+
+
+def test_condition_names_survive_the_toml_round_trip():
+    """Quotes, backslashes, newlines and non-ASCII text in a name are written as valid TOML."""
+    cfg = Config(experiment=ExperimentConfig(conditions=(
+        ConditionConfig(name='a "b" \\ c\nd é\x7f'),)))
+    assert load_config_text(to_toml(cfg)) == cfg
 
 
 def load_config_text(text: str) -> Config:

@@ -131,3 +131,32 @@ def test_a_pool_of_poses_keeps_targets_and_redraws_distractors():
         targets.add(tuple(np.round(state.target_pos_m, 6)))
         scenes.add(tuple(np.round(state.object_pos_m.ravel(), 6)))
     assert len(targets) == 2 and len(scenes) == 12
+
+
+def test_an_agent_runs_the_same_trial_through_the_environment():
+    """``run_trial`` over ``EnvTrial`` (each step an ``env.step``) gives the trial that
+    ``run_trial`` over the episode's own scene gives: the environment's step is the trial
+    loop's."""
+    from functools import partial
+
+    from jointattention.agent.attention import attended_object
+    from jointattention.env import EnvTrial
+    from jointattention.experiment.oracle import OracleAgent
+    from jointattention.experiment.trial import SceneTrial, run_trial
+
+    env = gym.make(ENV_ID, n_objects=5, max_steps=12)
+    world = env.unwrapped._world
+    step = np.deg2rad(4.0)
+    for seed in range(6):
+        trial = EnvTrial(env, seed=seed)
+        start = trial.theta_rad
+        aim = world.kinematics.centring_angles(world.state.target_pos_m)
+        scene_trial = SceneTrial(world.fast_scene(), start, kinematics=world.kinematics,
+                                 max_steps=12, evaluate=partial(attended_object,
+                                                                d_th_px=320 / 6))
+        direct = run_trial(scene_trial, OracleAgent(aim, step), np.zeros((25, 30)))
+        through = run_trial(trial, OracleAgent(aim, step), np.zeros((25, 30)))
+        assert (through.n_steps, through.attended, through.target, through.end) == (
+            direct.n_steps, direct.attended, direct.target, direct.end)
+        assert through.success == (trial.reward == 1.0)
+    env.close()

@@ -5,15 +5,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from jointattention import io
+from jointattention import measure_ceiling, run_cell, run_experiment
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 from jointattention.errors import JointAttentionError
-from jointattention.experiment import measure_ceiling, run_cell, run_experiment
+from jointattention.experiment import results
 
 SMALL = Config(experiment=ExperimentConfig(
     n_steps=400, n_seeds=2, conditions=(
         ConditionConfig(name="a", n_objects=3),
-        ConditionConfig(name="b", n_objects=5, gate="constant", gate_rate=1.0))))
+        ConditionConfig(name="b", n_objects=5, model={"gate": {"kind": "constant", "rate": 1.0}}))))
 
 
 def test_same_seed_same_records():
@@ -41,9 +41,9 @@ def test_resume_runs_only_missing_cells(tmp_path):
     """Re-running a run folder recomputes only cells that are missing, with equal results."""
     out = tmp_path / "run"
     first = run_experiment(SMALL, out)
-    missing = io.cell_path(out, "b", 1)
+    missing = results.cell_path(out, "b", 1)
     missing.unlink()
-    kept = io.cell_path(out, "a", 0)
+    kept = results.cell_path(out, "a", 0)
     stamp = kept.stat().st_mtime_ns
     messages = []
     again = run_experiment(SMALL, out, progress=messages.append)

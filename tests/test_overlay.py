@@ -31,7 +31,7 @@ def test_found_face_is_where_the_face_is():
     """The face box's centre lies in the middle third across and the upper half down."""
     from jointattention.agent.faces import FaceFinder
     from jointattention.config import Config
-    from jointattention.overlay import find_all
+    from jointattention.figures.detect import find_all
 
     photo = cv2.cvtColor(cv2.imread(str(PHOTO)), cv2.COLOR_BGR2RGB)
     h, w = photo.shape[:2]

@@ -11,7 +11,7 @@ import pytest
 
 from jointattention.cli import main
 from jointattention.errors import JointAttentionError
-from jointattention.report import write_report
+from jointattention.figures.report import write_report
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from jointattention import io
 from jointattention.errors import ConfigError
-from jointattention.sweep import load_sweep, run_sweep
+from jointattention.experiment import results
+from jointattention.experiment.sweep import load_sweep, run_sweep
 
 SPEC = """
 base = "quick"
@@ -16,8 +16,8 @@ base = "quick"
 "experiment.n_steps" = 500
 "experiment.bin_steps" = 100
 [grid]
-"agent.learning_rate" = [0.0003, 0.003]
-"agent.n_hidden" = [3]
+"model.learning_rate" = [0.0003, 0.003]
+"model.n_hidden" = [3]
 [[conditions]]
 name = "n3"
 n_objects = 3
@@ -31,7 +31,7 @@ def _spec(tmp_path, text=SPEC):
 
 
 def _cells(out):
-    return {p.relative_to(out): io.load_cell(p) for p in sorted(out.rglob("*.npz"))}
+    return {p.relative_to(out): results.load_cell(p) for p in sorted(out.rglob("*.npz"))}
 
 
 def _same(a, b):
@@ -47,16 +47,16 @@ def test_spec_makes_the_grid_product(tmp_path):
     assert list(sweep.points) == ["learning_rate=0.0003,n_hidden=3",
                                   "learning_rate=0.003,n_hidden=3"]
     cfg = sweep.points["learning_rate=0.003,n_hidden=3"]
-    assert cfg.agent.learning_rate == 0.003 and cfg.agent.n_hidden == 3
+    assert cfg.model.learning_rate == 0.003 and cfg.model.n_hidden == 3
     assert cfg.experiment.n_seeds == 2 and [c.name for c in cfg.experiment.conditions] == ["n3"]
 
 
 @pytest.mark.parametrize(("text", "match"), [
     ('base = "quick"\nseeds = 3\n', "seeds: unknown key"),
-    ('[grid]\n"agent.learning_rate" = 0.1\n', "expected a non-empty list"),
-    ('[grid]\n"agent.learning_rat" = [0.1]\n', "learning_rat: unknown setting"),
+    ('[grid]\n"model.learning_rate" = 0.1\n', "expected a non-empty list"),
+    ('[grid]\n"model.learning_rat" = [0.1]\n', "learning_rat: unknown setting"),
     ('[grid]\n"agnt.learning_rate" = [0.1]\n', "no section 'agnt'"),
-    ('[set]\n"agent.n_hidden" = "many"\n', "expected int"),
+    ('[set]\n"model.n_hidden" = "many"\n', "expected int"),
     ("[grid\n", "not valid TOML"),
 ])
 def test_bad_specs_are_refused(tmp_path, text, match):

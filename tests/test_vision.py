@@ -122,7 +122,7 @@ def test_bad_images_are_refused_with_what_was_expected():
 def test_parity_with_the_fast_detector_in_rendered_scenes(needs_gl):
     """Over 300 random rendered scenes of 5 objects, both detectors choose the same object
     and agree on every centre within 2 px in at least 99% of cases (the issue's bar)."""
-    from jointattention.parity import measure_parity
+    from jointattention.analysis.parity import measure_parity
 
     result = measure_parity(Config(), 300, seed=3)
     summary = result.summary()
@@ -132,7 +132,7 @@ def test_parity_with_the_fast_detector_in_rendered_scenes(needs_gl):
 
 def test_parity_holds_with_ten_objects(needs_gl):
     """With 10 objects (more overlaps and border cuts) agreement stays at 97% or more."""
-    from jointattention.parity import measure_parity
+    from jointattention.analysis.parity import measure_parity
 
     result = measure_parity(with_n_objects(Config(), 10), 200, seed=4)
     assert result.summary()["agree"] >= 0.97, result.summary()
@@ -164,7 +164,7 @@ def test_template_matching_finds_the_caregivers_face(needs_gl):
 def test_rendered_cells_follow_the_fast_cells_trials(needs_gl):
     """A rendered-mode cell draws the same trials as the fast cell of its seed: with detectors
     in parity, its first trials end on the same objects."""
-    from jointattention.experiment import run_cell
+    from jointattention import run_cell
 
     cfg = load_config("quick")
     cfg = dataclasses.replace(cfg, experiment=dataclasses.replace(cfg.experiment, n_steps=150))

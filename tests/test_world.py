@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from jointattention.agent.detections import equal_area_radius
 from jointattention.config import ObjectsConfig, WorldConfig
 from jointattention.errors import ConfigError
 from jointattention.rng import stream
@@ -101,13 +102,14 @@ def test_projection_matches_rendered_centroids(needs_gl):
         aim = world.state.object_pos_m[rng.integers(world.state.n_objects)]
         world.set_head_angle(world.kinematics.centring_angles(aim) + rng.normal(0, 0.15, 2))
         seg = world.render(segmentation=True)
-        p = world.project()
-        for i, geom in enumerate(ids):
-            c, r = p.centre_px[i], p.radius_px[i]
-            if not (p.in_view[i] and r + 1 < c[0] < w - r - 2 and r + 1 < c[1] < h - r - 2):
+        scene = world.fast_scene()
+        det = scene.observe(world.head_angle_rad)
+        for j, i in enumerate(scene.visible_ids):
+            c, area = det.centre_px[j], det.colour_area_px[j]
+            r = equal_area_radius(area)
+            if not (r + 1 < c[0] < w - r - 2 and r + 1 < c[1] < h - r - 2):
                 continue
-            ys, xs = np.nonzero(seg == geom)
-            area = p.area_px[i]
+            ys, xs = np.nonzero(seg == ids[i])
             if len(xs) < 0.95 * area:  # partly hidden behind another object
                 continue
             assert np.hypot(xs.mean() - c[0], ys.mean() - c[1]) < 2.0

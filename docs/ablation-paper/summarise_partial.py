@@ -9,17 +9,17 @@ import json
 import sys
 from pathlib import Path
 
-from jointattention import io
-from jointattention.claims import check_claims, claims_markdown
+from jointattention.analysis.claims import check_claims, claims_table
+from jointattention.analysis.curves import condition_curves
+from jointattention.analysis.metrics import final_success, mean_interval
 from jointattention.config import load_config
-from jointattention.metrics import final_success, mean_interval
-from jointattention.plotting import condition_curves
+from jointattention.experiment.results import cell_path
 
 out, ceilings = Path(sys.argv[1]), json.loads(Path(sys.argv[2]).read_text())
 cfg = load_config(out / "config.toml")
 exp = cfg.experiment
 done = tuple(c for c in exp.conditions
-             if all(io.cell_path(out, c.name, i).exists() for i in range(exp.n_seeds)))
+             if all(cell_path(out, c.name, i).exists() for i in range(exp.n_seeds)))
 cfg = dataclasses.replace(cfg, experiment=dataclasses.replace(exp, conditions=done))
 curves = condition_curves(out, cfg)
 print("| condition | final success | 95% interval | seeds' range | first bin |")
@@ -34,5 +34,5 @@ readings = {c.name.rsplit("-", 1)[0] for c in done}
 complete = {r for r in readings if sum(c.name.startswith(r + "-") for c in done) == 4}
 keep = tuple(c for c in done if c.name.rsplit("-", 1)[0] in complete)
 cfg = dataclasses.replace(cfg, experiment=dataclasses.replace(exp, conditions=keep))
-print(claims_markdown(check_claims(cfg, {k: curves[k] for k in (c.name for c in keep)},
-                                   ceilings)), end="")
+claims = check_claims(cfg, {k: curves[k] for k in (c.name for c in keep)}, ceilings)
+print(claims_table(claims).to_markdown(), end="")

@@ -20,13 +20,12 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-from jointattention.config import load_config  # noqa: E402
-from jointattention.experiment import run_experiment  # noqa: E402
-from jointattention.metrics import mean_interval  # noqa: E402
-from jointattention.plotting import condition_curves  # noqa: E402
+from jointattention import load_config, run_experiment
+from jointattention.analysis.curves import condition_curves
+from jointattention.analysis.metrics import mean_interval
 
 HERE = Path(__file__).parent
 

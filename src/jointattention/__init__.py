@@ -1,8 +1,94 @@
 """jointattention: the bootstrap learning model for joint attention (Nagai, Hosoda, Asada).
 
 A robot with a pan/tilt camera head learns, with no teacher, to look where a caregiver looks.
+
+The public API is importable from here; each name is loaded from its module on first use, so
+that importing the robot's side (:mod:`jointattention.agent`) loads no world and no MuJoCo.
+The layout is described in ``docs/architecture.md``.
 """
 
-__all__ = ["__version__"]
+import importlib
 
 __version__ = "0.1.0"
+
+_EXPORTS = {
+    "GATES": "jointattention.agent.gates:GATES",
+    "MODELS": "jointattention.agent.models:MODELS",
+    "Agent": "jointattention.agent.protocol:Agent",
+    "Body": "jointattention.agent.protocol:Body",
+    "BootstrapAgent": "jointattention.agent.bootstrap:BootstrapAgent",
+    "BootstrapOptions": "jointattention.agent.bootstrap:BootstrapOptions",
+    "CaregiverDatasets": "jointattention.datasets:CaregiverDatasets",
+    "ConditionConfig": "jointattention.config:ConditionConfig",
+    "Config": "jointattention.config:Config",
+    "ConfigError": "jointattention.errors:ConfigError",
+    "DatasetError": "jointattention.errors:DatasetError",
+    "Detections": "jointattention.agent.detections:Detections",
+    "FastScene": "jointattention.world.fast:FastScene",
+    "Gate": "jointattention.agent.gates:Gate",
+    "JointAttentionError": "jointattention.errors:JointAttentionError",
+    "ModelOptions": "jointattention.agent.models:ModelOptions",
+    "Outcome": "jointattention.agent.protocol:Outcome",
+    "RunResult": "jointattention.experiment.reproduce:RunResult",
+    "Scene": "jointattention.world.protocol:Scene",
+    "SceneTrial": "jointattention.experiment.trial:SceneTrial",
+    "TrialResult": "jointattention.experiment.trial:TrialResult",
+    "World": "jointattention.world.simulator:World",
+    "default_datasets": "jointattention.datasets:default_datasets",
+    "load_config": "jointattention.config:load_config",
+    "load_datasets": "jointattention.datasets:load",
+    "measure_ceiling": "jointattention.experiment.cells:measure_ceiling",
+    "reproduce": "jointattention.experiment.reproduce:reproduce",
+    "run_cell": "jointattention.experiment.cells:run_cell",
+    "run_experiment": "jointattention.experiment.reproduce:run_experiment",
+    "run_trial": "jointattention.experiment.trial:run_trial",
+    "write_report": "jointattention.figures.report:write_report",
+}
+
+__all__ = [
+    "GATES",
+    "MODELS",
+    "Agent",
+    "Body",
+    "BootstrapAgent",
+    "BootstrapOptions",
+    "CaregiverDatasets",
+    "ConditionConfig",
+    "Config",
+    "ConfigError",
+    "DatasetError",
+    "Detections",
+    "FastScene",
+    "Gate",
+    "JointAttentionError",
+    "ModelOptions",
+    "Outcome",
+    "RunResult",
+    "Scene",
+    "SceneTrial",
+    "TrialResult",
+    "World",
+    "__version__",
+    "default_datasets",
+    "load_config",
+    "load_datasets",
+    "measure_ceiling",
+    "reproduce",
+    "run_cell",
+    "run_experiment",
+    "run_trial",
+    "write_report",
+]
+
+
+def __getattr__(name: str):
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'jointattention' has no attribute {name!r}")
+    module, attribute = _EXPORTS[name].split(":")
+    value = getattr(importlib.import_module(module), attribute)
+    globals()[name] = value  # later lookups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_EXPORTS})

@@ -1,64 +1,160 @@
-"""The machinery behind configuration sections: typed fields with help text and ranges."""
+"""The machinery behind configuration sections: typed fields with help text and ranges.
+
+A section is a frozen dataclass of :func:`param` fields; building one checks every field.
+A *tagged* field holds one of several kinds of a part (a model, a gate), looked up by name
+in a :class:`Registry`; in TOML it is a table whose ``kind`` names the kind.
+"""
 
 from __future__ import annotations
 
 import dataclasses
+import importlib
+import math
 import types
 import typing
+from collections.abc import Iterator, Mapping
 from typing import Any
 
 from .errors import ConfigError
 
-__all__ = ["check_section", "from_mapping", "param", "to_mapping"]
+__all__ = ["FrozenTable", "Registry", "Section", "from_mapping", "merge", "merge_tagged", "param",
+           "to_mapping"]
 
 
 def param(
-    default: Any,
-    help: str,
+    default: Any = dataclasses.MISSING,
+    help: str = "",
     *,
     lo: float | None = None,
     hi: float | None = None,
-    choices: tuple | None = None,
+    choices: Any = None,
+    factory: Any = None,
+    registry: Registry | None = None,
 ) -> Any:
-    """A configuration field: its default, its help text and the range it must lie in."""
-    meta = {"help": help, "lo": lo, "hi": hi, "choices": choices}
+    """A configuration field: its default, its help text and the range it must lie in.
+
+    ``choices`` is a tuple or a :class:`Registry` (checked when the value is set, so kinds
+    registered later count). ``registry`` makes a tagged field, whose default comes from
+    ``factory``.
+    """
+    meta = {"help": help, "lo": lo, "hi": hi, "choices": choices, "registry": registry}
     if isinstance(default, (list, dict)):
         raise TypeError("use tuples for sequence defaults")
+    if factory is not None:
+        return dataclasses.field(default_factory=factory, metadata=meta)
     return dataclasses.field(default=default, metadata=meta)
 
 
-def _check_value(name: str, value: Any, meta: dict) -> None:
+class Registry:
+    """The named kinds of one part of the model (the models, the gates).
+
+    Each kind is an options section (a :class:`Section`) that builds its part. Built-in kinds
+    may be given as ``"module:attribute"`` strings, imported on first use, so that a registry
+    can name kinds whose modules import the configuration.
+    """
+
+    def __init__(self, part: str, kinds: Mapping[str, str | type]):
+        self.part = part
+        self._kinds = dict(kinds)
+
+    def register(self, name: str, options: type) -> type:
+        """Add the kind ``name``; returns ``options`` (so it can decorate the class)."""
+        if not (isinstance(options, type) and issubclass(options, Section)):
+            raise TypeError(f"{self.part} {name!r}: expected a Section subclass")
+        if name in self._kinds and self[name] is not options:
+            raise ValueError(f"{self.part} {name!r} is registered already")
+        self._kinds[name] = options
+        return options
+
+    def unregister(self, name: str) -> None:
+        """Remove the kind ``name``."""
+        del self._kinds[name]
+
+    def __getitem__(self, name: str) -> type:
+        if name not in self._kinds:
+            raise ConfigError(f"{self.part} {name!r}: unknown; expected one of {', '.join(self)}")
+        kind = self._kinds[name]
+        if isinstance(kind, str):
+            module, attribute = kind.split(":")
+            kind = self._kinds[name] = getattr(importlib.import_module(module), attribute)
+        return kind
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._kinds
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(list(self._kinds))
+
+    def name_of(self, options: Any) -> str:
+        """The name under which the kind of ``options`` is registered."""
+        for name in self:
+            if type(options) is self[name]:
+                return name
+        raise KeyError(f"{type(options).__name__} is not a registered {self.part}")
+
+
+class FrozenTable(Mapping):
+    """An immutable, hashable mapping: a partial table of settings kept as given."""
+
+    def __init__(self, data: Mapping | None = None):
+        data = dict(data or {})
+        self._data = {k: FrozenTable(v) if isinstance(v, Mapping) else v for k, v in data.items()}
+
+    def __getitem__(self, key: str) -> Any:
+        return self._data[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._data)
+
+    def __len__(self) -> int:
+        return len(self._data)
+
+    def __hash__(self) -> int:
+        return hash(tuple(sorted(self._data.items(), key=lambda kv: kv[0])))
+
+    def __repr__(self) -> str:
+        return f"FrozenTable({self.to_dict()!r})"
+
+    def to_dict(self) -> dict:
+        """A plain (nested) dict."""
+        return {k: v.to_dict() if isinstance(v, FrozenTable) else v for k, v in self.items()}
+
+
+def _check_value(name: str, value: Any, meta: Mapping) -> None:
     lo, hi, choices = meta.get("lo"), meta.get("hi"), meta.get("choices")
-    values = value if isinstance(value, tuple) else (value,)
-    for v in values:
-        if v is None:
+    for v in value if isinstance(value, tuple) else (value,):
+        if v is None or (isinstance(v, str) and choices is None):
             continue
-        if choices is not None and v not in choices:
-            raise ConfigError(f"{name} = {v!r}: expected one of {', '.join(map(repr, choices))}")
+        if choices is not None:
+            if v not in choices:
+                raise ConfigError(f"{name} = {v!r}: expected one of "
+                                  f"{', '.join(map(repr, choices))}")
+            continue
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ConfigError(f"{name} = {v!r}: expected a finite number")
         if (lo is not None and v < lo) or (hi is not None and v > hi):
             raise ConfigError(f"{name} = {v!r}: expected a value in [{lo}, {hi}]")
 
 
-def check_section(section: Any, prefix: str = "") -> None:
-    """Check every field of a section against its declared range; raise one ConfigError."""
-    for f in dataclasses.fields(section):
-        value = getattr(section, f.name)
-        name = f"{prefix}{f.name}"
-        if dataclasses.is_dataclass(value):
-            check_section(value, prefix=f"{name}.")
-        elif isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0]):
-            for i, item in enumerate(value):
-                check_section(item, prefix=f"{name}[{i}].")
-        else:
-            _check_value(name, value, f.metadata)
+class Section:
+    """Base of configuration sections: every field is checked when a section is built."""
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            if not dataclasses.is_dataclass(value) and not (
+                    isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0])):
+                _check_value(f.name, value, f.metadata)
 
 
 def _coerce(name: str, value: Any, hint: Any) -> Any:
     origin = typing.get_origin(hint)
     if dataclasses.is_dataclass(hint):
-        if not isinstance(value, dict):
-            raise ConfigError(f"{name}: expected a table of settings, got {value!r}")
         return from_mapping(hint, value, prefix=f"{name}.")
+    if hint is FrozenTable:
+        if not isinstance(value, Mapping):
+            raise ConfigError(f"{name} = {value!r}: expected a table of settings")
+        return FrozenTable(value)
     if origin is tuple and typing.get_args(hint)[-1] is Ellipsis:
         if not isinstance(value, (list, tuple)):
             raise ConfigError(f"{name} = {value!r}: expected a list")
@@ -85,28 +181,78 @@ def _coerce(name: str, value: Any, hint: Any) -> Any:
     raise ConfigError(f"{name} = {value!r}: expected {getattr(hint, '__name__', hint)}")
 
 
-def from_mapping(cls: type, data: dict, prefix: str = "") -> Any:
-    """Build section ``cls`` from a (TOML) mapping; unknown keys and wrong types are errors."""
-    hints = typing.get_type_hints(cls)
-    names = {f.name for f in dataclasses.fields(cls)}
-    unknown = sorted(set(data) - names)
+def merge_tagged(registry: Registry, current: Any, value: Any, name: str) -> Any:
+    """``current`` (of some kind) changed by ``value``: a table, or just a kind's name. A new
+    kind starts from its defaults and keeps the fields it shares with the old one."""
+    if isinstance(value, str):
+        value = {"kind": value}
+    if not isinstance(value, Mapping):
+        raise ConfigError(f"{name} = {value!r}: expected a table with a kind and its settings")
+    kind = value.get("kind", registry.name_of(current))
+    if not isinstance(kind, str) or kind not in registry:
+        raise ConfigError(f"{name}.kind = {kind!r}: expected one of "
+                          f"{', '.join(map(repr, registry))}")
+    cls = registry[kind]
+    base = current
+    if type(current) is not cls:
+        shared = ({f.name for f in dataclasses.fields(cls)}
+                  & {f.name for f in dataclasses.fields(current)})
+        base = dataclasses.replace(cls(), **{k: getattr(current, k) for k in shared})
+    return merge(base, {k: v for k, v in value.items() if k != "kind"}, prefix=f"{name}.")
+
+
+def merge(section: Any, changes: Mapping, prefix: str = "") -> Any:
+    """``section`` with ``changes`` (a partial mapping, as TOML gives) applied.
+
+    Nested sections change field by field; unknown keys, wrong types and values out of range
+    are one :class:`ConfigError` naming the field.
+    """
+    cls = type(section)
+    if not isinstance(changes, Mapping):
+        raise ConfigError(f"{prefix.rstrip('.')}: expected a table of settings, got "
+                          f"{changes!r}")
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    unknown = sorted(set(changes) - set(fields))
     if unknown:
-        raise ConfigError(
-            f"{prefix}{unknown[0]}: unknown setting; expected one of {', '.join(sorted(names))}"
-        )
-    kwargs = {k: _coerce(f"{prefix}{k}", v, hints[k]) for k, v in data.items()}
-    return dataclasses.replace(cls(), **kwargs)
+        raise ConfigError(f"{prefix}{unknown[0]}: unknown setting; expected one of "
+                          f"{', '.join(sorted(fields))}")
+    hints = typing.get_type_hints(cls)
+    kwargs = {}
+    for key, value in changes.items():
+        current, registry = getattr(section, key), fields[key].metadata.get("registry")
+        if registry is not None:
+            kwargs[key] = merge_tagged(registry, current, value, f"{prefix}{key}")
+        elif dataclasses.is_dataclass(current) and isinstance(value, Mapping):
+            kwargs[key] = merge(current, value, prefix=f"{prefix}{key}.")
+        else:
+            kwargs[key] = _coerce(f"{prefix}{key}", value, hints[key])
+    try:
+        return dataclasses.replace(section, **kwargs)
+    except ConfigError as err:  # the section's own checks name fields without the prefix
+        raise ConfigError(f"{prefix}{err}") from None
+
+
+def from_mapping(cls: type, data: Mapping, prefix: str = "") -> Any:
+    """Build section ``cls`` from a (TOML) mapping over its defaults."""
+    if not isinstance(data, Mapping):
+        raise ConfigError(f"{prefix.rstrip('.')}: expected a table of settings, got {data!r}")
+    return merge(cls(), data, prefix)
 
 
 def to_mapping(section: Any) -> dict:
     """The section as a plain, TOML-ready mapping (tuples become lists, None is dropped)."""
     out = {}
     for f in dataclasses.fields(section):
-        value = getattr(section, f.name)
-        if dataclasses.is_dataclass(value):
+        value, registry = getattr(section, f.name), f.metadata.get("registry")
+        if registry is not None:
+            out[f.name] = {"kind": registry.name_of(value), **to_mapping(value)}
+        elif dataclasses.is_dataclass(value):
             out[f.name] = to_mapping(value)
         elif isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0]):
             out[f.name] = [to_mapping(v) for v in value]
+        elif isinstance(value, FrozenTable):
+            if value:
+                out[f.name] = value.to_dict()
         elif value is not None:
             out[f.name] = list(value) if isinstance(value, tuple) else value
     return out

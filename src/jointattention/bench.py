@@ -49,10 +49,11 @@ def run_world_benchmarks(
                 "frames/s",
             )
         )
+        scene = world.fast_scene()
         rows.append(
             (
                 "fast projection (all objects, one head angle)",
-                _rate(lambda i: world.project(thetas[i]), n_projections),
+                _rate(lambda i: scene.observe(thetas[i]), n_projections),
                 "projections/s",
             )
         )
@@ -87,7 +88,7 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     import dataclasses
 
     from .config import load_config
-    from .experiment import run_cell
+    from .experiment.cells import run_cell
 
     config = load_config("quick")
     cond = next(c for c in config.experiment.conditions if c.name == "n5-sigmoid")
@@ -125,7 +126,7 @@ def run_preset(name: str, workers: int) -> list[tuple[str, float, str]]:
     import tempfile
 
     from .config import load_config
-    from .experiment import run_experiment
+    from .experiment.reproduce import run_experiment
 
     with tempfile.TemporaryDirectory() as tmp:
         start = time.perf_counter()

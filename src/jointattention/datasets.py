@@ -26,8 +26,6 @@ head angles. Angles must lie in [-pi, pi].
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
@@ -35,6 +33,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from ._files import atomic_path
 from .errors import DatasetError
 
 __all__ = ["SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load", "save"]
@@ -113,18 +112,8 @@ def save(datasets: CaregiverDatasets, path: str | Path) -> Path:
     }
     if datasets.target_m is not None:
         arrays["target_m"] = datasets.target_m
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            np.savez_compressed(f, **arrays)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes files private; data sets are not
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        np.savez_compressed(f, **arrays)
     return path
 
 

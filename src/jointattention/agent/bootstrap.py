@@ -1,46 +1,82 @@
-"""The bootstrap learning agent: visual attention, self-evaluation, learning and the gate."""
+"""The paper's model: the bootstrap learning agent (visual attention, self-evaluation,
+learning and the gate), and its options (the ``[model]`` section, ``kind = "bootstrap"``)."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import ClassVar
+
 import numpy as np
 
-from ..config import AgentConfig
-from .attention import attended_object, most_interesting, visual_feedback
+from .._fields import param
+from ..config.agent import AgentConfig
+from .attention import most_interesting, visual_feedback
 from .detections import Detections
-from .gate import constant_rate, sigmoid_rate
+from .gates import GATES, Gate, SigmoidGate
 from .learner import FaceStandardiser, LearningModule
+from .models import ModelOptions
+from .protocol import LM, RANDOM, VF, Body, Outcome
 
-__all__ = ["BootstrapAgent"]
+__all__ = ["BootstrapAgent", "BootstrapOptions"]
 
-VF, LM, RANDOM = "vf", "lm", "random"
+
+@dataclass(frozen=True)
+class BootstrapOptions(ModelOptions):
+    """The bootstrap model's options; the last three are readings where the paper is silent
+    (README, *The model*)."""
+
+    readings: ClassVar[tuple[str, ...]] = ("gate_per", "vf_fallback", "learning_target")
+
+    n_hidden: int = param(7, "hidden units of the learning module (paper: 7)", lo=1, hi=1000)
+    learning_rate: float = param(
+        0.0003, "back-propagation step size (about 750 standardised inputs: keep it small)",
+        lo=0, hi=10)
+    momentum: float = param(0.5, "momentum of the back-propagation updates", lo=0, hi=0.999)
+    init_scale: float = param(
+        1.0, "scale of the initial weights (times 1/sqrt(fan-in))", lo=0, hi=100)
+    gate: Gate = param(factory=SigmoidGate, registry=GATES,
+                       help="the gate: kind (sigmoid, constant) and its parameters")
+    gate_per: str = param(
+        "step", "reading: the gate decides at every step, or once per trial",
+        choices=("step", "trial"))
+    vf_fallback: str = param(
+        "random", "reading: what moves the head when the gate picks the visual controller and no "
+        "object is in view: the learning module, or a random step", choices=("lm", "random"))
+    learning_target: str = param(
+        "object_direction", "reading: what each step of a successful trial is taught: the unit "
+        "direction to the final gaze, to the attended object (the final gaze plus the visual "
+        "controller's command that would centre it), or the step that was executed",
+        choices=("final_direction", "object_direction", "executed_step"))
+
+    def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> BootstrapAgent:
+        """The untrained bootstrap agent."""
+        return BootstrapAgent(self, agent, body, rng)
 
 
 class BootstrapAgent:
     """The robot's side of the model (paper, Fig. 2).
 
     Args:
-        config: the agent's parameters and the readings where the paper is silent.
-        image_size_px: (W, H) of its camera image.
-        joint_limits_rad: ((pan_lo, pan_hi), (tilt_lo, tilt_hi)), the robot's own joint ranges;
-            it scales head angles by them for the learning module.
-        face_size_px: (width, height) of the face window.
+        options: the model's options and the readings where the paper is silent.
+        agent: the robot's shared mechanisms (Eq. 1 weights, Eq. 2 gain, step length).
+        body: image size, joint ranges (head angles are scaled by them for the learning
+            module) and face window size.
         rng: the agent's own generator (initial weights, gate draws, random steps).
 
-    A trial is ``begin_trial``, then ``evaluate`` and ``act`` at each step, then
-    ``end_trial``; learning happens in ``end_trial`` if the internal evaluator fired.
+    A trial is ``begin_trial``, then ``act`` at each step, then ``end_trial``; learning
+    happens in ``end_trial`` if the internal evaluator fired.
     """
 
-    def __init__(self, config: AgentConfig, *, image_size_px: tuple[int, int],
-                 joint_limits_rad, face_size_px: tuple[int, int], rng: np.random.Generator):
-        self.config = config
-        self.image_size_px = image_size_px
-        limits = np.asarray(joint_limits_rad, dtype=float)
+    def __init__(self, options: BootstrapOptions, agent: AgentConfig, body: Body,
+                 rng: np.random.Generator):
+        self.options, self.agent, self.body = options, agent, body
+        limits = np.asarray(body.joint_limits_rad, dtype=float)
         self._theta_mid, self._theta_half = limits.mean(axis=1), np.ptp(limits, axis=1) / 2
         self.rng = rng
-        n_in = face_size_px[0] * face_size_px[1] + 2
+        n_in = body.face_size_px[0] * body.face_size_px[1] + 2
         self.learner = LearningModule(
-            n_in, config.n_hidden, 2, learning_rate=config.learning_rate,
-            momentum=config.momentum, init_scale=config.init_scale, rng=rng)
+            n_in, options.n_hidden, 2, learning_rate=options.learning_rate,
+            momentum=options.momentum, init_scale=options.init_scale, rng=rng)
         self.faces = FaceStandardiser()
         self.learning_time_steps = 0
         self._trial_module: str | None = None
@@ -49,20 +85,13 @@ class BootstrapAgent:
 
     @property
     def step_rad(self) -> float:
-        return np.deg2rad(self.config.lm_step_deg)
-
-    @property
-    def d_th_px(self) -> float:
-        """Threshold of the internal evaluator (Eq. 3), d_th = W * fraction."""
-        return self.config.d_th_px(self.image_size_px[0])
+        """Length of one step of the learning module (or a random step)."""
+        return np.deg2rad(self.agent.lm_step_deg)
 
     def gate_rate(self, learning_time_steps=None):
         """Rate of choosing the learning module at a learning time (default: now)."""
         t = self.learning_time_steps if learning_time_steps is None else learning_time_steps
-        c = self.config
-        if c.gate == "constant":
-            return constant_rate(t, c.gate_rate)
-        return sigmoid_rate(t, c.gate_midpoint_steps, c.gate_width_steps)
+        return self.options.gate.rate_at(t)
 
     # -- the learning module ---------------------------------------------------------------
     def _inputs(self, face_x: np.ndarray, thetas: np.ndarray) -> np.ndarray:
@@ -86,32 +115,18 @@ class BootstrapAgent:
         self._face_x = self.faces.transform(face)
         self._thetas, self._steps = [], []
         self._trial_module = None
-        self._centring_rad = np.zeros(2)
-        if self.config.gate_per == "trial":
+        if self.options.gate_per == "trial":
             self._trial_module = LM if self.rng.random() < self.gate_rate() else VF
-
-    def evaluate(self, det: Detections) -> int | None:
-        """The internal evaluator (Eq. 3): the detection at the image centre, if any.
-
-        When it fires, the robot keeps the head angle change that would centre the attended
-        object exactly (the visual controller's command for it, Eq. 2): the
-        ``object_direction`` learning target aims at the object, not at where the head was
-        when the object entered the circle.
-        """
-        i = attended_object(det, self.d_th_px)
-        if i is not None:
-            self._centring_rad = visual_feedback(det, i, self.config.vf_gain_rad_per_px)
-        return i
 
     def act(self, det: Detections, theta_rad) -> tuple[np.ndarray, str]:
         """One step: the gate picks VF or LM; returns (dtheta, module that moved the head)."""
-        c = self.config
+        o = self.options
         module = self._trial_module or (LM if self.rng.random() < self.gate_rate() else VF)
-        target = most_interesting(det, c.interest_weights) if module == VF else None
+        target = most_interesting(det, self.agent.interest_weights) if module == VF else None
         if module == VF and target is None:
-            module = LM if c.vf_fallback == "lm" else RANDOM
+            module = LM if o.vf_fallback == "lm" else RANDOM
         if module == VF:
-            dtheta = visual_feedback(det, target, c.vf_gain_rad_per_px)
+            dtheta = visual_feedback(det, target, self.agent.vf_gain_rad_per_px)
         elif module == LM:
             dtheta = self._lm(self._face_x, theta_rad)
         else:
@@ -122,18 +137,24 @@ class BootstrapAgent:
         self.learning_time_steps += 1
         return dtheta, module
 
-    def end_trial(self, fired: bool, theta_end_rad) -> int:
-        """Learn from the trial if the evaluator fired; returns the number of samples taught."""
-        if not fired or not self._thetas:
+    def end_trial(self, outcome: Outcome) -> int:
+        """Learn from the trial if the evaluator fired; returns the number of samples taught.
+
+        The ``object_direction`` target aims at the attended object itself: the final head
+        angle plus the visual controller's command (Eq. 2) that would centre it, not where
+        the head was when the object entered the evaluator's circle.
+        """
+        if not outcome.fired or not self._thetas:
             return 0
         thetas = np.array(self._thetas)
-        target = self.config.learning_target
+        target = self.options.learning_target
         if target == "executed_step":
             diff = np.array(self._steps)
         else:
-            aim = np.asarray(theta_end_rad, dtype=float)
+            aim = np.asarray(outcome.theta_rad, dtype=float)
             if target == "object_direction":
-                aim = aim + self._centring_rad
+                aim = aim + visual_feedback(outcome.detections, outcome.seen,
+                                            self.agent.vf_gain_rad_per_px)
             diff = aim - thetas
         norm = np.maximum(np.hypot(diff[:, 0], diff[:, 1]), 1e-12)[:, None]
         keep = norm[:, 0] > 1e-9

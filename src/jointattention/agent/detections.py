@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Detections"]
+__all__ = ["Detections", "equal_area_radius"]
 
 
 @dataclass(frozen=True)
@@ -35,3 +35,8 @@ class Detections:
         """(c_x, c_y) of Eq. 2 and 3."""
         w, h = self.image_size_px
         return np.array([(w - 1) / 2, (h - 1) / 2])
+
+
+def equal_area_radius(area_px) -> np.ndarray:
+    """Radius of the circle of area ``area_px``: a disc's radius from its pixel count."""
+    return np.sqrt(np.asarray(area_px, dtype=float) / np.pi)

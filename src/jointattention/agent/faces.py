@@ -1,5 +1,6 @@
-"""Finding the caregiver's face in an image: template matching, as the paper's robot did, or
-OpenCV's Haar cascade for real photographs (shipped with opencv-python-headless)."""
+"""The caregiver's face in an image: found by template matching, as the paper's robot did, or
+by OpenCV's Haar cascade for real photographs (shipped with opencv-python-headless); and the
+face window cut around it (paper: 30 x 25 pixels)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-__all__ = ["Face", "FaceFinder", "face_template"]
+__all__ = ["Face", "FaceFinder", "face_template", "face_window"]
 
 
 @dataclass(frozen=True)
@@ -99,3 +100,20 @@ class FaceFinder:
         if centre is None or score < self.min_score:
             return []
         return [Face(centre, h, float(score), tw / th)]
+
+
+def face_window(
+    image_rgb: np.ndarray, centre_px, height_px: float, size_px: tuple[int, int] = (30, 25)
+) -> np.ndarray:
+    """The grayscale face window (paper: 30 x 25) cropped around ``centre_px``.
+
+    The crop is ``height_px`` tall with the window's aspect ratio, so the face fills the
+    window whatever its distance; it is then resized to ``size_px = (width, height)`` by
+    area averaging. Parts of the crop outside the image repeat the border pixels.
+    """
+    width, height = size_px
+    crop_h = max(int(round(height_px)), height)
+    crop_w = max(int(round(crop_h * width / height)), width)
+    gray = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2GRAY)
+    patch = cv2.getRectSubPix(gray, (crop_w, crop_h), (float(centre_px[0]), float(centre_px[1])))
+    return cv2.resize(patch, (width, height), interpolation=cv2.INTER_AREA)

@@ -1,11 +1,19 @@
-"""Choosing an off-screen OpenGL backend for MuJoCo before it is imported."""
+"""MuJoCo with an off-screen OpenGL backend: chosen when the first world needs MuJoCo.
+
+MuJoCo picks its OpenGL backend from ``MUJOCO_GL`` when it is first imported, and a
+headless machine needs EGL or OSMesa. Nothing happens at import of this package: the first
+:func:`mujoco` call sets ``MUJOCO_GL`` (EGL if its library is found, else OSMesa) unless the
+user set it, then imports MuJoCo.
+"""
 
 from __future__ import annotations
 
 import ctypes.util
 import os
+import sys
+from types import ModuleType
 
-__all__ = ["choose_backend"]
+__all__ = ["choose_backend", "mujoco"]
 
 
 def choose_backend() -> str:
@@ -21,4 +29,10 @@ def choose_backend() -> str:
     return choice
 
 
-choose_backend()
+def mujoco() -> ModuleType:
+    """The ``mujoco`` module, imported after choosing its backend if nobody imported it yet."""
+    if "mujoco" not in sys.modules:
+        choose_backend()
+    import mujoco as module
+
+    return module

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.detections import Detections
+from ..agent.detections import Detections, equal_area_radius
 from ..config import WorldConfig
 from .kinematics import HeadKinematics
 from .scene import place_objects, shuffle_target
@@ -24,7 +24,7 @@ def _inside_fraction(h: np.ndarray) -> np.ndarray:
 
 
 class FastScene:
-    """One trial's objects as the fast detector sees them.
+    """One trial's objects as the fast detector sees them (a :class:`~.protocol.Scene`).
 
     Args:
         kinematics: the head and camera.
@@ -64,7 +64,7 @@ class FastScene:
         w, h = kin.width_px, kin.height_px
         ids = np.flatnonzero(kin.in_image(uv, depth))
         c, a = uv[ids], area[ids]
-        r = np.sqrt(a / np.pi)
+        r = equal_area_radius(a)
         # distance of each centre to the nearest image border, in radii
         border = np.minimum(np.minimum(c[:, 0] + 0.5, w - 0.5 - c[:, 0]),
                             np.minimum(c[:, 1] + 0.5, h - 0.5 - c[:, 1])) / r

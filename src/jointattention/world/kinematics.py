@@ -17,13 +17,28 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..agent.detections import equal_area_radius
 from ..config import WorldConfig
 
-__all__ = ["HeadKinematics", "Unreachable"]
+__all__ = ["HeadKinematics", "Unreachable", "angle_rad", "direction"]
 
 
 class Unreachable(ValueError):
     """No head angle centres the point (it is too close, or the camera cannot face it)."""
+
+
+def direction(pan_rad, tilt_rad) -> np.ndarray:
+    """Unit vectors (..., 3) toward directions (pan right, tilt up) from the origin."""
+    pan_rad, tilt_rad = np.asarray(pan_rad), np.asarray(tilt_rad)
+    return np.stack([np.sin(pan_rad) * np.cos(tilt_rad), np.cos(pan_rad) * np.cos(tilt_rad),
+                     np.sin(tilt_rad)], axis=-1)
+
+
+def angle_rad(a, b) -> np.ndarray:
+    """Angles (rad) between each vector of ``a`` (..., k) and the vector ``b`` (k,)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    cos = a @ b / (np.linalg.norm(a, axis=-1) * np.linalg.norm(b))
+    return np.arccos(np.clip(cos, -1.0, 1.0))
 
 
 def _rotation(pan_rad: float, tilt_rad: float) -> np.ndarray:
@@ -46,6 +61,7 @@ class HeadKinematics:
 
     @classmethod
     def from_config(cls, world: WorldConfig) -> HeadKinematics:
+        """The head and camera of ``world``."""
         cam, head = world.camera, world.head
         return cls(
             offset_m=cam.offset_m,
@@ -131,7 +147,7 @@ class HeadKinematics:
 
     def apparent_radius_px(self, points_m, radii_m, theta_rad) -> np.ndarray:
         """Radius of the circle with the same image area as each sphere (exact on the axis)."""
-        return np.sqrt(self.apparent_area_px(points_m, radii_m, theta_rad) / np.pi)
+        return equal_area_radius(self.apparent_area_px(points_m, radii_m, theta_rad))
 
     def within_limits(self, theta_rad) -> bool:
         """Whether ``theta_rad`` lies inside the pan and tilt joint ranges."""

@@ -7,22 +7,30 @@ from collections.abc import Callable
 import numpy as np
 
 from .. import __version__
+from ..agent.faces import face_window
 from ..config import Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets
-from ..imaging import face_window
 from .simulator import World
 
-__all__ = ["capture_face_window", "make_datasets"]
+__all__ = ["capture_face_window", "face_box", "make_datasets"]
+
+
+def face_box(world: World) -> tuple[np.ndarray, float]:
+    """Where the face window is cut in the robot's current view: the image position of the
+    caregiver's head centre, and the crop's height (``face_window.margin`` times the head's
+    apparent height)."""
+    kin, state = world.kinematics, world.state
+    theta = world.head_angle_rad
+    centre = kin.project(state.head_pos_m, theta)[0][0]
+    radius = kin.apparent_radius_px(state.head_pos_m, [state.face_radius_m], theta)[0]
+    return centre, world.config.face_window.margin * 2 * radius
 
 
 def capture_face_window(world: World, image: np.ndarray | None = None) -> np.ndarray:
-    """The face window of the robot's current view, cropped around the caregiver's face."""
-    kin, state, fw = world.kinematics, world.state, world.config.face_window
-    theta = world.head_angle_rad
+    """The face window of the robot's current view (``image``, else a new render)."""
+    fw = world.config.face_window
     image = world.render() if image is None else image
-    centre = kin.project(state.head_pos_m, theta)[0][0]
-    radius = kin.apparent_radius_px(state.head_pos_m, [state.face_radius_m], theta)[0]
-    return face_window(image, centre, fw.margin * 2 * radius, (fw.width_px, fw.height_px))
+    return face_window(image, *face_box(world), (fw.width_px, fw.height_px))
 
 
 def make_datasets(

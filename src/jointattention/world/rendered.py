@@ -1,22 +1,26 @@
 """The rendered way to see: a trial's objects shown in MuJoCo, each view rendered and given to
 the robot's OpenCV detector (:mod:`jointattention.agent.vision`).
 
-Same interface as :class:`~jointattention.world.fast.FastScene`, so the trial loop and the
-agent cannot tell which one feeds them; the parity of the two is measured by
-:mod:`jointattention.parity`.
+A :class:`~jointattention.world.protocol.Scene` like
+:class:`~jointattention.world.fast.FastScene`, so the trial loop and the agent cannot tell
+which one feeds them; the parity of the two is measured by
+:mod:`jointattention.analysis.parity`.
 """
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from ..agent.detections import Detections
+from ..agent.detections import Detections, equal_area_radius
 from ..agent.vision import ImageDetector
+from ..config import DetectorConfig, WorldConfig
 from .fast import FastScene
 from .scene import scene_with
 from .simulator import World
 
-__all__ = ["RenderedScene"]
+__all__ = ["RenderedScene", "RenderedScenes", "object_ids"]
 
 
 class RenderedScene:
@@ -52,8 +56,36 @@ class RenderedScene:
         s = self.world.state
         uv, _, area = self.world.kinematics.project_spheres(s.object_pos_m, s.object_radius_m,
                                                             theta_rad)
-        self.visible_ids = object_ids(det.centre_px, uv, np.sqrt(area / np.pi))
+        self.visible_ids = object_ids(det.centre_px, uv, equal_area_radius(area))
         return det
+
+
+class RenderedScenes:
+    """The rendered mode of a run: each trial's scene shown in one MuJoCo world.
+
+    Args:
+        world: the world's configuration (its object count is replaced by ``n_objects``).
+        detector: the OpenCV detector's thresholds.
+        n_objects: objects per trial.
+        seed: the world's seed (the caregiver's identity).
+        rng: draws colours and light, a stream of its own so that rendered and fast cells
+            of a seed share their trials.
+    """
+
+    def __init__(self, world: WorldConfig, detector: DetectorConfig, n_objects: int, *,
+                 seed: int, rng: np.random.Generator):
+        objects = dataclasses.replace(world.objects, n_objects=n_objects)
+        self.world = World(dataclasses.replace(world, objects=objects), seed=seed)
+        self.detector = ImageDetector(detector, self.world.kinematics.focal_px)
+        self.rng = rng
+
+    def show(self, fast: FastScene, face_m) -> RenderedScene:
+        """The trial of ``fast`` (caregiver's head at ``face_m``), rendered."""
+        return RenderedScene(self.world, fast, face_m, self.detector, self.rng)
+
+    def close(self) -> None:
+        """Free the world's renderer."""
+        self.world.close()
 
 
 def object_ids(centres_px: np.ndarray, uv: np.ndarray, radius_px: np.ndarray) -> np.ndarray:

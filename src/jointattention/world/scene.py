@@ -13,7 +13,7 @@ import numpy as np
 
 from ..config import WorldConfig
 from ..errors import ConfigError
-from .kinematics import HeadKinematics, Unreachable
+from .kinematics import HeadKinematics, Unreachable, angle_rad, direction
 from .mjcf import HEAD_RADII_M
 
 __all__ = [
@@ -110,19 +110,6 @@ def sample_caregiver(world: WorldConfig, rng: np.random.Generator) -> Caregiver:
     )
 
 
-def _direction(pan_rad, tilt_rad) -> np.ndarray:
-    """Unit vectors (..., 3) toward directions (pan right, tilt up) from the origin."""
-    pan_rad, tilt_rad = np.asarray(pan_rad), np.asarray(tilt_rad)
-    return np.stack([np.sin(pan_rad) * np.cos(tilt_rad), np.cos(pan_rad) * np.cos(tilt_rad),
-                     np.sin(tilt_rad)], axis=-1)
-
-
-def _angles_to(points: np.ndarray, direction: np.ndarray) -> np.ndarray:
-    """Angles (rad) between each point (N, 3) and one direction, seen from the origin."""
-    cos = points @ direction / (np.linalg.norm(points, axis=-1) * np.linalg.norm(direction))
-    return np.arccos(np.clip(cos, -1.0, 1.0))
-
-
 def _sample_objects(world: WorldConfig, head_pos: np.ndarray, face_radius: float,
                     rng: np.random.Generator, n: int, fixed_pos=(), fixed_rad=()):
     """Objects at random, apart from each other and from the face, all reachable; the
@@ -146,13 +133,13 @@ def _sample_objects(world: WorldConfig, head_pos: np.ndarray, face_radius: float
         tilt = np.deg2rad(rng.uniform(*cfg.tilt_range_deg, batch))
         dist = rng.uniform(*cfg.distance_range_m, batch)
         radius = rng.uniform(*cfg.radius_range_m, batch)
-        cand = dist[:, None] * _direction(pan, tilt)
+        cand = dist[:, None] * direction(pan, tilt)
         cand_half = np.arcsin(radius / dist)
-        ok = _angles_to(cand, head_pos) - cand_half - face_half >= clearance
+        ok = angle_rad(cand, head_pos) - cand_half - face_half >= clearance
         for j in np.flatnonzero(ok):
             if len(pos) == n:
                 break
-            if pos and np.any(_angles_to(np.array(pos), cand[j]) - half - cand_half[j] < gap):
+            if pos and np.any(angle_rad(np.array(pos), cand[j]) - half - cand_half[j] < gap):
                 continue
             try:
                 if not kin.within_limits(kin.centring_angles(cand[j])):

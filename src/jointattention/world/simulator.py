@@ -5,16 +5,16 @@ from __future__ import annotations
 import numpy as np
 
 from .. import rng as rngs
+from ..agent.attention import attended_object
 from ..config import WorldConfig
 from ..errors import RenderingUnavailable
-from . import _gl  # sets MUJOCO_GL before mujoco is imported
+from . import _gl
+from .fast import FastScene
 from .kinematics import HeadKinematics
 from .mjcf import build_mjcf
 from .scene import SceneState, sample_caregiver, sample_scene
 
-import mujoco  # isort: skip
-
-__all__ = ["Projection", "World"]
+__all__ = ["World"]
 
 
 def _quat_yaw_pitch(yaw: float, pitch: float) -> np.ndarray:
@@ -22,27 +22,8 @@ def _quat_yaw_pitch(yaw: float, pitch: float) -> np.ndarray:
     qz = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
     qx = np.array([np.cos(-pitch / 2), np.sin(-pitch / 2), 0.0, 0.0])
     out = np.empty(4)
-    mujoco.mju_mulQuat(out, qz, qx)
+    _gl.mujoco().mju_mulQuat(out, qz, qx)
     return out
-
-
-class Projection:
-    """Where each object appears for one head angle, computed without rendering.
-
-    Attributes: ``centre_px`` (n, 2) image positions, ``area_px`` (n,) image areas (of the
-    whole object, also where the image border cuts it), ``in_view`` (n,) whether the centre
-    lies in the image and in front of the camera.
-    """
-
-    __slots__ = ("area_px", "centre_px", "in_view")
-
-    def __init__(self, centre_px: np.ndarray, area_px: np.ndarray, in_view: np.ndarray):
-        self.centre_px, self.area_px, self.in_view = centre_px, area_px, in_view
-
-    @property
-    def radius_px(self) -> np.ndarray:
-        """Radius of the circle with each object's image area."""
-        return np.sqrt(self.area_px / np.pi)
 
 
 class World:
@@ -54,17 +35,19 @@ class World:
 
     The caregiver's identity is drawn once from the seed; :meth:`reset` draws a new scene
     (objects, target, gaze, light) each call. Rendering starts lazily, so a world used only
-    for fast projection needs no OpenGL.
+    for fast projection needs no OpenGL. The first world imports MuJoCo, after choosing its
+    off-screen OpenGL backend (``MUJOCO_GL``: EGL, else OSMesa) unless the user set it.
     """
 
     def __init__(self, config: WorldConfig | None = None, *, seed: int = 0):
         self.config = config if config is not None else WorldConfig()
         self.kinematics = HeadKinematics.from_config(self.config)
+        mujoco = _gl.mujoco()
         self.model = mujoco.MjModel.from_xml_string(build_mjcf(self.config))
         self.data = mujoco.MjData(self.model)
         self.rng = rngs.stream(seed, "world")
         self.caregiver = sample_caregiver(self.config, self.rng)
-        self._renderer: mujoco.Renderer | None = None
+        self._renderer = None
         self._base_size = self.model.geom_size.copy()
         self._base_pos = self.model.body_pos.copy()
         self._base_geom_pos = self.model.geom_pos.copy()
@@ -141,6 +124,7 @@ class World:
         self._forward()
 
     def _forward(self) -> None:
+        mujoco = _gl.mujoco()
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_camlight(self.model, self.data)
 
@@ -150,14 +134,11 @@ class World:
         return self.kinematics.centring_angles(self.state.head_pos_m)
 
     # -- seeing --------------------------------------------------------------------------------
-    def project(self, theta_rad=None) -> Projection:
-        """Fast projection of every object for ``theta_rad`` (default: the current angle)."""
-        theta = self.head_angle_rad if theta_rad is None else theta_rad
-        kin, s = self.kinematics, self.state
-        uv, depth = kin.project(s.object_pos_m, theta)
-        area = kin.apparent_area_px(s.object_pos_m, s.object_radius_m, theta)
-        in_view = kin.in_image(uv, depth)
-        return Projection(uv, area, in_view)
+    def fast_scene(self) -> FastScene:
+        """The scene's objects as the fast detector sees them (no rendering)."""
+        s = self.state
+        return FastScene(self.kinematics, s.object_pos_m, s.object_radius_m, s.target_index,
+                         np.zeros(s.n_objects))
 
     def render(self, camera: str = "eye", *, segmentation: bool = False) -> np.ndarray:
         """The image of ``camera``: RGB uint8 (H, W, 3), or geom ids (H, W) if ``segmentation``."""
@@ -175,11 +156,11 @@ class World:
         """The MuJoCo geom id of each object (to read segmentation images)."""
         return np.array([self.model.geom(f"obj{i}").id for i in range(self.state.n_objects)])
 
-    def _get_renderer(self) -> mujoco.Renderer:
+    def _get_renderer(self):
         if self._renderer is None:
             kin = self.kinematics
             try:
-                self._renderer = mujoco.Renderer(self.model, kin.height_px, kin.width_px)
+                self._renderer = _gl.mujoco().Renderer(self.model, kin.height_px, kin.width_px)
             except Exception as err:  # the GL stack raises many kinds
                 raise RenderingUnavailable(
                     f"cannot start off-screen OpenGL (MUJOCO_GL={_gl.choose_backend()}): {err}; "
@@ -194,12 +175,12 @@ class World:
         return self.state.target_index
 
     def object_at_centre(self, radius_px: float, theta_rad=None) -> int | None:
-        """The object nearest the image centre if within ``radius_px`` of it, else None."""
-        p = self.project(theta_rad)
-        dist = np.linalg.norm(p.centre_px - self.kinematics.centre_px, axis=1)
-        dist[~p.in_view] = np.inf
-        i = int(np.argmin(dist))
-        return i if dist[i] < radius_px else None
+        """The object the internal evaluator (Eq. 3, radius ``radius_px``) would fire on at
+        ``theta_rad`` (default: the current angle), else None."""
+        theta = self.head_angle_rad if theta_rad is None else theta_rad
+        scene = self.fast_scene()
+        i = attended_object(scene.observe(theta), radius_px)
+        return None if i is None else int(scene.visible_ids[i])
 
     def close(self) -> None:
         """Free the renderer's OpenGL context."""

@@ -1,0 +1,58 @@
+"""The models a condition can run, by name: the seam where a new model plugs in.
+
+A model is an options section (a subclass of :class:`ModelOptions`: frozen dataclass fields
+made with :func:`~jointattention._fields.param`, each with help text and a range) whose
+:meth:`~ModelOptions.build` returns an :class:`~jointattention.agent.protocol.Agent`. It is
+registered in :data:`MODELS` under the name a configuration uses::
+
+    [model]                    # the run's model (default: the paper's bootstrap model)
+    kind = "bootstrap"
+    learning_rate = 0.0003
+
+    [[experiment.conditions]]  # a condition changes it: other options, or another model
+    name = "n5-const0.7"
+    model = { gate = { kind = "constant", rate = 0.7 } }
+
+A new model is one module and one ``MODELS.register(name, Options)``; the runner, the
+figures, the tables and the claims take it as it is.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, ClassVar
+
+from .._fields import Registry, Section
+
+if TYPE_CHECKING:  # the configuration imports this module: no import cycle at run time
+    import numpy as np
+
+    from ..config.agent import AgentConfig
+    from .protocol import Agent, Body
+
+__all__ = ["MODELS", "ModelOptions"]
+
+
+class ModelOptions(Section):
+    """Base of the models' options sections.
+
+    Attributes:
+        readings: names of the options that are readings of the paper where it is silent;
+            the claims are checked per reading, and the paper's figures show the run's own.
+    """
+
+    readings: ClassVar[tuple[str, ...]] = ()
+
+    def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> Agent:
+        """The untrained agent: these options, the robot's shared mechanisms (``agent``), its
+        body, and its own random generator."""
+        raise NotImplementedError
+
+    @property
+    def label(self) -> str:
+        """A short name for figures and tables: the model's name, and its gate's if any."""
+        gate = getattr(self, "gate", None)
+        name = MODELS.name_of(self)
+        return name if gate is None else f"{name}, {gate.label}"
+
+
+MODELS = Registry("model", {"bootstrap": "jointattention.agent.bootstrap:BootstrapOptions"})

@@ -1,0 +1,81 @@
+"""The seam between the robot and the trial loop: what an agent is given and must offer.
+
+Every model (the paper's bootstrap agent, the oracle, a model of your own) is an
+:class:`Agent`; :func:`jointattention.experiment.trial.run_trial` drives it. The agent sees
+only what the robot has: the caregiver's face window, its own head angle, the detector's
+report (:class:`~jointattention.agent.detections.Detections`) and how each trial ended
+(:class:`Outcome`). Which object the caregiver looks at is never given.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
+
+import numpy as np
+
+from .detections import Detections
+
+__all__ = ["LM", "RANDOM", "VF", "Agent", "Body", "Outcome"]
+
+# The modules that may move the head (the second value of Agent.act).
+VF, LM, RANDOM = "vf", "lm", "random"
+
+
+@dataclass(frozen=True)
+class Body:
+    """What the robot knows of its own body.
+
+    Attributes:
+        image_size_px: (W, H) of its camera image.
+        joint_limits_rad: ((pan_lo, pan_hi), (tilt_lo, tilt_hi)), its joint ranges.
+        face_size_px: (width, height) of the caregiver's face window it keeps.
+    """
+
+    image_size_px: tuple[int, int]
+    joint_limits_rad: tuple[tuple[float, float], tuple[float, float]]
+    face_size_px: tuple[int, int]
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """How a trial ended, as the robot knows it.
+
+    Attributes:
+        fired: whether the internal evaluator (Eq. 3) found an object at the image centre.
+        theta_rad: the head angle (pan, tilt) at the end.
+        detections: the detector's report of the last image.
+        seen: the index, in ``detections``, of the object the evaluator fired on (None if it
+            did not fire).
+    """
+
+    fired: bool
+    theta_rad: np.ndarray
+    detections: Detections
+    seen: int | None
+
+
+@runtime_checkable
+class Agent(Protocol):
+    """The contract of every model run by the trial loop.
+
+    A trial is ``begin_trial``, then ``act`` once per step until the trial ends, then
+    ``end_trial``. The trial loop, not the agent, evaluates each image (Eq. 3), moves the
+    head within its joint limits and ends the trial; the agent learns in ``end_trial``.
+
+    Attributes:
+        learning_time_steps: steps acted so far (the paper's learning time); the runner
+            stops a cell when it reaches ``experiment.n_steps``.
+    """
+
+    learning_time_steps: int
+
+    def begin_trial(self, face_window: np.ndarray, theta_rad: np.ndarray) -> None:
+        """Start a trial looking at the caregiver: its face window (H, W) and the head angle."""
+
+    def act(self, detections: Detections, theta_rad: np.ndarray) -> tuple[np.ndarray, str]:
+        """One step: the head angle change (pan, tilt) in radians, and which module made it
+        (:data:`VF`, :data:`LM`, :data:`RANDOM`, or a name of the model's own)."""
+
+    def end_trial(self, outcome: Outcome) -> None:
+        """The trial ended: learn from it (or not)."""

@@ -1,0 +1,123 @@
+"""The paper's qualitative claims, checked on a run's success curves (pure functions).
+
+Conditions are grouped by their model and *reading* (for the bootstrap model: gate per step
+or per trial, VF fallback, learning target; the readings where the paper is silent, README,
+*The model*). Within each group every claim that the group's conditions allow is checked by
+a stated rule; the gates are told apart by kind (:mod:`jointattention.agent.gates`), so a
+model of your own with a gate is checked like the paper's:
+
+- **starts no better than chance and rises** (each sigmoid condition): the first bin is at
+  most chance + 0.05, and the final success (last 10% of bins) exceeds the first bin with
+  the lower end of the paired 95% interval over seeds above zero; a curve that starts within
+  0.05 of its ceiling only has to stay there.
+- **sigmoid beats constant r** (5 objects): final success of the sigmoid minus that of the
+  constant rate, paired over seeds (common random numbers), lower 95% bound above zero.
+- **constant 1.0 stays near or below chance** (5 objects): final success at most 1.25 x chance.
+- **shuffled faces stay at chance** (the control): final success at most 1.25 x chance.
+- **final success at least 0.9 of the ceiling** (1, 3 and 5 objects: the issue's aim).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..agent.gates import ConstantGate, SigmoidGate
+from ..agent.models import MODELS
+from ..config import Config, model_options
+from .metrics import final_success, mean_interval
+from .tables import Table
+
+__all__ = ["Claim", "check_claims", "claims_table", "reading_of"]
+
+
+@dataclass(frozen=True)
+class Claim:
+    """One checked claim: which reading, what was claimed, whether it held, the numbers."""
+
+    reading: str
+    claim: str
+    holds: bool
+    evidence: str
+
+
+def reading_of(condition, config: Config) -> str:
+    """The condition's reading, e.g. ``gate_per=step, vf_fallback=lm, learning_target=...``,
+    preceded by ``model=<kind>`` for models other than the bootstrap model."""
+    options = model_options(config, condition)
+    kind = MODELS.name_of(options)
+    parts = [f"{k}={getattr(options, k)}" for k in options.readings]
+    return ", ".join(parts if kind == "bootstrap" else [f"model={kind}", *parts])
+
+
+def _paired_lower(a: np.ndarray, b: np.ndarray) -> float:
+    """Lower end of the 95% interval of mean(a - b) over seeds (paired)."""
+    return float(mean_interval((a - b)[:, None])[1][0])
+
+
+def _finals(per_seed: np.ndarray) -> np.ndarray:
+    return np.array([final_success(s) for s in per_seed])
+
+
+def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
+    """Every claim each reading's conditions allow; ``curves`` as from
+    :func:`jointattention.analysis.curves.condition_curves`, ``ceilings`` {str(n): ceiling}."""
+    gates = {c.name: getattr(model_options(config, c), "gate", None)
+             for c in config.experiment.conditions}
+    groups: dict[str, list] = {}
+    for c in config.experiment.conditions:
+        groups.setdefault(reading_of(c, config), []).append(c)
+    claims = []
+    for reading, conds in groups.items():
+        def add(claim, holds, evidence, reading=reading):
+            claims.append(Claim(reading, claim, bool(holds), evidence))
+
+        finals = {c.name: _finals(curves[c.name][1]) for c in conds}
+        sigmoid = [c for c in conds
+                   if isinstance(gates[c.name], SigmoidGate) and not c.shuffle_faces]
+        for c in sigmoid:
+            per_seed = curves[c.name][1]
+            first, final = per_seed[:, 0], finals[c.name]
+            chance, ceiling = 1 / c.n_objects, ceilings.get(str(c.n_objects), np.nan)
+            numbers = (f"first bin {first.mean():.3f}, final {final.mean():.3f}, chance "
+                       f"{chance:.3f}, ceiling {ceiling:.3f}")
+            if first.mean() >= ceiling - 0.05:
+                add(f"{c.n_objects} objects: starts at the ceiling and stays there",
+                    final.mean() >= ceiling - 0.05, numbers)
+            else:
+                add(f"{c.n_objects} objects: starts no better than chance and rises",
+                    first.mean() <= chance + 0.05 and _paired_lower(final, first) > 0, numbers)
+            if c.n_objects <= 5:
+                add(f"{c.n_objects} objects: final success at least 0.9 of the ceiling",
+                    final.mean() >= 0.9 * ceiling,
+                    f"final {final.mean():.3f} = {final.mean() / ceiling:.2f} of ceiling "
+                    f"{ceiling:.3f}")
+        sig5 = [c for c in sigmoid if c.n_objects == 5]
+        for c in conds:
+            if c.n_objects != 5 or not isinstance(gates[c.name], ConstantGate) or c.shuffle_faces:
+                continue
+            rate = gates[c.name].rate
+            for s in sig5:
+                diff = finals[s.name] - finals[c.name]
+                lower = _paired_lower(finals[s.name], finals[c.name])
+                add(f"5 objects: sigmoid beats constant {rate}", lower > 0,
+                    f"final {finals[s.name].mean():.3f} against {finals[c.name].mean():.3f}; "
+                    f"paired difference {diff.mean():+.3f}, 95% lower bound {lower:+.3f}")
+            if rate == 1.0:
+                add("5 objects: constant 1.0 stays near or below chance",
+                    finals[c.name].mean() <= 1.25 * 0.2,
+                    f"final {finals[c.name].mean():.3f}, chance 0.200")
+        for c in conds:
+            if c.shuffle_faces:
+                chance = 1 / c.n_objects
+                add(f"{c.n_objects} objects, shuffled faces: stays at chance",
+                    finals[c.name].mean() <= 1.25 * chance,
+                    f"final {finals[c.name].mean():.3f}, chance {chance:.3f}")
+    return claims
+
+
+def claims_table(claims: list[Claim]) -> Table:
+    """The claims as a table: reading, claim, holds, evidence."""
+    return Table(("reading", "claim", "holds", "evidence"),
+                 [(c.reading, c.claim, c.holds, c.evidence) for c in claims])

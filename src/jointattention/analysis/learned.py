@@ -1,0 +1,158 @@
+"""What the learning module learned (the paper's Fig. 6 and Fig. 7) and how well.
+
+:func:`train` learns one cell in the fast world and keeps copies of the agent at checkpoints;
+:func:`angle_errors` measures the angle between the module's output and the true direction to
+the target for a set of caregiver poses; :func:`grid_faces` renders the caregiver's face
+window for a grid of gaze directions; :func:`record_trial` renders one trial step by step.
+The figures are drawn by :mod:`jointattention.figures.learned`.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..agent.bootstrap import BootstrapAgent
+from ..config import Config, condition_named
+from ..datasets import CaregiverDatasets
+from ..errors import JointAttentionError
+from ..experiment.cells import datasets_of, evaluator, make_agent, random_scene, run_cell
+from ..experiment.trial import SceneTrial, Trial, TrialResult, run_trial
+from ..rng import stream
+from ..world.kinematics import HeadKinematics, angle_rad, direction
+from ..world.recording import capture_face_window, make_datasets
+from ..world.rendered import RenderedScene, RenderedScenes
+from ..world.scene import with_target
+from ..world.simulator import World
+
+__all__ = ["Frame", "angle_deg", "angle_errors", "grid_faces", "held_out_poses",
+           "record_trial", "train"]
+
+
+def train(config: Config, condition_name: str, seed_index: int, checkpoints,
+          progress: Callable[[int], None] | None = None) -> dict[int, BootstrapAgent]:
+    """Learn the cell; copies of the agent at the first trial end past each checkpoint (in
+    learning steps) and at the end (key ``n_steps``); key 0 is the untrained agent, with the
+    face statistics of the data sets."""
+    condition = condition_named(config, condition_name)
+    pending = sorted(t for t in set(checkpoints) | {config.experiment.n_steps} if t > 0)
+    ds = datasets_of(config)
+    untrained = make_agent(config, condition, seed_index, ds)
+    untrained.faces.partial_fit(ds.face.reshape(len(ds), -1))  # it sees the faces, learns none
+    snapshots: dict[int, BootstrapAgent] = {0: untrained}
+
+    def keep(agent: BootstrapAgent) -> None:
+        while pending and agent.learning_time_steps >= pending[0]:
+            snapshots[pending.pop(0)] = copy.deepcopy(agent)
+
+    run_cell(config, condition, seed_index, progress=progress, on_trial=keep)
+    for t in pending:  # the run ended before them (trial limit)
+        snapshots[t] = snapshots[max(snapshots)]
+    return dict(sorted(snapshots.items()))
+
+
+def angle_errors(agent: BootstrapAgent, ds: CaregiverDatasets) -> np.ndarray:
+    """Per data set, the angle (deg) between the module's output at the face and the
+    command that centres the target."""
+    return np.array([angle_deg(agent.lm_command(f, t), c) for f, t, c
+                     in zip(ds.face, ds.theta_face_rad, ds.command_rad, strict=True)])
+
+
+def angle_deg(a, b) -> np.ndarray:
+    """The angle (deg) between each vector of ``a`` (..., k) and the vector ``b`` (k,)."""
+    return np.rad2deg(angle_rad(a, b))
+
+
+def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDatasets:
+    """``n`` more data sets of the same caregiver: the recording continued past ``ds`` (the
+    shipped sets record world seed ``ds.meta['seed']``), so no pose is among ``ds``."""
+    seed = int(ds.meta.get("seed", config.seed))
+    more = make_datasets(config.world, len(ds) + n, seed)
+    if not np.array_equal(more.face[:len(ds)], ds.face):
+        raise JointAttentionError("the data sets were not recorded from this world and seed; "
+                                  "expected the shipped data sets or ones made by "
+                                  "`jointattention datasets make` with this configuration")
+    sl = slice(len(ds), None)
+    return CaregiverDatasets(more.face[sl], more.theta_face_rad[sl], more.command_rad[sl],
+                             more.target_m[sl], more.meta)
+
+
+def grid_faces(config: Config, seed: int, pan_deg, tilt_deg, distance_m: float = 0.65):
+    """Face windows (len(tilt), len(pan), h, w), head angles at the face and commands to the
+    target, for a caregiver at its mean place looking at targets ``distance_m`` from the robot
+    in each direction (pan, tilt) of the grid."""
+    c = config.world.caregiver
+    faces, thetas, commands = [], [], []
+    with World(config.world, seed=seed) as world:
+        kin = world.kinematics
+        base = dataclasses.replace(world.state,
+                                   head_pos_m=np.array([0.0, c.distance_m, c.height_m]))
+        for tilt in tilt_deg:
+            for pan in pan_deg:
+                target = distance_m * direction(np.deg2rad(pan), np.deg2rad(tilt))
+                shown = with_target(base, config.world, target)
+                # the objects out of the face window's way: behind the robot
+                away = np.tile([0.0, -3.0, 0.0], (shown.n_objects, 1))
+                world.set_scene(dataclasses.replace(shown, object_pos_m=away))
+                theta = world.face_angle_rad
+                world.set_head_angle(theta)
+                faces.append(capture_face_window(world))
+                thetas.append(theta)
+                commands.append(kin.centring_angles(target) - theta)
+    shape = (len(tilt_deg), len(pan_deg))
+    return (np.array(faces).reshape(*shape, *faces[0].shape),
+            np.array(thetas).reshape(*shape, 2), np.array(commands).reshape(*shape, 2))
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One step of a recorded trial: the robot's image, its head angle, the detections'
+    centres, the target's projected centre (experimenter's), and the module that moved next."""
+
+    image: np.ndarray
+    theta_rad: np.ndarray
+    detections_px: np.ndarray
+    target_px: np.ndarray
+    module: str
+
+
+class _Recorder:
+    """Keeps a frame at each look of a rendered trial (a step observer)."""
+
+    def __init__(self, scene: RenderedScene, kin: HeadKinematics):
+        self.scene, self.kin, self.frames = scene, kin, []
+
+    def __call__(self, trial: Trial, module: str | None) -> None:
+        target = self.scene.world.state.target_pos_m
+        uv = self.kin.project(target, trial.theta_rad)[0][0]
+        self.frames.append(Frame(self.scene.last_image, np.asarray(trial.theta_rad),
+                                 trial.detections.centre_px, uv, module or ""))
+
+
+def record_trial(config: Config, agent: BootstrapAgent, n_objects: int, seed: int = 0,
+                 min_lm_steps: int = 3, max_tries: int = 300) -> tuple[list[Frame], TrialResult]:
+    """Render trials with a copy of ``agent`` until one achieves joint attention with at
+    least ``min_lm_steps`` steps of the learning module; its frames and result."""
+    ds = datasets_of(config)
+    kin = HeadKinematics.from_config(config.world)
+    rng = stream(seed, "figure-trials")
+    scenes = RenderedScenes(config.world, config.detector, n_objects, seed=config.seed,
+                            rng=stream(config.seed, "render", seed))
+    try:
+        for _ in range(max_tries):
+            k, fast, face_m = random_scene(config, ds, kin, n_objects, rng)
+            scene = scenes.show(fast, face_m)
+            recorder = _Recorder(scene, kin)
+            trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                               max_steps=config.agent.max_steps, evaluate=evaluator(config))
+            r = run_trial(trial, copy.deepcopy(agent), ds.face[k], recorder)
+            if r.success and r.n_lm_steps >= min_lm_steps:
+                return recorder.frames, r
+    finally:
+        scenes.close()
+    raise JointAttentionError(f"no trial of {max_tries} achieved joint attention with "
+                              f"{min_lm_steps} learning-module steps; expected a trained agent")

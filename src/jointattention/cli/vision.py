@@ -1,0 +1,106 @@
+"""The command line's vision commands: ``parity``, ``detect`` and ``gaze``."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ._common import add_config
+
+__all__ = ["add_commands"]
+
+
+def _cmd_parity(args: argparse.Namespace) -> None:
+    from tqdm import tqdm
+
+    from .._files import write_text
+    from ..analysis.parity import CAUSES, measure_parity, parity_table
+    from ..config import load_config, with_n_objects
+
+    config = load_config(args.config)
+    results = {}
+    for n in args.objects:
+        with tqdm(total=args.cases, desc=f"{n} objects", unit="case") as bar:
+            results[n] = measure_parity(with_n_objects(config, n), args.cases, seed=args.seed,
+                                        progress=lambda _: bar.update(1))
+    causes = "; ".join(f"{k}: {v}" for k, v in CAUSES.items())
+    text = parity_table(results).to_markdown() + f"\nCauses: {causes}.\n"
+    print(text, end="")
+    if args.out:
+        write_text(args.out, text)
+
+
+def _cmd_detect(args: argparse.Namespace) -> None:
+    from ..config import load_config
+    from ..figures.detect import detect_files
+
+    config = load_config(args.config)
+    for path, found in detect_files(args.images, Path(args.out), config, args.face):
+        print(f"{path}: {len(found.area_px)} bright-colour regions, {len(found.faces)} faces, "
+              f"{len(found.edge_regions)} edge-rich regions")
+
+
+def _cmd_gaze(args: argparse.Namespace) -> None:
+    from tqdm import tqdm
+
+    from ..config import condition_named, load_config
+    from ..figures.learned import write_gaze_figures
+
+    config = load_config(args.config or args.preset)
+    condition_named(config, args.condition)  # before the progress bar
+    with tqdm(total=config.experiment.n_steps, desc="learning", unit="step") as bar:
+        numbers = write_gaze_figures(config, args.condition, args.seed_index, Path(args.out),
+                                     progress=lambda t: bar.update(t - bar.n))
+    errors = numbers["median_error_deg"]
+    before, after = errors["0"], errors[str(config.experiment.n_steps)]
+    print(f"median angle error, data sets: {before['data_sets']:.1f} -> "
+          f"{after['data_sets']:.1f} deg; held-out poses: {before['held_out']:.1f} -> "
+          f"{after['held_out']:.1f} deg")
+    for name in ("fig6.png", "lm_error.png", "fig7.png", "fig7.gif", "gaze.json"):
+        print(Path(args.out) / name)
+
+
+def add_commands(sub) -> None:
+    """Register ``parity``, ``detect`` and ``gaze`` on the subparsers ``sub``."""
+    p = sub.add_parser(
+        "parity", help="how often the OpenCV and fast detectors agree in rendered scenes",
+        description="Render random scenes from random head angles and compare the image "
+                    "detector with the fast projection: the same most interesting object "
+                    "(Eq. 1) and centres within 2 px; print a Markdown table with the causes "
+                    "of disagreements.")
+    add_config(p)
+    p.add_argument("--cases", type=int, default=1000, help="scenes per object count "
+                                                           "(default: 1000)")
+    p.add_argument("--objects", type=int, nargs="+", default=[5, 10],
+                   help="object counts (default: 5 10)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the scenes (default: 0)")
+    p.add_argument("--out", help="also write the table to this Markdown file")
+    p.set_defaults(func=_cmd_parity)
+
+    p = sub.add_parser(
+        "detect", help="draw what the robot's detectors find on photographs",
+        description="For each IMAGE write OUT/<name>_detected.png: bright-colour regions "
+                    "(the most interesting by Eq. 1 in yellow), faces and edge-rich regions.")
+    p.add_argument("images", metavar="IMAGE", nargs="+", type=Path, help="PNG, JPEG, ...")
+    add_config(p)
+    p.add_argument("--face", choices=("haar", "template"), default="haar",
+                   help="face finder: OpenCV's Haar cascade (default, for people) or the "
+                        "template of the shipped data sets' caregiver (for the simulation)")
+    p.add_argument("--out", default="runs/detect", help="output folder (default: runs/detect)")
+    p.set_defaults(func=_cmd_detect)
+
+    p = sub.add_parser(
+        "gaze", help="the paper's Fig. 6 and Fig. 7: what the learning module learned",
+        description="Learn one cell (fast mode), then write into --out: fig6.png (the "
+                    "module's output on face windows over a grid of gaze directions, some "
+                    "unseen in the data sets), lm_error.png (median angle to the target on the "
+                    "data sets and on held-out poses, over learning time), fig7.png and "
+                    "fig7.gif (one rendered trial after learning) and gaze.json.")
+    p.add_argument("--preset", default="paper", help="a shipped preset (default: paper)")
+    add_config(p)
+    p.add_argument("--condition", default="n5-sigmoid",
+                   help="the condition to learn (default: n5-sigmoid)")
+    p.add_argument("--seed-index", type=int, default=0, help="the cell's seed index "
+                                                             "(default: 0)")
+    p.add_argument("--out", default="runs/gaze", help="output folder (default: runs/gaze)")
+    p.set_defaults(func=_cmd_gaze)

@@ -1,0 +1,87 @@
+"""The command line's world commands: ``render`` and ``datasets``."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ..errors import JointAttentionError
+from ._common import add_config
+
+__all__ = ["add_commands"]
+
+
+def _cmd_render(args: argparse.Namespace) -> None:
+    from ..config import load_config
+    from ..figures.world import face_sheet, robot_view
+    from ..world.simulator import World
+
+    config = load_config(args.config)
+    seed = config.seed if args.seed is None else args.seed
+    out = Path(args.out)
+    d_th_px = config.agent.d_th_px(config.world.camera.width_px)
+    with World(config.world, seed=seed) as world:
+        print(robot_view(world, out / "robot_view.png", d_th_px))
+        print(face_sheet(world, out / "face_windows.png"))
+
+
+def _cmd_datasets_make(args: argparse.Namespace) -> None:
+    from tqdm import tqdm
+
+    from ..config import load_config
+    from ..datasets import save
+    from ..world.recording import make_datasets
+
+    config = load_config(args.config)
+    if args.n < 1:
+        raise JointAttentionError(f"--n {args.n}: expected at least 1 data set")
+    with tqdm(total=args.n, desc="data sets", unit="set", disable=args.quiet) as bar:
+        ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1))
+    print(save(ds, args.out))
+
+
+def _cmd_datasets_check(args: argparse.Namespace) -> None:
+    import numpy as np
+
+    from ..datasets import default_datasets, load
+
+    ds = default_datasets() if args.file is None else load(args.file)
+    w, h = ds.window_size_px
+    cmd = np.rad2deg(ds.command_rad)
+    print(
+        f"{args.file or 'shipped default'}: {len(ds)} data sets, face windows {w}x{h}, "
+        f"commands pan [{cmd[:, 0].min():.1f}, {cmd[:, 0].max():.1f}] deg, "
+        f"tilt [{cmd[:, 1].min():.1f}, {cmd[:, 1].max():.1f}] deg, "
+        f"target positions {'present' if ds.target_m is not None else 'absent'}"
+    )
+
+
+def add_commands(sub) -> None:
+    """Register ``render`` and ``datasets`` on the subparsers ``sub``."""
+    p = sub.add_parser(
+        "render", help="PNGs of the robot's view and of face windows",
+        description="Write robot_view.png (the room, the robot looking at the caregiver and at "
+                    "its target) and face_windows.png (face windows across gaze directions) "
+                    "into --out.")
+    add_config(p)
+    p.add_argument("--seed", type=int, help="world seed (default: the configuration's)")
+    p.add_argument("--out", default="runs/render", help="output folder (default: runs/render)")
+    p.set_defaults(func=_cmd_render)
+
+    p = sub.add_parser("datasets", help="make or check caregiver data sets",
+                       description="Caregiver data sets in the paper's protocol.")
+    dsub = p.add_subparsers(dest="action", required=True, metavar="ACTION")
+    q = dsub.add_parser(
+        "make", help="record N data sets from the simulated world",
+        description="Record N data sets (face window, head angle, command to the target, "
+                    "target position) into OUT (.npz).")
+    add_config(q)
+    q.add_argument("--n", type=int, default=125, help="number of data sets (default: 125)")
+    q.add_argument("--seed", type=int, default=0, help="world seed (default: 0)")
+    q.add_argument("--quiet", action="store_true", help="no progress bar")
+    q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
+    q.set_defaults(func=_cmd_datasets_make)
+    q = dsub.add_parser("check", help="validate a data-set file and summarise it",
+                        description="Validate FILE (default: the shipped data sets).")
+    q.add_argument("file", metavar="FILE", nargs="?", help="a data-set .npz file")
+    q.set_defaults(func=_cmd_datasets_check)

@@ -1,0 +1,54 @@
+"""Validated configuration: one source for every parameter, with presets in TOML.
+
+Every field carries its help text and its allowed range; building a section checks them and
+raises :class:`~jointattention.errors.ConfigError` naming the field. Angles are in degrees in
+the configuration (readable) and in radians in the code that uses them (``*_rad`` names).
+
+Sections: ``[world]`` (what only the experimenter sets, :mod:`.world`), ``[agent]`` (the
+robot's shared mechanisms) and ``[detector]`` (:mod:`.agent`), ``[model]`` (what learns: a
+kind registered in :data:`~jointattention.agent.models.MODELS` and its options) and
+``[experiment]`` with its conditions (:mod:`.run`).
+"""
+
+from .agent import AgentConfig, DetectorConfig
+from .run import (
+    ConditionConfig,
+    Config,
+    ExperimentConfig,
+    condition_named,
+    load_config,
+    model_options,
+    preset_names,
+    to_toml,
+    with_n_objects,
+)
+from .world import (
+    CameraConfig,
+    CaregiverConfig,
+    FaceWindowConfig,
+    HeadConfig,
+    LightingConfig,
+    ObjectsConfig,
+    WorldConfig,
+)
+
+__all__ = [
+    "AgentConfig",
+    "CameraConfig",
+    "CaregiverConfig",
+    "ConditionConfig",
+    "Config",
+    "DetectorConfig",
+    "ExperimentConfig",
+    "FaceWindowConfig",
+    "HeadConfig",
+    "LightingConfig",
+    "ObjectsConfig",
+    "WorldConfig",
+    "condition_named",
+    "load_config",
+    "model_options",
+    "preset_names",
+    "to_toml",
+    "with_n_objects",
+]

@@ -1,0 +1,156 @@
+"""A run's configuration: the world, the robot, the model, the conditions and the presets."""
+
+from __future__ import annotations
+
+import dataclasses
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+from .._fields import FrozenTable, Section, from_mapping, merge_tagged, param, to_mapping
+from .._toml import dumps
+from ..agent.models import MODELS, ModelOptions
+from ..errors import ConfigError
+from ._legacy import upgrade
+from .agent import AgentConfig, DetectorConfig
+from .world import WorldConfig
+
+__all__ = [
+    "ConditionConfig",
+    "Config",
+    "ExperimentConfig",
+    "condition_named",
+    "load_config",
+    "model_options",
+    "preset_names",
+    "to_toml",
+    "with_n_objects",
+]
+
+
+def _default_model() -> ModelOptions:
+    return MODELS["bootstrap"]()
+
+
+@dataclass(frozen=True)
+class ConditionConfig(Section):
+    """One experimental condition: an object count, and changes to the run's model."""
+
+    name: str = param("n5-sigmoid", "name of the condition (figure labels, file names)")
+    n_objects: int = param(5, "objects in each trial, the caregiver's target among them",
+                           lo=1, hi=20)
+    model: FrozenTable = param(
+        factory=FrozenTable, help="changes to the run's [model] for this condition, e.g. "
+        "{ gate = { kind = \"constant\", rate = 0.7 } }, or another model: { kind = ... }")
+    shuffle_faces: bool = param(
+        False, "control: pair each trial with the face window of another data set")
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.model, FrozenTable):  # a plain dict is welcome
+            if not isinstance(self.model, Mapping):
+                raise ConfigError(f"model = {self.model!r}: expected a table of settings")
+            object.__setattr__(self, "model", FrozenTable(self.model))
+        super().__post_init__()
+
+
+@dataclass(frozen=True)
+class ExperimentConfig(Section):
+    """How long to learn, how many seeds, how the robot sees, and the conditions."""
+
+    n_steps: int = param(300_000, "learning time of a run, in steps (paper: 3e5)", lo=1)
+    n_seeds: int = param(10, "independent runs of each condition", lo=1, hi=10_000)
+    bin_steps: int = param(10_000, "width of a learning-time bin of the success curves", lo=1)
+    perception: str = param(
+        "fast", "how the robot sees during learning: fast (objects projected, no rendering) or "
+        "rendered (each step rendered with MuJoCo and detected with OpenCV; about 30x slower)",
+        choices=("fast", "rendered"))
+    n_ceiling_trials: int = param(
+        4000, "trials of the oracle that measure each object count's ceiling", lo=1)
+    conditions: tuple[ConditionConfig, ...] = param(
+        (ConditionConfig(),), "the conditions to run")
+
+
+@dataclass(frozen=True)
+class Config(Section):
+    """The whole configuration of a run."""
+
+    seed: int = param(0, "the seed every random stream of the run is born from", lo=0)
+    world: WorldConfig = WorldConfig()
+    agent: AgentConfig = AgentConfig()
+    model: ModelOptions = param(
+        factory=_default_model, registry=MODELS,
+        help="the model that learns (kind: bootstrap, the paper's) and its options")
+    detector: DetectorConfig = DetectorConfig()
+    experiment: ExperimentConfig = ExperimentConfig()
+    datasets: str = param(
+        "", "data-set file of the caregiver (empty: the 125 shipped with the package)")
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        names = [c.name for c in self.experiment.conditions]
+        for i, c in enumerate(self.experiment.conditions):
+            if c.name in names[:i]:
+                raise ConfigError(f"experiment.conditions[{i}].name = {c.name!r}: expected "
+                                  "distinct condition names")
+            model_options(self, c, where=f"experiment.conditions[{i}].model")
+
+
+def model_options(config: Config, condition: ConditionConfig,
+                  where: str = "model") -> ModelOptions:
+    """The options of ``condition``'s model: the run's ``[model]`` with the condition's
+    changes applied."""
+    if not condition.model:
+        return config.model
+    return merge_tagged(MODELS, config.model, condition.model.to_dict(), where)
+
+
+def condition_named(config: Config, name: str) -> ConditionConfig:
+    """The experiment's condition called ``name``."""
+    names = [c.name for c in config.experiment.conditions]
+    if name not in names:
+        raise ConfigError(f"condition {name!r}: expected one of {', '.join(names)}")
+    return config.experiment.conditions[names.index(name)]
+
+
+def with_n_objects(config: Config, n_objects: int) -> Config:
+    """``config`` with a world of ``n_objects`` objects."""
+    objects = dataclasses.replace(config.world.objects, n_objects=n_objects)
+    return dataclasses.replace(config, world=dataclasses.replace(config.world, objects=objects))
+
+
+def preset_names() -> list[str]:
+    """The names of the presets shipped with the package."""
+    files = resources.files("jointattention.presets").iterdir()
+    return sorted(p.name.removesuffix(".toml") for p in files if p.name.endswith(".toml"))
+
+
+def load_config(source: str | Path | None = None) -> Config:
+    """A configuration from a preset name, a TOML file path, or the defaults if ``None``."""
+    if source is None:
+        return Config()
+    path = Path(source)
+    if path.suffix != ".toml":
+        if str(source) not in preset_names():
+            raise ConfigError(
+                f"{source}: no such preset; expected a .toml file or one of "
+                f"{', '.join(preset_names())}"
+            )
+        text = resources.files("jointattention.presets").joinpath(f"{source}.toml").read_text()
+    else:
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as err:
+            reason = getattr(err, "strerror", None) or "not UTF-8 text"
+            raise ConfigError(f"{path}: cannot read the configuration ({reason})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as err:
+        raise ConfigError(f"{source}: not valid TOML ({err})") from None
+    return from_mapping(Config, upgrade(data))
+
+
+def to_toml(config: Config) -> str:
+    """The configuration as TOML text that :func:`load_config` reads back."""
+    return dumps(to_mapping(config))

@@ -1,0 +1,120 @@
+"""Where cells run: in this process, in local worker processes, or on a Ray cluster.
+
+A cell's records depend only on its configuration, condition and seed index, so every
+backend gives the same results. Each finished cell is saved (atomically) by the calling
+process as soon as it arrives: an interrupted run loses only the cells in progress.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from contextlib import closing
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..config import ConditionConfig, Config
+from ..errors import ConfigError
+from .results import save_cell
+
+__all__ = ["BACKENDS", "CellFunction", "CellJob", "check_backend", "run_jobs"]
+
+# What runs one cell: (config, condition, seed index) -> records (e.g. cells.run_cell). It
+# must be importable by name (a module-level function) for worker processes and Ray.
+CellFunction = Callable[[Config, ConditionConfig, int], dict[str, np.ndarray]]
+
+BACKENDS = ("local", "ray")
+
+
+@dataclass(frozen=True)
+class CellJob:
+    """One cell to run, and the file its records go to."""
+
+    config: Config
+    condition: ConditionConfig
+    seed_index: int
+    path: Path
+
+
+def _run(run: CellFunction, job: CellJob) -> tuple[CellJob, dict[str, np.ndarray]]:
+    return job, run(job.config, job.condition, job.seed_index)
+
+
+def _local(run: CellFunction, jobs: Sequence[CellJob], workers: int) -> Iterator[tuple]:
+    if workers <= 1:
+        yield from (_run(run, j) for j in jobs)
+        return
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = [pool.submit(_run, run, j) for j in jobs]
+        try:
+            for f in as_completed(futures):
+                yield f.result()
+        finally:  # on an interrupt, do not start the cells still waiting
+            for f in futures:
+                f.cancel()
+
+
+def _ray(run: CellFunction, jobs: Sequence[CellJob], workers: int,
+         address: str | None) -> Iterator[tuple]:
+    try:
+        import ray
+    except ImportError:
+        raise ConfigError('--backend ray: Ray is not installed; expected it installed: '
+                          'pip install "jointattention[ray]"') from None
+    started = not ray.is_initialized()
+    if started:
+        kwargs = {"address": address} if address else {"num_cpus": workers}
+        ray.init(include_dashboard=False, log_to_driver=False, **kwargs)
+    try:
+        remote = ray.remote(_run)
+        pending = [remote.remote(run, j) for j in jobs]
+        try:
+            while pending:
+                done, pending = ray.wait(pending, num_returns=1)
+                yield ray.get(done[0])
+        finally:
+            for ref in pending:
+                ray.cancel(ref, force=True)
+    finally:
+        if started:
+            ray.shutdown()
+
+
+def check_backend(backend: str, address: str | None) -> None:
+    """Refuse an unknown backend, or an address without Ray, before anything is written."""
+    if backend not in BACKENDS:
+        raise ConfigError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+    if address and backend != "ray":
+        raise ConfigError("--address: joins a Ray cluster; expected --backend ray with it")
+
+
+def _label(job: CellJob) -> str:
+    return f"{job.condition.name} seed {job.seed_index}"
+
+
+def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
+             backend: str = "local",
+             address: str | None = None, progress: Callable[[str], None] | None = None,
+             label: Callable[[CellJob], str] = _label) -> None:
+    """Run ``run`` for the ``jobs`` whose ``path`` does not exist yet, and save each cell's
+    records to its ``path`` as it finishes.
+
+    ``backend`` is ``"local"`` (``workers`` processes; 1 runs in this process) or ``"ray"``
+    (a local Ray instance with ``workers`` CPUs, or the cluster at ``address``).
+    ``progress`` hears "K of N cells already done", then ``label(job)`` of each finished cell.
+    """
+    check_backend(backend, address)
+    todo = [j for j in jobs if not j.path.exists()]
+    if progress is not None:
+        progress(f"{len(jobs) - len(todo)} of {len(jobs)} cells already done")
+    if not todo:
+        return
+    finished = (_local(run, todo, workers) if backend == "local"
+                else _ray(run, todo, workers, address))
+    with closing(finished):  # an interrupt stops the backend's waiting cells at once
+        for job, records in finished:
+            save_cell(job.path, records)
+            if progress is not None:
+                progress(label(job))

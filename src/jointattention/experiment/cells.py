@@ -1,0 +1,130 @@
+"""Runs of many trials: one cell is one condition x one seed; and the oracle's ceiling.
+
+Every cell draws from its own streams of the run's seed: the same cell gives the same
+records whatever the number of worker processes. Cells with the same seed index share the
+sequence of data sets and distractor scenes (common random numbers across conditions).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from functools import partial
+
+import numpy as np
+
+from ..agent.attention import attended_object
+from ..agent.protocol import Agent, Body
+from ..config import ConditionConfig, Config, model_options
+from ..datasets import CaregiverDatasets, default_datasets, load
+from ..rng import stream
+from ..world.fast import FastScene
+from ..world.kinematics import HeadKinematics
+from .oracle import OracleAgent
+from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
+
+__all__ = ["body_of", "datasets_of", "evaluator", "make_agent", "measure_ceiling",
+           "random_scene", "run_cell"]
+
+
+def datasets_of(config: Config) -> CaregiverDatasets:
+    """The run's caregiver data sets: ``config.datasets``, or the shipped ones."""
+    return load(config.datasets) if config.datasets else default_datasets()
+
+
+def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance_m: float):
+    """Where data set ``k``'s target and face are (the target at its recorded position, or,
+    for data sets recorded without it, 0.65 m along the recorded command)."""
+    theta_face = ds.theta_face_rad[k]
+    face = kin.camera_position(theta_face) + distance_m * kin.gaze_direction(theta_face)
+    if ds.target_m is not None:
+        return ds.target_m[k], face
+    theta = theta_face + ds.command_rad[k]
+    return kin.camera_position(theta) + 0.65 * kin.gaze_direction(theta), face
+
+
+def random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_objects: int,
+                 rng: np.random.Generator) -> tuple[int, FastScene, np.ndarray]:
+    """A trial's data set index, its scene (the recorded target plus random distractors) and
+    where the caregiver's face is."""
+    k = int(rng.integers(len(ds)))
+    target_m, face_m = _trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+    return k, FastScene.sample(config.world, kin, target_m, face_m, n_objects, rng), face_m
+
+
+def body_of(kin: HeadKinematics, ds: CaregiverDatasets) -> Body:
+    """What the robot knows of its body: its camera's image, its joints, its face window."""
+    return Body(image_size_px=(kin.width_px, kin.height_px),
+                joint_limits_rad=(kin.pan_limits_rad, kin.tilt_limits_rad),
+                face_size_px=ds.window_size_px)
+
+
+def make_agent(config: Config, condition: ConditionConfig, seed_index: int,
+               ds: CaregiverDatasets) -> Agent:
+    """The untrained agent of a cell: the condition's model, its own stream of the seed."""
+    kin = HeadKinematics.from_config(config.world)
+    return model_options(config, condition).build(
+        config.agent, body_of(kin, ds), stream(config.seed, "agent", seed_index))
+
+
+def evaluator(config: Config) -> Callable:
+    """The internal evaluator of the run's robot (Eq. 3 with its d_th)."""
+    return partial(attended_object, d_th_px=config.agent.d_th_px(config.world.camera.width_px))
+
+
+def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
+             progress: Callable[[int], None] | None = None,
+             on_trial: Callable[[Agent], None] | None = None,
+             observer: StepObserver | None = None) -> dict[str, np.ndarray]:
+    """Learn for ``experiment.n_steps`` steps; one record per trial (``trial.RECORD``).
+
+    ``progress`` gets the learning time after each trial, ``on_trial`` the agent, and
+    ``observer`` each step (see :func:`~jointattention.experiment.trial.run_trial`).
+    """
+    ds = datasets_of(config)
+    kin = HeadKinematics.from_config(config.world)
+    agent = make_agent(config, condition, seed_index, ds)
+    trials = stream(config.seed, "trials", seed_index)
+    shuffle = stream(config.seed, "shuffle", seed_index)
+    evaluate = evaluator(config)
+    results: list[TrialResult] = []
+    n_steps = config.experiment.n_steps
+    scenes = None
+    if config.experiment.perception == "rendered":
+        from ..world.rendered import RenderedScenes
+
+        scenes = RenderedScenes(config.world, config.detector, condition.n_objects,
+                                seed=config.seed, rng=stream(config.seed, "render", seed_index))
+    try:
+        while agent.learning_time_steps < n_steps and len(results) < n_steps:
+            k, scene, face_m = random_scene(config, ds, kin, condition.n_objects, trials)
+            if scenes is not None:
+                scene = scenes.show(scene, face_m)
+            face = ds.face[shuffle.integers(len(ds))] if condition.shuffle_faces else ds.face[k]
+            trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                               max_steps=config.agent.max_steps, evaluate=evaluate)
+            results.append(run_trial(trial, agent, face, observer))
+            if progress is not None:
+                progress(agent.learning_time_steps)
+            if on_trial is not None:
+                on_trial(agent)
+    finally:
+        if scenes is not None:
+            scenes.close()
+    return records(results)
+
+
+def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None) -> float:
+    """Success of the oracle gaze-line follower over ``n_trials`` trials in the same world."""
+    ds = datasets_of(config)
+    kin = HeadKinematics.from_config(config.world)
+    rng = stream(config.seed, "ceiling", n_objects)
+    n_trials = config.experiment.n_ceiling_trials if n_trials is None else n_trials
+    evaluate, step = evaluator(config), np.deg2rad(config.agent.lm_step_deg)
+    wins = 0
+    for _ in range(n_trials):
+        k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
+        oracle = OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step)
+        trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                           max_steps=config.agent.max_steps, evaluate=evaluate)
+        wins += run_trial(trial, oracle, ds.face[k]).success
+    return wins / n_trials

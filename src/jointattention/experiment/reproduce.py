@@ -1,0 +1,97 @@
+"""The main job as a library call: every cell of a configuration, the ceilings, the figures,
+the table and the checked claims, in one run folder (``jointattention reproduce`` calls it).
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._files import save_json
+from ..analysis.claims import Claim, check_claims, claims_table
+from ..analysis.curves import condition_curves, final_table
+from ..config import Config
+from .backends import CellJob, check_backend, run_jobs
+from .cells import measure_ceiling, run_cell
+from .results import cell_path, load_cell, prepare_run_dir, write_trials_csv
+
+__all__ = ["RunResult", "reproduce", "run_experiment"]
+
+
+def run_experiment(config: Config, out: str | Path, workers: int = 1,
+                   progress: Callable[[str], None] | None = None, *, backend: str = "local",
+                   address: str | None = None) -> dict[tuple[str, int], dict[str, np.ndarray]]:
+    """Run every condition x seed into ``out``; cells already there are kept, not re-run.
+
+    Returns {(condition, seed): records}. Each cell is saved as it finishes, so an
+    interrupted run loses only the cells in progress. ``backend`` and ``address``: see
+    :func:`jointattention.experiment.backends.run_jobs`.
+    """
+    check_backend(backend, address)
+    out = Path(out)
+    prepare_run_dir(out, config)
+    exp = config.experiment
+    cells = [(c, i) for c in exp.conditions for i in range(exp.n_seeds)]
+    run_jobs(run_cell, [CellJob(config, c, i, cell_path(out, c.name, i)) for c, i in cells],
+             workers=workers, backend=backend, address=address, progress=progress)
+    return {(c.name, i): load_cell(cell_path(out, c.name, i)) for c, i in cells}
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What :func:`reproduce` did: the files it wrote, the claims, and its timing."""
+
+    out: Path
+    files: list[Path]
+    claims: list[Claim]
+    cells_run: int
+    cells_total: int
+    wall_min: float
+
+
+def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str = "local",
+              address: str | None = None,
+              progress: Callable[[str], None] | None = None) -> RunResult:
+    """Run ``config``'s experiment into the run folder ``out`` and write what it shows.
+
+    Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json``, the oracle
+    ceilings (``ceilings.json``, measured once), ``trials.csv``, the figures
+    (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md`` and
+    ``claims.csv``/``.md``. ``progress`` hears the runner's messages (see
+    :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``.
+    """
+    from ..figures.paper import write_figures  # matplotlib only when figures are drawn
+
+    out = Path(out)
+    done_before = []
+
+    def hear(message: str) -> None:
+        if message.endswith("already done"):
+            done_before.append(int(message.split()[0]))
+        if progress is not None:
+            progress(message)
+
+    start = time.perf_counter()
+    cells = run_experiment(config, out, workers, hear, backend=backend, address=address)
+    wall_min = (time.perf_counter() - start) / 60
+    cells_run = len(cells) - (done_before[0] if done_before else 0)
+    save_json({"wall_min": round(wall_min, 2), "workers": workers, "cells_run": cells_run,
+               "cells_total": len(cells)}, out / "timing.json")
+    ceiling_file = out / "ceilings.json"
+    if not ceiling_file.exists():
+        if progress is not None:
+            progress("ceilings")
+        counts = sorted({c.n_objects for c in config.experiment.conditions})
+        save_json({str(n): measure_ceiling(config, n) for n in counts}, ceiling_file)
+    ceilings = json.loads(ceiling_file.read_text())
+    curves = condition_curves(out, config)
+    claims = check_claims(config, curves, ceilings)
+    files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
+             *final_table(config, curves, ceilings).write(out / "table"),
+             *claims_table(claims).write(out / "claims")]
+    return RunResult(out, files, claims, cells_run, len(cells), wall_min)

@@ -1,0 +1,88 @@
+"""The one trial loop: how trials end, what the observer sees, the record schema."""
+
+from __future__ import annotations
+
+from functools import partial
+
+import numpy as np
+import pytest
+
+from jointattention.agent.attention import attended_object
+from jointattention.config import WorldConfig
+from jointattention.config.world import ObjectsConfig
+from jointattention.experiment.oracle import OracleAgent
+from jointattention.experiment.trial import (
+    END_FIRED,
+    END_LIMIT,
+    END_STEPS,
+    RECORD,
+    SceneTrial,
+    records,
+    run_trial,
+)
+from jointattention.world.simulator import World
+
+STEP = np.deg2rad(4.0)
+
+
+def _trial(world: World, max_steps: int = 40) -> SceneTrial:
+    kin = world.kinematics
+    return SceneTrial(world.fast_scene(), world.face_angle_rad, kinematics=kin,
+                      max_steps=max_steps, evaluate=partial(attended_object, d_th_px=320 / 6))
+
+
+def test_following_the_gaze_line_to_a_lone_object_fires_on_it():
+    """With one object, the oracle's trial ends with the evaluator firing on the target."""
+    world = World(WorldConfig(objects=ObjectsConfig(n_objects=1)), seed=4)
+    for _ in range(5):
+        s = world.reset()
+        oracle = OracleAgent(world.kinematics.centring_angles(s.target_pos_m), STEP)
+        r = run_trial(_trial(world), oracle, np.zeros((25, 30)))
+        assert (r.end, r.attended, r.target) == (END_FIRED, 0, 0) and r.success
+        assert r.n_lm_steps == r.n_steps == oracle.learning_time_steps
+
+
+def test_a_still_head_ends_at_the_step_limit():
+    """A head that does not move never fires (objects are kept clear of the face) and the
+    trial ends after exactly ``max_steps`` steps."""
+    world = World(seed=1)
+    oracle = OracleAgent(world.face_angle_rad, STEP)  # already where it wants to be
+    r = run_trial(_trial(world, max_steps=7), oracle, np.zeros((25, 30)))
+    assert (r.end, r.n_steps, r.attended, r.fired) == (END_STEPS, 7, -1, False)
+
+
+def test_a_move_past_the_joint_limit_stops_there_and_ends_the_trial():
+    """Pushing past the pan limit stops the head at the limit; the trial ends there."""
+    world = World(seed=2)
+    kin = world.kinematics
+    oracle = OracleAgent(world.face_angle_rad + [3.0, 0.0], 1.0)  # far right, big steps
+    trial = _trial(world)
+    r = run_trial(trial, oracle, np.zeros((25, 30)))
+    assert r.end in (END_LIMIT, END_FIRED)
+    if r.end == END_LIMIT:
+        assert r.theta_end_rad[0] == pytest.approx(kin.pan_limits_rad[1])
+        assert trial.limit_hit
+    with pytest.raises(RuntimeError, match="ended"):
+        trial.step(np.zeros(2))
+
+
+def test_the_observer_sees_every_look_and_the_module_that_moved():
+    """The observer is called once per look: with the module that moves next, then None."""
+    world = World(seed=3)
+    oracle = OracleAgent(world.face_angle_rad, STEP)
+    seen = []
+    r = run_trial(_trial(world, max_steps=5), oracle, np.zeros((25, 30)),
+                  observer=lambda t, module: seen.append((t.n_steps, module)))
+    assert seen == [(0, "lm"), (1, "lm"), (2, "lm"), (3, "lm"), (4, "lm"), (5, None)]
+    assert r.n_steps == 5
+
+
+def test_records_follow_the_schema():
+    """``records`` gives every column of RECORD with its dtype, one row per trial."""
+    world = World(seed=5)
+    results = [run_trial(_trial(world, max_steps=3), OracleAgent(world.face_angle_rad, STEP),
+                         np.zeros((25, 30))) for _ in range(4)]
+    rec = records(results)
+    assert list(rec) == list(RECORD)
+    for name, (dtype, _) in RECORD.items():
+        assert rec[name].dtype == np.dtype(dtype) and len(rec[name]) == 4
