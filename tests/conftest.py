@@ -13,6 +13,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 @pytest.fixture(scope="session")
 def gl_available() -> bool:
+    """Whether a world can render here (EGL or OSMesa)."""
     from jointattention.errors import RenderingUnavailable
     from jointattention.world.simulator import World
 
@@ -26,5 +27,6 @@ def gl_available() -> bool:
 
 @pytest.fixture
 def needs_gl(gl_available: bool) -> None:
+    """Skip the test where no world can render."""
     if not gl_available:
         pytest.skip("no off-screen OpenGL (EGL or OSMesa) on this machine")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -50,3 +51,26 @@ def test_the_boundary_test_catches_a_violation(tmp_path):
     bad = tmp_path / "bad.py"
     bad.write_text("from ..world.simulator import World\n")
     assert any("world" in n.split(".") for n in _imports(bad))
+
+
+def test_importing_the_world_changes_no_environment_variable():
+    """Importing the world's modules neither sets MUJOCO_GL nor imports MuJoCo; the first
+    World does both.
+    """
+    code = (
+        "import os, sys\n"
+        "os.environ.pop('MUJOCO_GL', None)\n"
+        "import jointattention.world.simulator, jointattention.world.rendered\n"
+        "assert 'MUJOCO_GL' not in os.environ and 'mujoco' not in sys.modules\n"
+        "jointattention.world.simulator.World()\n"
+        "assert os.environ['MUJOCO_GL'] in ('egl', 'osmesa') and 'mujoco' in sys.modules\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}
+    subprocess.run([sys.executable, "-c", code], check=True, env=env)
+
+
+def test_the_library_never_touches_matplotlib_backends():
+    """No module calls ``matplotlib.use`` or imports pyplot: figures are Figure objects."""
+    for path in sorted(AGENT.parent.rglob("*.py")):
+        assert "matplotlib.use(" not in path.read_text(), path.name
+        assert not any("pyplot" in name.split(".") for name in _imports(path)), path.name

@@ -78,7 +78,8 @@ def test_config_prints_toml_that_reads_back(tmp_path, capsys):
 
 def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
     """``reproduce`` on a tiny configuration writes the figures, tables and trial table, and a
-    second call finds every cell done."""
+    second call finds every cell done.
+    """
     cfg = tmp_path / "tiny.toml"
     cfg.write_text(
         "[experiment]\nn_steps = 300\nn_seeds = 2\nbin_steps = 100\nn_ceiling_trials = 50\n"
@@ -101,7 +102,8 @@ def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
 
 def test_bench_estimates_every_preset():
     """The benchmark's wall-time estimate covers each shipped preset, scaled by the rate of
-    its perception mode (the rendered preset by the rendered rate only)."""
+    its perception mode (the rendered preset by the rendered rate only).
+    """
     from jointattention.bench import preset_estimates
     from jointattention.config import preset_names
 

@@ -93,7 +93,8 @@ def test_toml_round_trip(tmp_path_factory, seed, fov, width, n):
 
 def test_a_condition_changes_the_run_model_field_by_field():
     """A condition's model table changes only what it names; a new gate kind starts from its
-    own defaults, the same kind keeps the run's parameters."""
+    own defaults, the same kind keeps the run's parameters.
+    """
     cfg = load_config_text(
         "[model]\nlearning_rate = 0.001\n[model.gate]\nmidpoint_steps = 5000.0\n"
         "[[experiment.conditions]]\nname = 'c'\nn_objects = 3\n"
@@ -108,7 +109,8 @@ def test_a_condition_changes_the_run_model_field_by_field():
 
 def test_bad_model_settings_name_the_field():
     """An unknown gate kind, a rate out of range, an unknown model option and a duplicate
-    condition name each give one error naming the field."""
+    condition name each give one error naming the field.
+    """
     cases = [
         ("[model.gate]\nkind = 'step'\n", r"model\.gate\.kind = 'step': expected one of"),
         ("[[experiment.conditions]]\nname = 'a'\nmodel = { gate = { kind = 'constant', "
@@ -140,6 +142,7 @@ def test_condition_names_survive_the_toml_round_trip():
 
 
 def load_config_text(text: str) -> Config:
+    """The configuration of a TOML text."""
     import tempfile
     from pathlib import Path
 

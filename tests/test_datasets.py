@@ -16,6 +16,7 @@ from jointattention.world.recording import make_datasets
 
 @pytest.fixture(scope="module")
 def recorded(gl_available) -> CaregiverDatasets:
+    """Twelve data sets recorded from a world."""
     if not gl_available:
         pytest.skip("no off-screen OpenGL")
     return make_datasets(WorldConfig(), 12, seed=5)

@@ -121,7 +121,8 @@ def test_bad_arguments_are_refused(kwargs, match):
 
 def test_a_pool_of_poses_keeps_targets_and_redraws_distractors():
     """With n_poses=2, episodes reuse two caregiver poses and targets; the distractors and
-    the target's place in the object list change."""
+    the target's place in the object list change.
+    """
     env = JointAttentionEnv(n_objects=4, n_poses=2)
     env.reset(seed=5)
     targets, scenes = set(), set()
@@ -136,7 +137,8 @@ def test_a_pool_of_poses_keeps_targets_and_redraws_distractors():
 def test_an_agent_runs_the_same_trial_through_the_environment():
     """``run_trial`` over ``EnvTrial`` (each step an ``env.step``) gives the trial that
     ``run_trial`` over the episode's own scene gives: the environment's step is the trial
-    loop's."""
+    loop's.
+    """
     from functools import partial
 
     from jointattention.agent.attention import attended_object

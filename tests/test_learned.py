@@ -24,7 +24,8 @@ def trained():
 
 def test_learning_turns_the_output_toward_the_target(trained):
     """Untrained, the module's median angle to the target is near chance (over 60 deg);
-    after learning it is under 30 deg on the data sets."""
+    after learning it is under 30 deg on the data sets.
+    """
     cfg, agents = trained
     assert sorted(agents) == [0, 15_000, 30_000]
     ds = datasets_of(cfg)
@@ -51,7 +52,8 @@ def test_held_out_poses_continue_the_recording(needs_gl):
 
 def test_grid_faces_follow_the_gaze(needs_gl):
     """Grid face windows differ from one gaze direction to the next, and the commands point
-    the way the grid does (pan to the right is a positive pan command)."""
+    the way the grid does (pan to the right is a positive pan command).
+    """
     cfg = load_config("quick")
     faces, thetas, commands = learned.grid_faces(cfg, 0, (-30, 30), (0,))
     assert faces.shape[:2] == (1, 2) and thetas.shape == commands.shape == (1, 2, 2)
@@ -61,7 +63,8 @@ def test_grid_faces_follow_the_gaze(needs_gl):
 
 def test_a_recorded_trial_ends_with_the_target_in_the_gazing_circle(trained, needs_gl):
     """Fig. 7's trial: one frame per look, learning-module steps, and the last frame has
-    the caregiver's target inside the evaluator's circle."""
+    the caregiver's target inside the evaluator's circle.
+    """
     cfg, agents = trained
     agent = agents[30_000]
     frames, result = learned.record_trial(cfg, agent, 1, min_lm_steps=1)

@@ -17,7 +17,8 @@ PHOTO = Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg"
 def test_detect_draws_a_face_and_regions_on_a_real_photograph(tmp_path, capsys):
     """Matplotlib's photograph of Grace Hopper: one face found by the Haar cascade, in the
     upper middle of the picture, some bright-colour and edge-rich regions, and an overlay PNG
-    of the photograph's size that differs from it."""
+    of the photograph's size that differs from it.
+    """
     assert main(["detect", str(PHOTO), "--out", str(tmp_path)]) == 0
     line = capsys.readouterr().out
     assert "1 faces" in line and "0 bright-colour" not in line and "0 edge-rich" not in line
@@ -43,7 +44,8 @@ def test_found_face_is_where_the_face_is():
 
 def test_detect_refuses_a_non_image_and_writes_nothing(tmp_path, capsys):
     """A good photograph beside a text file: one error naming the file, and no overlay of
-    either is written."""
+    either is written.
+    """
     bad = tmp_path / "notes.png"
     bad.write_text("not a picture")
     out = tmp_path / "out"

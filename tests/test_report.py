@@ -31,7 +31,8 @@ def run(tmp_path_factory):
 
 def test_report_holds_everything_inline(run):
     """The page embeds every figure as a data URI and holds the tables, the configuration
-    and the versions, and refers to nothing outside itself."""
+    and the versions, and refers to nothing outside itself.
+    """
     page = write_report(run).read_text()
     assert page.count('src="data:image/png;base64,') == len(list(run.glob("*.png"))) == 3
     assert "The paper&#x27;s claims, checked" in page and "n5-sigmoid" in page
@@ -50,7 +51,8 @@ def test_report_refuses_a_folder_that_is_not_a_run(tmp_path):
                     "chromium); .ci/run installs it")
 def test_report_renders_in_headless_chromium(run, tmp_path):
     """Headless Chromium, with the network shut, renders the page with its figures: the
-    screenshot has the figures' coloured curves, not only text on white."""
+    screenshot has the figures' coloured curves, not only text on white.
+    """
     page = write_report(run)
     shot = tmp_path / "shot.png"
     subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",

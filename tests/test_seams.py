@@ -1,5 +1,6 @@
 """The seams: a new gate and a new model plug in through their registries alone, and the
-public API is what ``__all__`` says."""
+public API is what ``__all__`` says.
+"""
 
 from __future__ import annotations
 
@@ -89,7 +90,8 @@ def _config(tmp_path, conditions: str):
 
 def test_a_new_gate_is_one_class_and_one_registry_entry(tmp_path, registered):
     """A registered gate is chosen by name in a condition, drives the agent (no module steps
-    before its switch, only module steps after) and is tabulated and checked like others."""
+    before its switch, only module steps after) and is tabulated and checked like others.
+    """
     cfg = _config(tmp_path, """
 [[experiment.conditions]]
 name = "n5-sigmoid"
@@ -117,7 +119,8 @@ model = { gate = { kind = "step", switch_steps = 0.0 } }
 
 def test_a_new_model_is_one_module_and_one_registry_entry(tmp_path, registered):
     """A registered model runs in a condition beside the paper's: its options come from the
-    configuration, its cells, table row, claims group and side-by-side figure are written."""
+    configuration, its cells, table row, claims group and side-by-side figure are written.
+    """
     cfg = _config(tmp_path, """
 [[experiment.conditions]]
 name = "n3-bootstrap"
@@ -151,7 +154,7 @@ def test_registries_refuse_clashes_and_non_sections():
 
 
 def _isort_key(name: str) -> tuple[int, str]:
-    """ruff's __all__ order: CONSTANTS, then Classes, then the rest."""
+    """The order ruff gives ``__all__``: CONSTANTS, then Classes, then the rest."""
     if name.isupper():
         return 0, name
     return (1, name) if name[0].isupper() else (2, name)
@@ -159,7 +162,8 @@ def _isort_key(name: str) -> tuple[int, str]:
 
 def test_public_api_is_all_and_loads_lazily():
     """``__all__`` is sorted and every name in it resolves; importing the package loads no
-    world, MuJoCo or matplotlib."""
+    world, MuJoCo or matplotlib.
+    """
     names = jointattention.__all__
     assert names == sorted(names, key=_isort_key)
     for name in names:

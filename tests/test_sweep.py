@@ -67,7 +67,8 @@ def test_bad_specs_are_refused(tmp_path, text, match):
 
 def test_local_and_ray_backends_give_identical_cells(tmp_path):
     """The same sweep in this process, in two worker processes and on a local Ray instance
-    writes identical cells and the same summary."""
+    writes identical cells and the same summary.
+    """
     sweep = load_sweep(_spec(tmp_path))
     serial = run_sweep(sweep, tmp_path / "serial", workers=1)
     run_sweep(sweep, tmp_path / "pool", workers=2)
@@ -81,7 +82,8 @@ def test_local_and_ray_backends_give_identical_cells(tmp_path):
 
 def test_an_interrupted_sweep_resumes_without_loss(tmp_path):
     """Interrupted after two cells, a sweep keeps them; the re-run does only the other two
-    and ends with the same cells as an uninterrupted sweep."""
+    and ends with the same cells as an uninterrupted sweep.
+    """
     sweep = load_sweep(_spec(tmp_path))
     done = []
 

@@ -44,7 +44,8 @@ def test_following_the_gaze_line_to_a_lone_object_fires_on_it():
 
 def test_a_still_head_ends_at_the_step_limit():
     """A head that does not move never fires (objects are kept clear of the face) and the
-    trial ends after exactly ``max_steps`` steps."""
+    trial ends after exactly ``max_steps`` steps.
+    """
     world = World(seed=1)
     oracle = OracleAgent(world.face_angle_rad, STEP)  # already where it wants to be
     r = run_trial(_trial(world, max_steps=7), oracle, np.zeros((25, 30)))

@@ -43,7 +43,8 @@ def test_initial_state_really_is_random():
 
 def test_objects_are_apart_reachable_and_clear_of_the_face():
     """Over many scenes: no two objects overlap, all can be centred within the joint limits,
-    none covers the caregiver's face."""
+    none covers the caregiver's face.
+    """
     cfg = WorldConfig()
     rng = stream(0, "test")
     from jointattention.world.kinematics import HeadKinematics
@@ -80,7 +81,8 @@ def test_caregiver_gaze_points_at_the_target():
 
 def test_object_at_centre_is_ground_truth_of_the_view():
     """Centring the head on an object makes it the object at the centre; the face alone is
-    not an object."""
+    not an object.
+    """
     world = World(seed=3)
     for i in range(world.state.n_objects):
         theta = world.kinematics.centring_angles(world.state.object_pos_m[i])
@@ -91,7 +93,8 @@ def test_object_at_centre_is_ground_truth_of_the_view():
 def test_projection_matches_rendered_centroids(needs_gl):
     """Fast projection agrees with the rendered (segmentation) centroid within 2 px, and the
     image area with the rendered area within 5%, for every unoccluded object fully in
-    view over many random scenes and head angles."""
+    view over many random scenes and head angles.
+    """
     world = World(seed=11)
     rng = np.random.default_rng(0)
     ids = world.object_geom_ids()

@@ -42,7 +42,8 @@ def _is_tables(v: Any) -> bool:
 
 def dumps(mapping: dict, prefix: str = "") -> str:
     """TOML text of ``mapping``: tables as ``[headers]``, lists of tables as ``[[headers]]``
-    whose nested tables are written inline."""
+    whose nested tables are written inline.
+    """
     lines = [f"{_key(k)} = {_value(v)}" for k, v in mapping.items()
              if not isinstance(v, dict) and not _is_tables(v)]
     for k, v in mapping.items():

@@ -63,7 +63,8 @@ def run_world_benchmarks(
 
 def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
     """Steps per second of ``JointAttention-v0`` (render + detect + evaluate each step) under
-    random actions, resets included; empty if Gymnasium is not installed."""
+    random actions, resets included; empty if Gymnasium is not installed.
+    """
     try:
         from .env import JointAttentionEnv
     except ImportError:
@@ -84,7 +85,8 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
 def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
     """Agent-steps per second of learning: the quick preset's 5-object sigmoid cell in fast
     mode (whose gate goes from the visual controller to the learning module), and its first
-    ``rendered_steps`` steps in rendered mode (MuJoCo render + OpenCV detection each step)."""
+    ``rendered_steps`` steps in rendered mode (MuJoCo render + OpenCV detection each step).
+    """
     import dataclasses
 
     from .config import load_config
@@ -107,7 +109,8 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
 def preset_estimates(fast_steps_per_s: float, rendered_steps_per_s: float,
                      workers: int) -> list[tuple[str, float, str]]:
     """Estimated wall time of each shipped preset: its agent-steps over ``workers``
-    processes at the rate of its perception mode (``reproduce`` records the measured time)."""
+    processes at the rate of its perception mode (``reproduce`` records the measured time).
+    """
     from .config import load_config, preset_names
 
     rows = []

@@ -1,5 +1,6 @@
 """The paper's model: the bootstrap learning agent (visual attention, self-evaluation,
-learning and the gate), and its options (the ``[model]`` section, ``kind = "bootstrap"``)."""
+learning and the gate), and its options (the ``[model]`` section, ``kind = "bootstrap"``).
+"""
 
 from __future__ import annotations
 
@@ -23,7 +24,8 @@ __all__ = ["BootstrapAgent", "BootstrapOptions"]
 @dataclass(frozen=True)
 class BootstrapOptions(ModelOptions):
     """The bootstrap model's options; the last three are readings where the paper is silent
-    (README, *The model*)."""
+    (README, *The model*).
+    """
 
     readings: ClassVar[tuple[str, ...]] = ("gate_per", "vf_fallback", "learning_target")
 

@@ -1,6 +1,7 @@
 """The caregiver's face in an image: found by template matching, as the paper's robot did, or
 by OpenCV's Haar cascade for real photographs (shipped with opencv-python-headless); and the
-face window cut around it (paper: 30 x 25 pixels)."""
+face window cut around it (paper: 30 x 25 pixels).
+"""
 
 from __future__ import annotations
 
@@ -16,7 +17,8 @@ __all__ = ["Face", "FaceFinder", "face_template", "face_window"]
 class Face:
     """A face found in an image: its centre, the height of its box (both in pixels), the
     match score (normalised correlation; 1.0 for the Haar cascade, which gives none) and the
-    box's width / height."""
+    box's width / height.
+    """
 
     centre_px: np.ndarray
     height_px: float

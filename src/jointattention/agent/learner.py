@@ -21,6 +21,7 @@ class FaceStandardiser:
         self.n_seen_ = 0
 
     def partial_fit(self, faces: np.ndarray) -> FaceStandardiser:
+        """Add the faces (n, pixels) to the running statistics."""
         for x in np.atleast_2d(np.asarray(faces, dtype=float)):
             if self.n_seen_ == 0:
                 self.mean_, self.m2_ = np.zeros_like(x), np.zeros_like(x)
@@ -31,6 +32,7 @@ class FaceStandardiser:
         return self
 
     def transform(self, faces: np.ndarray) -> np.ndarray:
+        """The faces standardised: minus the mean, over the s.d. (at least ``min_std``)."""
         std = np.sqrt(self.m2_ / max(self.n_seen_, 1))
         return (np.asarray(faces, dtype=float) - self.mean_) / np.maximum(std, self.min_std)
 

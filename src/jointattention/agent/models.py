@@ -44,7 +44,8 @@ class ModelOptions(Section):
 
     def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> Agent:
         """The untrained agent: these options, the robot's shared mechanisms (``agent``), its
-        body, and its own random generator."""
+        body, and its own random generator.
+        """
         raise NotImplementedError
 
     @property

@@ -75,7 +75,8 @@ class Agent(Protocol):
 
     def act(self, detections: Detections, theta_rad: np.ndarray) -> tuple[np.ndarray, str]:
         """One step: the head angle change (pan, tilt) in radians, and which module made it
-        (:data:`VF`, :data:`LM`, :data:`RANDOM`, or a name of the model's own)."""
+        (:data:`VF`, :data:`LM`, :data:`RANDOM`, or a name of the model's own).
+        """
 
     def end_trial(self, outcome: Outcome) -> None:
         """The trial ended: learn from it (or not)."""

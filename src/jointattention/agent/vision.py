@@ -22,7 +22,8 @@ __all__ = ["ColourRegions", "ImageDetector", "colour_regions", "fit_ball", "fit_
 
 class ColourRegions:
     """Bright-colour regions of one image: ``labels`` (H, W) int32 (0: none, k: region k-1),
-    and per region ``centre_px`` (n, 2) and ``area_px`` (n,)."""
+    and per region ``centre_px`` (n, 2) and ``area_px`` (n,).
+    """
 
     __slots__ = ("area_px", "centre_px", "labels")
 
@@ -75,7 +76,8 @@ def _border_centre(labels: np.ndarray, k: int, box, shape,
     the ball fitted through it if the focal length is known, else the circle. None if the
     outline is too short, or if the region reaches less than the fitted radius (or 5 px, as
     a thin cap's fit is unsound) in from the border: a ball whose centre is in the image
-    reaches at least its radius in from it."""
+    reaches at least its radius in from it.
+    """
     x, y, w, h = box
     crop = (labels[y:y + h, x:x + w] == k).astype(np.uint8)
     contours, _ = cv2.findContours(crop, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
@@ -95,7 +97,8 @@ def _border_centre(labels: np.ndarray, k: int, box, shape,
 def colour_regions(image_rgb: np.ndarray, config: DetectorConfig,
                    focal_px: float | None = None) -> ColourRegions:
     """The bright-colour regions of an RGB uint8 image (see the module's docstring);
-    ``focal_px``, the camera's focal length, locates balls cut by the border."""
+    ``focal_px``, the camera's focal length, locates balls cut by the border.
+    """
     hsv = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2HSV)
     mask = (hsv[..., 1] >= config.min_saturation * 255) & (hsv[..., 2] >= config.min_value * 255)
     mask &= ~_hue_cuts(hsv[..., 0], mask, config.hue_split_deg)

@@ -44,7 +44,8 @@ class Claim:
 
 def reading_of(condition, config: Config) -> str:
     """The condition's reading, e.g. ``gate_per=step, vf_fallback=lm, learning_target=...``,
-    preceded by ``model=<kind>`` for models other than the bootstrap model."""
+    preceded by ``model=<kind>`` for models other than the bootstrap model.
+    """
     options = model_options(config, condition)
     kind = MODELS.name_of(options)
     parts = [f"{k}={getattr(options, k)}" for k in options.readings]
@@ -62,7 +63,8 @@ def _finals(per_seed: np.ndarray) -> np.ndarray:
 
 def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
     """Every claim each reading's conditions allow; ``curves`` as from
-    :func:`jointattention.analysis.curves.condition_curves`, ``ceilings`` {str(n): ceiling}."""
+    :func:`jointattention.analysis.curves.condition_curves`, ``ceilings`` {str(n): ceiling}.
+    """
     gates = {c.name: getattr(model_options(config, c), "gate", None)
              for c in config.experiment.conditions}
     groups: dict[str, list] = {}

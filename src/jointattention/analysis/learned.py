@@ -37,7 +37,8 @@ def train(config: Config, condition_name: str, seed_index: int, checkpoints,
           progress: Callable[[int], None] | None = None) -> dict[int, BootstrapAgent]:
     """Learn the cell; copies of the agent at the first trial end past each checkpoint (in
     learning steps) and at the end (key ``n_steps``); key 0 is the untrained agent, with the
-    face statistics of the data sets."""
+    face statistics of the data sets.
+    """
     condition = condition_named(config, condition_name)
     pending = sorted(t for t in set(checkpoints) | {config.experiment.n_steps} if t > 0)
     ds = datasets_of(config)
@@ -57,7 +58,8 @@ def train(config: Config, condition_name: str, seed_index: int, checkpoints,
 
 def angle_errors(agent: BootstrapAgent, ds: CaregiverDatasets) -> np.ndarray:
     """Per data set, the angle (deg) between the module's output at the face and the
-    command that centres the target."""
+    command that centres the target.
+    """
     return np.array([angle_deg(agent.lm_command(f, t), c) for f, t, c
                      in zip(ds.face, ds.theta_face_rad, ds.command_rad, strict=True)])
 
@@ -69,7 +71,8 @@ def angle_deg(a, b) -> np.ndarray:
 
 def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDatasets:
     """``n`` more data sets of the same caregiver: the recording continued past ``ds`` (the
-    shipped sets record world seed ``ds.meta['seed']``), so no pose is among ``ds``."""
+    shipped sets record world seed ``ds.meta['seed']``), so no pose is among ``ds``.
+    """
     seed = int(ds.meta.get("seed", config.seed))
     more = make_datasets(config.world, len(ds) + n, seed)
     if not np.array_equal(more.face[:len(ds)], ds.face):
@@ -84,7 +87,8 @@ def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDa
 def grid_faces(config: Config, seed: int, pan_deg, tilt_deg, distance_m: float = 0.65):
     """Face windows (len(tilt), len(pan), h, w), head angles at the face and commands to the
     target, for a caregiver at its mean place looking at targets ``distance_m`` from the robot
-    in each direction (pan, tilt) of the grid."""
+    in each direction (pan, tilt) of the grid.
+    """
     c = config.world.caregiver
     faces, thetas, commands = [], [], []
     with World(config.world, seed=seed) as world:
@@ -111,7 +115,8 @@ def grid_faces(config: Config, seed: int, pan_deg, tilt_deg, distance_m: float =
 @dataclass(frozen=True)
 class Frame:
     """One step of a recorded trial: the robot's image, its head angle, the detections'
-    centres, the target's projected centre (experimenter's), and the module that moved next."""
+    centres, the target's projected centre (experimenter's), and the module that moved next.
+    """
 
     image: np.ndarray
     theta_rad: np.ndarray
@@ -136,7 +141,8 @@ class _Recorder:
 def record_trial(config: Config, agent: BootstrapAgent, n_objects: int, seed: int = 0,
                  min_lm_steps: int = 3, max_tries: int = 300) -> tuple[list[Frame], TrialResult]:
     """Render trials with a copy of ``agent`` until one achieves joint attention with at
-    least ``min_lm_steps`` steps of the learning module; its frames and result."""
+    least ``min_lm_steps`` steps of the learning module; its frames and result.
+    """
     ds = datasets_of(config)
     kin = HeadKinematics.from_config(config.world)
     rng = stream(seed, "figure-trials")

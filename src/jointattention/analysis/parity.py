@@ -41,7 +41,8 @@ CAUSES = {
 class ParityResult:
     """Per case: ``same_choice``, ``centres_agree``, ``max_error_px`` (over objects seen by
     both; 0 if none) and ``cause`` (of a disagreement, else ""); ``errors_px`` over every
-    object seen by both in every case."""
+    object seen by both in every case.
+    """
 
     same_choice: np.ndarray
     centres_agree: np.ndarray

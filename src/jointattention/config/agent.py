@@ -13,7 +13,8 @@ __all__ = ["AgentConfig", "DetectorConfig"]
 class AgentConfig(Section):
     """The robot's embedded mechanisms (paper, section III) that every model shares: visual
     attention (Eq. 1, 2), the internal evaluator (Eq. 3), the step length and the trial's
-    step limit. What learns is the ``[model]`` section."""
+    step limit. What learns is the ``[model]`` section.
+    """
 
     interest_weights: tuple[float, float, float] = param(
         (1.0, 0.0, 0.0), "(a1, a2, a3) of Eq. 1: colour area, edge complexity, motion", lo=0)
@@ -34,7 +35,8 @@ class AgentConfig(Section):
 class DetectorConfig(Section):
     """The robot's image-based salient feature detector (OpenCV), used in rendered mode and by
     ``jointattention detect``. The world paints objects with HSV saturation and value of at
-    least 0.85 and everything else below 0.8 saturation, hence the colour thresholds."""
+    least 0.85 and everything else below 0.8 saturation, hence the colour thresholds.
+    """
 
     min_saturation: float = param(
         0.8, "least HSV saturation of a bright-colour pixel (0-1)", lo=0, hi=1)

@@ -100,7 +100,8 @@ class Config(Section):
 def model_options(config: Config, condition: ConditionConfig,
                   where: str = "model") -> ModelOptions:
     """The options of ``condition``'s model: the run's ``[model]`` with the condition's
-    changes applied."""
+    changes applied.
+    """
     if not condition.model:
         return config.model
     return merge_tagged(MODELS, config.model, condition.model.to_dict(), where)

@@ -1,5 +1,6 @@
 """The world's configuration: what only the experimenter sets (camera, head, caregiver,
-objects, light, face window)."""
+objects, light, face window).
+"""
 
 from __future__ import annotations
 
@@ -21,6 +22,8 @@ __all__ = [
 
 @dataclass(frozen=True)
 class CameraConfig(Section):
+    """The robot's pinhole camera (README, *The world*)."""
+
     width_px: int = param(320, "image width W in pixels (the paper's d_th is W/6)", lo=16, hi=4096)
     height_px: int = param(240, "image height in pixels", lo=16, hi=4096)
     fov_deg: float = param(
@@ -37,6 +40,8 @@ class CameraConfig(Section):
 
 @dataclass(frozen=True)
 class HeadConfig(Section):
+    """The pan and tilt joints' ranges."""
+
     pan_limits_deg: tuple[float, float] = param(
         (-60.0, 60.0), "pan joint range (positive turns right)", lo=-170, hi=170
     )
@@ -47,6 +52,8 @@ class HeadConfig(Section):
 
 @dataclass(frozen=True)
 class CaregiverConfig(Section):
+    """Where the caregiver sits and how its head turns toward its target."""
+
     distance_m: float = param(1.0, "distance of the caregiver's head from the robot", lo=0.3, hi=5)
     height_m: float = param(0.05, "height of the caregiver's head above the robot's", lo=-1, hi=1)
     position_noise_m: float = param(0.03, "s.d. of the caregiver's head position", lo=0, hi=0.3)
@@ -61,6 +68,8 @@ class CaregiverConfig(Section):
 
 @dataclass(frozen=True)
 class ObjectsConfig(Section):
+    """How many salient objects a scene holds, how big, where, how far apart."""
+
     n_objects: int = param(5, "number of salient objects in a scene", lo=1, hi=20)
     radius_range_m: tuple[float, float] = param(
         (0.025, 0.045), "range of the objects' radii", lo=0.005, hi=0.3
@@ -87,6 +96,8 @@ class ObjectsConfig(Section):
 
 @dataclass(frozen=True)
 class LightingConfig(Section):
+    """How the key light varies from scene to scene."""
+
     intensity_range: tuple[float, float] = param(
         (0.55, 0.85), "range of the key light's diffuse intensity", lo=0, hi=1
     )
@@ -95,6 +106,8 @@ class LightingConfig(Section):
 
 @dataclass(frozen=True)
 class FaceWindowConfig(Section):
+    """The caregiver's face window the robot keeps (paper: 30 x 25 pixels)."""
+
     width_px: int = param(30, "width of the caregiver's face window (paper: 30)", lo=4, hi=256)
     height_px: int = param(25, "height of the caregiver's face window (paper: 25)", lo=4, hi=256)
     margin: float = param(
@@ -104,6 +117,8 @@ class FaceWindowConfig(Section):
 
 @dataclass(frozen=True)
 class WorldConfig(Section):
+    """What only the experimenter sets: the camera, head, caregiver, objects, light."""
+
     camera: CameraConfig = CameraConfig()
     head: HeadConfig = HeadConfig()
     caregiver: CaregiverConfig = CaregiverConfig()

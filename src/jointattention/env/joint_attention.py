@@ -1,5 +1,6 @@
 """The Gymnasium environment ``JointAttention-v0``: one trial per episode (its docstring is
-its manual). Needs the ``gym`` extra (``pip install "jointattention[gym]"``)."""
+its manual). Needs the ``gym`` extra (``pip install "jointattention[gym]"``).
+"""
 
 from __future__ import annotations
 
@@ -170,13 +171,16 @@ class JointAttentionEnv(gym.Env):
 
     def face_window(self, image: np.ndarray) -> np.ndarray:
         """The grayscale face window (``world.face_window`` size) cropped from ``image``,
-        an image taken at the current head angle."""
+        an image taken at the current head angle.
+        """
         return capture_face_window(self._world, image)
 
     def render(self):
+        """With ``render_mode="rgb_array"``, the room from the experimenter's camera."""
         if self.render_mode == "rgb_array":
             return self._world.render("overview")
         return None
 
     def close(self):
+        """Free the renderer."""
         self._world.close()

@@ -1,3 +1,4 @@
 """Running: the trial loop (:mod:`.trial`), the oracle (:mod:`.oracle`), cells and ceilings
 (:mod:`.cells`), where cells run (:mod:`.backends`), run folders (:mod:`.results`), the main
-job (:mod:`.reproduce`) and sweeps (:mod:`.sweep`)."""
+job (:mod:`.reproduce`) and sweeps (:mod:`.sweep`).
+"""

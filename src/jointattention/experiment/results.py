@@ -40,7 +40,8 @@ def versions() -> dict:
 
 def prepare_run_dir(out: Path, config: Config) -> None:
     """Create the run folder with its configuration, or check that an existing folder was
-    made with the same configuration (so that a resumed run adds to matching results)."""
+    made with the same configuration (so that a resumed run adds to matching results).
+    """
     out = Path(out)
     cfg_file = out / "config.toml"
     if cfg_file.exists():

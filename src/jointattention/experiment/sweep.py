@@ -126,7 +126,8 @@ def run_sweep(sweep: Sweep, out: str | Path, *, workers: int = 1, backend: str =
 
 def summarise(sweep: Sweep, out: Path) -> list[dict]:
     """Final success (mean and 95% interval over seeds, rounded to 3 decimals) per point and
-    condition, written to ``summary.csv`` and ``summary.md`` in ``out``."""
+    condition, written to ``summary.csv`` and ``summary.md`` in ``out``.
+    """
     rows = []
     for name, config in sweep.points.items():
         for c, (_, per_seed) in condition_curves(out / name, config).items():

@@ -1,5 +1,6 @@
 """Figures without pyplot: made with :class:`matplotlib.figure.Figure`, so the library never
-chooses or changes matplotlib's backend, and saved whole or not at all."""
+chooses or changes matplotlib's backend, and saved whole or not at all.
+"""
 
 from __future__ import annotations
 

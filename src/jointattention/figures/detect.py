@@ -103,7 +103,8 @@ def draw(image_rgb: np.ndarray, found: Found) -> np.ndarray:
 def detect_files(paths: list[Path], out_dir: Path, config: Config,
                  face_method: str = "haar") -> list[tuple[Path, Found]]:
     """Write ``<name>_detected.png`` into ``out_dir`` for each image; every image is read
-    before anything is written, so a bad one leaves nothing behind."""
+    before anything is written, so a bad one leaves nothing behind.
+    """
     images = [(Path(p), _read(Path(p))) for p in paths]
     if face_method == "template":
         from ..datasets import default_datasets

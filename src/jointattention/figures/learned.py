@@ -27,7 +27,8 @@ UNSEEN_DEG = 5.0  # a grid direction farther than this from every data set's is 
 
 def fig6(agent, faces, thetas, commands, seen_commands, path: Path) -> dict:
     """Face windows of the grid with the module's output (red) and the true direction
-    (white, thin); unseen directions titled in blue."""
+    (white, thin); unseen directions titled in blue.
+    """
     rows, cols = faces.shape[:2]
     fig = new_figure(2.0 * cols, 1.8 * rows)
     axes = fig.subplots(rows, cols)

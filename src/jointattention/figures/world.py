@@ -21,7 +21,8 @@ WHITE, CYAN, YELLOW = (255, 255, 255), (40, 220, 255), (255, 230, 0)
 
 def _annotate(world: World, image: np.ndarray, d_th_px: float, show_face: bool) -> np.ndarray:
     """Outline the objects in view (the target thicker), the face window and the evaluator's
-    circle."""
+    circle.
+    """
     out = image.copy()
     kin, state = world.kinematics, world.state
     scene = world.fast_scene()
@@ -49,7 +50,8 @@ def _annotate(world: World, image: np.ndarray, d_th_px: float, show_face: bool) 
 def robot_view(world: World, path: str | Path, d_th_px: float) -> Path:
     """Three panels: the room from behind the robot, the robot looking at the caregiver (face
     window boxed), and the robot after turning to the caregiver's target; with the internal
-    evaluator's circle of radius ``d_th_px``."""
+    evaluator's circle of radius ``d_th_px``.
+    """
     overview = world.render("overview")
     world.set_head_angle(world.face_angle_rad)
     at_face = _annotate(world, world.render(), d_th_px, show_face=True)

@@ -50,7 +50,8 @@ class FastScene:
                n_objects: int, rng: np.random.Generator) -> FastScene:
         """The caregiver's target at ``target_m`` plus random distractors kept clear of the
         face at ``face_m``; ``rng`` draws the distractors, the target's size, the objects'
-        order and every object's texture."""
+        order and every object's texture.
+        """
         target_radius = rng.uniform(*world.objects.radius_range_m)
         pos, rad = place_objects(world, face_m, rng, n_objects, [target_m], [target_radius])
         pos, rad, target = shuffle_target(pos, rad, rng)  # the target's place is random
@@ -58,7 +59,8 @@ class FastScene:
 
     def observe(self, theta_rad) -> Detections:
         """What the robot's detector reports at head angle ``theta_rad``; the object ids of
-        the detections are left in ``visible_ids``."""
+        the detections are left in ``visible_ids``.
+        """
         kin = self.kinematics
         uv, depth, area = kin.project_spheres(self.object_pos_m, self.object_radius_m, theta_rad)
         w, h = kin.width_px, kin.height_px

@@ -18,7 +18,8 @@ __all__ = ["capture_face_window", "face_box", "make_datasets"]
 def face_box(world: World) -> tuple[np.ndarray, float]:
     """Where the face window is cut in the robot's current view: the image position of the
     caregiver's head centre, and the crop's height (``face_window.margin`` times the head's
-    apparent height)."""
+    apparent height).
+    """
     kin, state = world.kinematics, world.state
     theta = world.head_angle_rad
     centre = kin.project(state.head_pos_m, theta)[0][0]
@@ -37,7 +38,8 @@ def make_datasets(
     config: WorldConfig, n: int, seed: int, progress: Callable[[int], None] | None = None
 ) -> CaregiverDatasets:
     """``n`` data sets: in each a new scene; the robot looks at the caregiver's face, records
-    the face window and its head angle, and the command that would centre the target."""
+    the face window and its head angle, and the command that would centre the target.
+    """
     if n < 1:
         raise ValueError(f"n = {n}: expected at least one data set")
     fw = config.face_window

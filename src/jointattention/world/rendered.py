@@ -90,7 +90,8 @@ class RenderedScenes:
 
 def object_ids(centres_px: np.ndarray, uv: np.ndarray, radius_px: np.ndarray) -> np.ndarray:
     """The object each detection belongs to: the nearest projected centre whose disc (one
-    pixel wider) holds it, else -1."""
+    pixel wider) holds it, else -1.
+    """
     ids = np.full(len(centres_px), -1)
     for j, c in enumerate(centres_px):
         d = np.hypot(*(uv - c).T)

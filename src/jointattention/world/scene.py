@@ -76,10 +76,12 @@ class SceneState:
 
     @property
     def n_objects(self) -> int:
+        """How many objects the scene holds."""
         return len(self.object_radius_m)
 
     @property
     def target_pos_m(self) -> np.ndarray:
+        """Where the caregiver's target is."""
         return self.object_pos_m[self.target_index]
 
     @property
@@ -211,7 +213,8 @@ def scene_with(world: WorldConfig, caregiver: Caregiver, head_pos_m, object_pos_
                object_radius_m, target_index: int, rng: np.random.Generator) -> SceneState:
     """A scene of given geometry (a trial's objects, the caregiver's head where a data set
     has it) with the caregiver looking at the target without pose noise; ``rng`` draws the
-    objects' colours and the light."""
+    objects' colours and the light.
+    """
     head_pos_m = np.asarray(head_pos_m, float)
     object_pos_m = np.asarray(object_pos_m, float)
     head, eyes = _look_at(world, head_pos_m, object_pos_m[target_index])
@@ -222,7 +225,8 @@ def scene_with(world: WorldConfig, caregiver: Caregiver, head_pos_m, object_pos_
 
 def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneState:
     """``state`` with its target moved to ``target_pos_m`` and the caregiver looking at it
-    without pose noise (for pictures and held-out caregiver poses)."""
+    without pose noise (for pictures and held-out caregiver poses).
+    """
     pos = state.object_pos_m.copy()
     pos[state.target_index] = target_pos_m
     head, eyes = _look_at(world, state.head_pos_m, target_pos_m)
@@ -245,7 +249,8 @@ def shuffle_target(pos_m: np.ndarray, radius_m: np.ndarray, rng: np.random.Gener
 def with_new_distractors(state: SceneState, world: WorldConfig,
                          rng: np.random.Generator) -> SceneState:
     """``state`` with every object but the target drawn anew and the objects' order shuffled;
-    the caregiver, its gaze and the target stay (a recorded data set in a new scene)."""
+    the caregiver, its gaze and the target stay (a recorded data set in a new scene).
+    """
     n, t = state.n_objects, state.target_index
     pos, rad = _sample_objects(world, state.head_pos_m, state.face_radius_m, rng, n,
                                [state.target_pos_m], [state.object_radius_m[t]])

@@ -176,7 +176,8 @@ class World:
 
     def object_at_centre(self, radius_px: float, theta_rad=None) -> int | None:
         """The object the internal evaluator (Eq. 3, radius ``radius_px``) would fire on at
-        ``theta_rad`` (default: the current angle), else None."""
+        ``theta_rad`` (default: the current angle), else None.
+        """
         theta = self.head_angle_rad if theta_rad is None else theta_rad
         scene = self.fast_scene()
         i = attended_object(scene.observe(theta), radius_px)
