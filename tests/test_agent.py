@@ -95,8 +95,10 @@ def test_the_bootstrap_agent_is_an_agent():
 
 @pytest.mark.parametrize("target", ["final_direction", "object_direction", "executed_step"])
 def test_each_learning_target_teaches_its_direction(target, monkeypatch):
-    """A fired trial teaches the unit direction to the final gaze, to the attended object
-    (final gaze plus the visual controller's centring command), or of the executed step.
+    """A fired trial teaches the direction its learning target names.
+
+    The unit direction to the final gaze, to the attended object (final gaze plus the visual
+    controller's centring command), or of the executed step.
     """
     agent = _agent(learning_target=target, gate=ConstantGate(rate=1.0))
     taught = []

@@ -54,8 +54,9 @@ def test_the_boundary_test_catches_a_violation(tmp_path):
 
 
 def test_importing_the_world_changes_no_environment_variable():
-    """Importing the world's modules neither sets MUJOCO_GL nor imports MuJoCo; the first
-    World does both.
+    """Importing the world's modules neither sets MUJOCO_GL nor imports MuJoCo.
+
+    The first World does both.
     """
     code = (
         "import os, sys\n"

@@ -77,8 +77,9 @@ def test_config_prints_toml_that_reads_back(tmp_path, capsys):
 
 
 def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
-    """``reproduce`` on a tiny configuration writes the figures, tables and trial table, and a
-    second call finds every cell done.
+    """``reproduce`` writes the figures and tables; a second call finds every cell done.
+
+    On a tiny configuration: the figures, tables and trial table.
     """
     cfg = tmp_path / "tiny.toml"
     cfg.write_text(
@@ -101,8 +102,9 @@ def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
 
 
 def test_bench_estimates_every_preset():
-    """The benchmark's wall-time estimate covers each shipped preset, scaled by the rate of
-    its perception mode (the rendered preset by the rendered rate only).
+    """The wall-time estimate covers each preset at the rate of its perception mode.
+
+    The rendered preset is scaled by the rendered rate only.
     """
     from jointattention.bench import preset_estimates
     from jointattention.config import preset_names

@@ -92,8 +92,9 @@ def test_toml_round_trip(tmp_path_factory, seed, fov, width, n):
 
 
 def test_a_condition_changes_the_run_model_field_by_field():
-    """A condition's model table changes only what it names; a new gate kind starts from its
-    own defaults, the same kind keeps the run's parameters.
+    """A condition's model table changes only what it names.
+
+    A new gate kind starts from its own defaults; the same kind keeps the run's parameters.
     """
     cfg = load_config_text(
         "[model]\nlearning_rate = 0.001\n[model.gate]\nmidpoint_steps = 5000.0\n"
@@ -108,8 +109,10 @@ def test_a_condition_changes_the_run_model_field_by_field():
 
 
 def test_bad_model_settings_name_the_field():
-    """An unknown gate kind, a rate out of range, an unknown model option and a duplicate
-    condition name each give one error naming the field.
+    """Bad model settings and duplicate condition names each give one error naming the field.
+
+    An unknown gate kind, a rate out of range, an unknown model option and a duplicate condition
+    name.
     """
     cases = [
         ("[model.gate]\nkind = 'step'\n", r"model\.gate\.kind = 'step': expected one of"),

@@ -120,8 +120,9 @@ def test_bad_arguments_are_refused(kwargs, match):
 
 
 def test_a_pool_of_poses_keeps_targets_and_redraws_distractors():
-    """With n_poses=2, episodes reuse two caregiver poses and targets; the distractors and
-    the target's place in the object list change.
+    """With n_poses=2, episodes reuse two caregiver poses and targets.
+
+    The distractors and the target's place in the object list change.
     """
     env = JointAttentionEnv(n_objects=4, n_poses=2)
     env.reset(seed=5)
@@ -135,9 +136,10 @@ def test_a_pool_of_poses_keeps_targets_and_redraws_distractors():
 
 
 def test_an_agent_runs_the_same_trial_through_the_environment():
-    """``run_trial`` over ``EnvTrial`` (each step an ``env.step``) gives the trial that
-    ``run_trial`` over the episode's own scene gives: the environment's step is the trial
-    loop's.
+    """An agent's trial through the environment equals the same trial run directly.
+
+    ``run_trial`` over ``EnvTrial`` (each step an ``env.step``) gives the trial that ``run_trial``
+    over the episode's own scene gives: the environment's step is the trial loop's.
     """
     from functools import partial
 

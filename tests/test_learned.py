@@ -23,8 +23,10 @@ def trained():
 
 
 def test_learning_turns_the_output_toward_the_target(trained):
-    """Untrained, the module's median angle to the target is near chance (over 60 deg);
-    after learning it is under 30 deg on the data sets.
+    """Learning turns the module's output from chance toward the target.
+
+    Untrained, the median angle to the target is near chance (over 60 deg); after learning it is
+    under 30 deg on the data sets.
     """
     cfg, agents = trained
     assert sorted(agents) == [0, 15_000, 30_000]
@@ -51,8 +53,9 @@ def test_held_out_poses_continue_the_recording(needs_gl):
 
 
 def test_grid_faces_follow_the_gaze(needs_gl):
-    """Grid face windows differ from one gaze direction to the next, and the commands point
-    the way the grid does (pan to the right is a positive pan command).
+    """Grid face windows differ by gaze direction, and the commands point the grid's way.
+
+    Pan to the right is a positive pan command.
     """
     cfg = load_config("quick")
     faces, thetas, commands = learned.grid_faces(cfg, 0, (-30, 30), (0,))
@@ -62,8 +65,9 @@ def test_grid_faces_follow_the_gaze(needs_gl):
 
 
 def test_a_recorded_trial_ends_with_the_target_in_the_gazing_circle(trained, needs_gl):
-    """Fig. 7's trial: one frame per look, learning-module steps, and the last frame has
-    the caregiver's target inside the evaluator's circle.
+    """Fig. 7's trial ends with the caregiver's target inside the evaluator's circle.
+
+    One frame per look, with the learning-module steps counted.
     """
     cfg, agents = trained
     agent = agents[30_000]

@@ -15,9 +15,11 @@ PHOTO = Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg"
 
 
 def test_detect_draws_a_face_and_regions_on_a_real_photograph(tmp_path, capsys):
-    """Matplotlib's photograph of Grace Hopper: one face found by the Haar cascade, in the
-    upper middle of the picture, some bright-colour and edge-rich regions, and an overlay PNG
-    of the photograph's size that differs from it.
+    """Grace Hopper's photograph: a face, colour and edge regions, and an overlay PNG.
+
+    Matplotlib's photograph: one face found by the Haar cascade, in the upper middle of the picture,
+    some bright-colour and edge-rich regions, and an overlay PNG of the photograph's size that
+    differs from it.
     """
     assert main(["detect", str(PHOTO), "--out", str(tmp_path)]) == 0
     line = capsys.readouterr().out
@@ -43,8 +45,9 @@ def test_found_face_is_where_the_face_is():
 
 
 def test_detect_refuses_a_non_image_and_writes_nothing(tmp_path, capsys):
-    """A good photograph beside a text file: one error naming the file, and no overlay of
-    either is written.
+    """A photograph beside a text file: one error naming the file, nothing written.
+
+    No overlay of either is written.
     """
     bad = tmp_path / "notes.png"
     bad.write_text("not a picture")

@@ -30,8 +30,9 @@ def run(tmp_path_factory):
 
 
 def test_report_holds_everything_inline(run):
-    """The page embeds every figure as a data URI and holds the tables, the configuration
-    and the versions, and refers to nothing outside itself.
+    """The page holds every figure, table and setting inline and refers to nothing else.
+
+    Figures as data URIs, the tables, the configuration and the versions.
     """
     page = write_report(run).read_text()
     assert page.count('src="data:image/png;base64,') == len(list(run.glob("*.png"))) == 3
@@ -50,8 +51,9 @@ def test_report_refuses_a_folder_that_is_not_a_run(tmp_path):
 @pytest.mark.skipif(CHROMIUM is None, reason="Chromium is not installed (apt-get install "
                     "chromium); .ci/run installs it")
 def test_report_renders_in_headless_chromium(run, tmp_path):
-    """Headless Chromium, with the network shut, renders the page with its figures: the
-    screenshot has the figures' coloured curves, not only text on white.
+    """Headless Chromium, with the network shut, renders the page with its figures.
+
+    The screenshot has the figures' coloured curves, not only text on white.
     """
     page = write_report(run)
     shot = tmp_path / "shot.png"

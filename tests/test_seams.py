@@ -1,5 +1,6 @@
-"""The seams: a new gate and a new model plug in through their registries alone, and the
-public API is what ``__all__`` says.
+"""The seams: new gates and models plug in through their registries alone.
+
+And the public API is what ``__all__`` says.
 """
 
 from __future__ import annotations
@@ -89,8 +90,10 @@ def _config(tmp_path, conditions: str):
 
 
 def test_a_new_gate_is_one_class_and_one_registry_entry(tmp_path, registered):
-    """A registered gate is chosen by name in a condition, drives the agent (no module steps
-    before its switch, only module steps after) and is tabulated and checked like others.
+    """A registered gate is chosen by name in a condition and drives the agent.
+
+    No module steps before its switch, only module steps after; it is tabulated and checked like the
+    others.
     """
     cfg = _config(tmp_path, """
 [[experiment.conditions]]
@@ -118,8 +121,10 @@ model = { gate = { kind = "step", switch_steps = 0.0 } }
 
 
 def test_a_new_model_is_one_module_and_one_registry_entry(tmp_path, registered):
-    """A registered model runs in a condition beside the paper's: its options come from the
-    configuration, its cells, table row, claims group and side-by-side figure are written.
+    """A registered model runs in a condition beside the paper's, through reproduce.
+
+    Its options come from the configuration; its cells, table row, claims group and side-by-side
+    figure are written.
     """
     cfg = _config(tmp_path, """
 [[experiment.conditions]]
@@ -161,8 +166,9 @@ def _isort_key(name: str) -> tuple[int, str]:
 
 
 def test_public_api_is_all_and_loads_lazily():
-    """``__all__`` is sorted and every name in it resolves; importing the package loads no
-    world, MuJoCo or matplotlib.
+    """``__all__`` is sorted and resolves; importing the package loads no heavy module.
+
+    No world, MuJoCo or matplotlib module is loaded by ``import jointattention``.
     """
     names = jointattention.__all__
     assert names == sorted(names, key=_isort_key)

@@ -66,8 +66,9 @@ def test_bad_specs_are_refused(tmp_path, text, match):
 
 
 def test_local_and_ray_backends_give_identical_cells(tmp_path):
-    """The same sweep in this process, in two worker processes and on a local Ray instance
-    writes identical cells and the same summary.
+    """One process, two worker processes and local Ray write identical cells.
+
+    And the same summary.
     """
     sweep = load_sweep(_spec(tmp_path))
     serial = run_sweep(sweep, tmp_path / "serial", workers=1)
@@ -81,8 +82,10 @@ def test_local_and_ray_backends_give_identical_cells(tmp_path):
 
 
 def test_an_interrupted_sweep_resumes_without_loss(tmp_path):
-    """Interrupted after two cells, a sweep keeps them; the re-run does only the other two
-    and ends with the same cells as an uninterrupted sweep.
+    """An interrupted sweep keeps its cells and resumes without loss.
+
+    Interrupted after two cells, the re-run does only the other two and ends with the same cells as
+    an uninterrupted sweep.
     """
     sweep = load_sweep(_spec(tmp_path))
     done = []

@@ -43,8 +43,9 @@ def test_following_the_gaze_line_to_a_lone_object_fires_on_it():
 
 
 def test_a_still_head_ends_at_the_step_limit():
-    """A head that does not move never fires (objects are kept clear of the face) and the
-    trial ends after exactly ``max_steps`` steps.
+    """A head that does not move ends at the step limit, after exactly ``max_steps``.
+
+    It never fires: objects are kept clear of the face.
     """
     world = World(seed=1)
     oracle = OracleAgent(world.face_angle_rad, STEP)  # already where it wants to be

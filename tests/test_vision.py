@@ -33,8 +33,10 @@ def _disc(img, centre, radius, hue) -> None:
 @given(x=st.floats(25, W - 26), y=st.floats(25, H - 26), r=st.floats(5, 20),
        hue=st.floats(0, 1))
 def test_a_disc_is_found_at_its_centre_with_its_area(x, y, r, hue):
-    """One bright disc anywhere in the image: one detection, centre within 0.5 px, area that
-    of a disc within 0.75 px of its radius (OpenCV's drawing and the antialiased rim).
+    """One bright disc anywhere: one detection, centre within 0.5 px, the disc's area.
+
+    The area is that of a disc within 0.75 px of its radius (OpenCV's drawing and the antialiased
+    rim).
     """
     img = _canvas()
     _disc(img, (x, y), r, hue)
@@ -56,9 +58,11 @@ def test_touching_discs_of_different_hues_are_two_objects():
 
 
 def test_a_ball_cut_by_the_border_is_located_by_its_outline():
-    """A disc whose centre is 6 px inside the left border: the centroid of its pixels is off
-    by several pixels, the detector's centre is within 1 px; a cap whose centre is outside
-    the image is not reported (the fast detector's rule).
+    """A disc cut by the border is located from its outline; a cap outside is dropped.
+
+    A disc whose centre is 6 px inside the left border: the centroid of its pixels is off by several
+    pixels, the detector's centre is within 1 px; a cap whose centre is outside the image is not
+    reported (the fast detector's rule).
     """
     img = _canvas()
     _disc(img, (6, 60), 18, 0.6)
@@ -90,8 +94,10 @@ def test_fit_ball_recovers_a_projected_ball():
 
 
 def test_edges_measure_texture_and_motion_measures_change():
-    """A striped disc has more edge density than a plain one; motion is zero for a still
-    image and after reset, and high for a disc that moved.
+    """Stripes raise edge density; motion is zero when still, high when a disc moved.
+
+    A striped disc has more edge density than a plain one; motion is zero for a still image and
+    after reset.
     """
     img = _canvas()
     _disc(img, (40, 60), 18, 0.0)
@@ -123,8 +129,9 @@ def test_bad_images_are_refused_with_what_was_expected():
 
 
 def test_parity_with_the_fast_detector_in_rendered_scenes(needs_gl):
-    """Over 300 random rendered scenes of 5 objects, both detectors choose the same object
-    and agree on every centre within 2 px in at least 99% of cases (the issue's bar).
+    """The two detectors agree in at least 99% of 300 rendered scenes of 5 objects.
+
+    Both choose the same object and agree on every centre within 2 px (the issue's bar).
     """
     from jointattention.analysis.parity import measure_parity
 
@@ -143,8 +150,9 @@ def test_parity_holds_with_ten_objects(needs_gl):
 
 
 def test_template_matching_finds_the_caregivers_face(needs_gl):
-    """The mean of the shipped face windows, as a template, finds the data sets' caregiver
-    within 15% of the face's height in at least 90% of views near the face.
+    """The shipped faces' mean, as a template, finds the caregiver in 90% of views.
+
+    Within 15% of the face's height, in views near the face.
     """
     from jointattention.datasets import default_datasets
     from jointattention.world.simulator import World
@@ -167,8 +175,9 @@ def test_template_matching_finds_the_caregivers_face(needs_gl):
 
 
 def test_rendered_cells_follow_the_fast_cells_trials(needs_gl):
-    """A rendered-mode cell draws the same trials as the fast cell of its seed: with detectors
-    in parity, its first trials end on the same objects.
+    """A rendered-mode cell draws the same trials as the fast cell of its seed.
+
+    With detectors in parity, its first trials end on the same objects.
     """
     from jointattention import run_cell
 

@@ -42,8 +42,10 @@ def test_initial_state_really_is_random():
 
 
 def test_objects_are_apart_reachable_and_clear_of_the_face():
-    """Over many scenes: no two objects overlap, all can be centred within the joint limits,
-    none covers the caregiver's face.
+    """Over many scenes, objects are apart, reachable and clear of the face.
+
+    No two objects overlap, all can be centred within the joint limits, none covers the caregiver's
+    face.
     """
     cfg = WorldConfig()
     rng = stream(0, "test")
@@ -80,8 +82,9 @@ def test_caregiver_gaze_points_at_the_target():
 
 
 def test_object_at_centre_is_ground_truth_of_the_view():
-    """Centring the head on an object makes it the object at the centre; the face alone is
-    not an object.
+    """Centring the head on an object makes it the object at the centre.
+
+    The face alone is not an object.
     """
     world = World(seed=3)
     for i in range(world.state.n_objects):
@@ -91,9 +94,9 @@ def test_object_at_centre_is_ground_truth_of_the_view():
 
 
 def test_projection_matches_rendered_centroids(needs_gl):
-    """Fast projection agrees with the rendered (segmentation) centroid within 2 px, and the
-    image area with the rendered area within 5%, for every unoccluded object fully in
-    view over many random scenes and head angles.
+    """Fast projection agrees with rendered segmentation: centre 2 px, area 5%.
+
+    For every unoccluded object fully in view over many random scenes and head angles.
     """
     world = World(seed=11)
     rng = np.random.default_rng(0)

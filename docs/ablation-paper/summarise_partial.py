@@ -1,7 +1,8 @@
-"""Claims and final success of the readings whose cells are all done in a partly run
-``jointattention reproduce --preset ablation-paper --out runs/ablation-paper``.
+"""Claims and final success of the readings whose cells are all done.
 
-    python docs/ablation-paper/summarise_partial.py runs/ablation-paper runs/paper/ceilings.json
+For a partly run ``jointattention reproduce --preset ablation-paper --out runs/ablation-paper``.
+
+python docs/ablation-paper/summarise_partial.py runs/ablation-paper runs/paper/ceilings.json
 """
 
 import dataclasses

@@ -182,8 +182,10 @@ def _coerce(name: str, value: Any, hint: Any) -> Any:
 
 
 def merge_tagged(registry: Registry, current: Any, value: Any, name: str) -> Any:
-    """``current`` (of some kind) changed by ``value``: a table, or just a kind's name. A new
-    kind starts from its defaults and keeps the fields it shares with the old one.
+    """``current`` (of some kind) changed by ``value``.
+
+    ``value`` is a table, or just a kind's name. A new kind starts from its defaults and keeps the
+    fields it shares with the old one.
     """
     if isinstance(value, str):
         value = {"kind": value}

@@ -41,8 +41,10 @@ def _is_tables(v: Any) -> bool:
 
 
 def dumps(mapping: dict, prefix: str = "") -> str:
-    """TOML text of ``mapping``: tables as ``[headers]``, lists of tables as ``[[headers]]``
-    whose nested tables are written inline.
+    """TOML text of ``mapping``.
+
+    Tables become ``[headers]``, lists of tables ``[[headers]]`` whose nested tables are written
+    inline.
     """
     lines = [f"{_key(k)} = {_value(v)}" for k, v in mapping.items()
              if not isinstance(v, dict) and not _is_tables(v)]

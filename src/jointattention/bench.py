@@ -62,8 +62,9 @@ def run_world_benchmarks(
 
 
 def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
-    """Steps per second of ``JointAttention-v0`` (render + detect + evaluate each step) under
-    random actions, resets included; empty if Gymnasium is not installed.
+    """Steps per second of ``JointAttention-v0`` under random actions, resets included.
+
+    Each step renders, detects and evaluates; empty if Gymnasium is not installed.
     """
     try:
         from .env import JointAttentionEnv
@@ -83,9 +84,11 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
 
 
 def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
-    """Agent-steps per second of learning: the quick preset's 5-object sigmoid cell in fast
-    mode (whose gate goes from the visual controller to the learning module), and its first
-    ``rendered_steps`` steps in rendered mode (MuJoCo render + OpenCV detection each step).
+    """Agent-steps per second of learning, in fast and in rendered mode.
+
+    The quick preset's 5-object sigmoid cell in fast mode (whose gate goes from the visual
+    controller to the learning module), and its first ``rendered_steps`` steps in rendered mode
+    (MuJoCo render + OpenCV detection each step).
     """
     import dataclasses
 
@@ -108,8 +111,10 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
 
 def preset_estimates(fast_steps_per_s: float, rendered_steps_per_s: float,
                      workers: int) -> list[tuple[str, float, str]]:
-    """Estimated wall time of each shipped preset: its agent-steps over ``workers``
-    processes at the rate of its perception mode (``reproduce`` records the measured time).
+    """Estimated wall time of each shipped preset.
+
+    Its agent-steps over ``workers`` processes at the rate of its perception mode (``reproduce``
+    records the measured time).
     """
     from .config import load_config, preset_names
 

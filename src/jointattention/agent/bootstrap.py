@@ -1,5 +1,7 @@
-"""The paper's model: the bootstrap learning agent (visual attention, self-evaluation,
-learning and the gate), and its options (the ``[model]`` section, ``kind = "bootstrap"``).
+"""The paper's model: the bootstrap learning agent and its options.
+
+The agent wires visual attention, self-evaluation, learning and the gate; its options are the
+``[model]`` section with ``kind = "bootstrap"``.
 """
 
 from __future__ import annotations
@@ -23,8 +25,9 @@ __all__ = ["BootstrapAgent", "BootstrapOptions"]
 
 @dataclass(frozen=True)
 class BootstrapOptions(ModelOptions):
-    """The bootstrap model's options; the last three are readings where the paper is silent
-    (README, *The model*).
+    """The bootstrap model's options.
+
+    The last three are readings where the paper is silent (README, *The model*).
     """
 
     readings: ClassVar[tuple[str, ...]] = ("gate_per", "vf_fallback", "learning_target")

@@ -1,6 +1,7 @@
-"""The caregiver's face in an image: found by template matching, as the paper's robot did, or
-by OpenCV's Haar cascade for real photographs (shipped with opencv-python-headless); and the
-face window cut around it (paper: 30 x 25 pixels).
+"""The caregiver's face in an image, and the face window cut around it.
+
+Faces are found by template matching, as the paper's robot did, or by OpenCV's Haar cascade for real
+photographs (shipped with opencv-python-headless). The face window is the paper's 30 x 25 pixels.
 """
 
 from __future__ import annotations
@@ -15,9 +16,10 @@ __all__ = ["Face", "FaceFinder", "face_template", "face_window"]
 
 @dataclass(frozen=True)
 class Face:
-    """A face found in an image: its centre, the height of its box (both in pixels), the
-    match score (normalised correlation; 1.0 for the Haar cascade, which gives none) and the
-    box's width / height.
+    """A face found in an image.
+
+    Its centre, the height of its box (both in pixels), the match score (normalised correlation; 1.0
+    for the Haar cascade, which gives none) and the box's width / height.
     """
 
     centre_px: np.ndarray

@@ -43,8 +43,10 @@ class ModelOptions(Section):
     readings: ClassVar[tuple[str, ...]] = ()
 
     def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> Agent:
-        """The untrained agent: these options, the robot's shared mechanisms (``agent``), its
-        body, and its own random generator.
+        """The untrained agent.
+
+        Built from these options, the robot's shared mechanisms (``agent``), its body, and its own
+        random generator.
         """
         raise NotImplementedError
 

@@ -74,8 +74,10 @@ class Agent(Protocol):
         """Start a trial looking at the caregiver: its face window (H, W) and the head angle."""
 
     def act(self, detections: Detections, theta_rad: np.ndarray) -> tuple[np.ndarray, str]:
-        """One step: the head angle change (pan, tilt) in radians, and which module made it
-        (:data:`VF`, :data:`LM`, :data:`RANDOM`, or a name of the model's own).
+        """One step: the head angle change and the module that made it.
+
+        The change is (pan, tilt) in radians; the module is :data:`VF`, :data:`LM`, :data:`RANDOM`,
+        or a name of the model's own.
         """
 
     def end_trial(self, outcome: Outcome) -> None:

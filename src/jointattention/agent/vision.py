@@ -21,8 +21,10 @@ __all__ = ["ColourRegions", "ImageDetector", "colour_regions", "fit_ball", "fit_
 
 
 class ColourRegions:
-    """Bright-colour regions of one image: ``labels`` (H, W) int32 (0: none, k: region k-1),
-    and per region ``centre_px`` (n, 2) and ``area_px`` (n,).
+    """Bright-colour regions of one image.
+
+    ``labels`` (H, W) int32 (0: none, k: region k-1), and per region ``centre_px`` (n, 2) and
+    ``area_px`` (n,).
     """
 
     __slots__ = ("area_px", "centre_px", "labels")
@@ -55,8 +57,10 @@ def fit_circle(points: np.ndarray) -> tuple[np.ndarray, float]:
 
 
 def fit_ball(points: np.ndarray, centre_px, focal_px: float) -> tuple[np.ndarray, float]:
-    """Where the centre of a ball projects, and its radius in pixels (f tan of its angular
-    radius), from image points (n, 2) of its outline.
+    """Where a ball's centre projects, and its radius, from points of its outline.
+
+    ``points`` (n, 2) are image points of the outline; the radius is in pixels (f tan of the ball's
+    angular radius).
 
     A calibrated camera sees a ball's outline as a cone of rays, all at the same angle b to
     the ray c through its centre: r_i . v = 1 for v = c / cos b, solved by least squares.
@@ -72,11 +76,12 @@ def fit_ball(points: np.ndarray, centre_px, focal_px: float) -> tuple[np.ndarray
 
 def _border_centre(labels: np.ndarray, k: int, box, shape,
                    focal_px: float | None) -> np.ndarray | None:
-    """Centre of region ``k`` (touching the image border) from its outline off the border:
-    the ball fitted through it if the focal length is known, else the circle. None if the
-    outline is too short, or if the region reaches less than the fitted radius (or 5 px, as
-    a thin cap's fit is unsound) in from the border: a ball whose centre is in the image
-    reaches at least its radius in from it.
+    """Centre of region ``k`` (touching the image border) from its outline off the border.
+
+    The ball fitted through the outline if the focal length is known, else the circle. None if the
+    outline is too short, or if the region reaches less than the fitted radius (or 5 px, as a thin
+    cap's fit is unsound) in from the border: a ball whose centre is in the image reaches at least
+    its radius in from it.
     """
     x, y, w, h = box
     crop = (labels[y:y + h, x:x + w] == k).astype(np.uint8)
@@ -96,7 +101,8 @@ def _border_centre(labels: np.ndarray, k: int, box, shape,
 
 def colour_regions(image_rgb: np.ndarray, config: DetectorConfig,
                    focal_px: float | None = None) -> ColourRegions:
-    """The bright-colour regions of an RGB uint8 image (see the module's docstring);
+    """The bright-colour regions of an RGB uint8 image (see the module's docstring).
+
     ``focal_px``, the camera's focal length, locates balls cut by the border.
     """
     hsv = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2HSV)

@@ -43,8 +43,9 @@ class Claim:
 
 
 def reading_of(condition, config: Config) -> str:
-    """The condition's reading, e.g. ``gate_per=step, vf_fallback=lm, learning_target=...``,
-    preceded by ``model=<kind>`` for models other than the bootstrap model.
+    """The condition's reading, e.g. ``gate_per=step, vf_fallback=lm, learning_target=...``.
+
+    Preceded by ``model=<kind>`` for models other than the bootstrap model.
     """
     options = model_options(config, condition)
     kind = MODELS.name_of(options)
@@ -62,8 +63,10 @@ def _finals(per_seed: np.ndarray) -> np.ndarray:
 
 
 def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
-    """Every claim each reading's conditions allow; ``curves`` as from
-    :func:`jointattention.analysis.curves.condition_curves`, ``ceilings`` {str(n): ceiling}.
+    """Every claim each reading's conditions allow.
+
+    ``curves`` as from :func:`jointattention.analysis.curves.condition_curves`, ``ceilings``
+    {str(n): ceiling}.
     """
     gates = {c.name: getattr(model_options(config, c), "gate", None)
              for c in config.experiment.conditions}

@@ -33,8 +33,10 @@ def condition_curves(out: Path, config: Config) -> Curves:
 
 
 def final_table(config: Config, curves: Curves, ceilings: dict[str, float]) -> Table:
-    """Per condition: chance, the oracle ceiling, final success (mean of the last 10% of
-    bins; s.d. over seeds), its fraction of the ceiling and the time to 90% of it.
+    """The table of final success, one row per condition.
+
+    Chance, the oracle ceiling, final success (mean of the last 10% of bins; s.d. over seeds), its
+    fraction of the ceiling and the time to 90% of it.
     """
     columns = ("condition", "n_objects", "chance", "ceiling", "final_success",
                "final_sd_over_seeds", "fraction_of_ceiling", "steps_to_90pct_of_final")

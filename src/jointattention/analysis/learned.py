@@ -35,9 +35,10 @@ __all__ = ["Frame", "angle_deg", "angle_errors", "grid_faces", "held_out_poses",
 
 def train(config: Config, condition_name: str, seed_index: int, checkpoints,
           progress: Callable[[int], None] | None = None) -> dict[int, BootstrapAgent]:
-    """Learn the cell; copies of the agent at the first trial end past each checkpoint (in
-    learning steps) and at the end (key ``n_steps``); key 0 is the untrained agent, with the
-    face statistics of the data sets.
+    """Learn the cell, keeping copies of the agent at checkpoints.
+
+    A copy at the first trial end past each checkpoint (in learning steps) and at the end (key
+    ``n_steps``); key 0 is the untrained agent, with the face statistics of the data sets.
     """
     condition = condition_named(config, condition_name)
     pending = sorted(t for t in set(checkpoints) | {config.experiment.n_steps} if t > 0)
@@ -57,8 +58,9 @@ def train(config: Config, condition_name: str, seed_index: int, checkpoints,
 
 
 def angle_errors(agent: BootstrapAgent, ds: CaregiverDatasets) -> np.ndarray:
-    """Per data set, the angle (deg) between the module's output at the face and the
-    command that centres the target.
+    """Per data set, the angle (deg) from the module's output to the command to the target.
+
+    The output is taken at the face, the command is the one that centres the target.
     """
     return np.array([angle_deg(agent.lm_command(f, t), c) for f, t, c
                      in zip(ds.face, ds.theta_face_rad, ds.command_rad, strict=True)])
@@ -70,8 +72,10 @@ def angle_deg(a, b) -> np.ndarray:
 
 
 def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDatasets:
-    """``n`` more data sets of the same caregiver: the recording continued past ``ds`` (the
-    shipped sets record world seed ``ds.meta['seed']``), so no pose is among ``ds``.
+    """``n`` more data sets of the same caregiver.
+
+    The recording continued past ``ds`` (the shipped sets record world seed ``ds.meta['seed']``), so
+    no pose is among ``ds``.
     """
     seed = int(ds.meta.get("seed", config.seed))
     more = make_datasets(config.world, len(ds) + n, seed)
@@ -85,9 +89,11 @@ def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDa
 
 
 def grid_faces(config: Config, seed: int, pan_deg, tilt_deg, distance_m: float = 0.65):
-    """Face windows (len(tilt), len(pan), h, w), head angles at the face and commands to the
-    target, for a caregiver at its mean place looking at targets ``distance_m`` from the robot
-    in each direction (pan, tilt) of the grid.
+    """Face windows, head angles and commands for a grid of gaze directions.
+
+    Face windows (len(tilt), len(pan), h, w), head angles at the face and commands to the target,
+    for a caregiver at its mean place looking at targets ``distance_m`` from the robot in each
+    direction (pan, tilt) of the grid.
     """
     c = config.world.caregiver
     faces, thetas, commands = [], [], []
@@ -114,8 +120,10 @@ def grid_faces(config: Config, seed: int, pan_deg, tilt_deg, distance_m: float =
 
 @dataclass(frozen=True)
 class Frame:
-    """One step of a recorded trial: the robot's image, its head angle, the detections'
-    centres, the target's projected centre (experimenter's), and the module that moved next.
+    """One step of a recorded trial.
+
+    The robot's image, its head angle, the detections' centres, the target's projected centre
+    (experimenter's), and the module that moved next.
     """
 
     image: np.ndarray
@@ -140,8 +148,10 @@ class _Recorder:
 
 def record_trial(config: Config, agent: BootstrapAgent, n_objects: int, seed: int = 0,
                  min_lm_steps: int = 3, max_tries: int = 300) -> tuple[list[Frame], TrialResult]:
-    """Render trials with a copy of ``agent`` until one achieves joint attention with at
-    least ``min_lm_steps`` steps of the learning module; its frames and result.
+    """Render trials with a copy of ``agent`` until one achieves joint attention.
+
+    The trial must have at least ``min_lm_steps`` steps of the learning module; returns its frames
+    and result.
     """
     ds = datasets_of(config)
     kin = HeadKinematics.from_config(config.world)

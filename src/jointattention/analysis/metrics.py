@@ -42,8 +42,9 @@ def final_success(curve: np.ndarray, fraction: float = 0.1) -> float:
 
 
 def time_to_fraction(curve: np.ndarray, bin_steps: int, fraction: float = 0.9) -> float:
-    """Learning time (end of the first bin) at which the curve reaches ``fraction`` of its
-    final value; NaN if it never does.
+    """Learning time at which the curve reaches ``fraction`` of its final value.
+
+    The end of the first bin that does; NaN if none does.
     """
     reached = np.flatnonzero(curve >= fraction * final_success(curve))
     return float((reached[0] + 1) * bin_steps) if len(reached) else float("nan")

@@ -1,5 +1,7 @@
-"""Do the two ways of seeing agree? The OpenCV detector on rendered images against the fast
-projection, over many random scenes and head angles (README, *Seeing with images*).
+"""Do the two ways of seeing agree? Rendered images through OpenCV against the projection.
+
+The OpenCV detector on rendered images against the fast projection, over many random scenes
+and head angles (README, *Seeing with images*).
 
 A case is one random scene seen from one head angle: aimed at a random object (or, one time in
 four, at the caregiver's face) plus a random turn, as the head looks during trials. A case
@@ -39,9 +41,11 @@ CAUSES = {
 
 @dataclass(frozen=True)
 class ParityResult:
-    """Per case: ``same_choice``, ``centres_agree``, ``max_error_px`` (over objects seen by
-    both; 0 if none) and ``cause`` (of a disagreement, else ""); ``errors_px`` over every
-    object seen by both in every case.
+    """Per case, whether the detectors agree, and the errors of their centres.
+
+    Per case: ``same_choice``, ``centres_agree``, ``max_error_px`` (over objects seen by both; 0 if
+    none) and ``cause`` (of a disagreement, else ""); ``errors_px`` over every object seen by both
+    in every case.
     """
 
     same_choice: np.ndarray

@@ -1,5 +1,6 @@
-"""Tables kept as data and rendered as Markdown, HTML or CSV (the run folder keeps the CSV;
-the report reads it back).
+"""Tables kept as data and rendered as Markdown, HTML or CSV.
+
+The run folder keeps the CSV; the report reads it back.
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""The command line's run commands: ``reproduce``, ``sweep``, ``report``, ``bench`` and
-``config``.
+"""The command line's run commands.
+
+``reproduce``, ``sweep``, ``report``, ``bench`` and ``config``.
 """
 
 from __future__ import annotations

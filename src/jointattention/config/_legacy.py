@@ -1,6 +1,8 @@
-"""Reading configurations written before the ``[model]`` section (version 0.1.0 and its run
-folders): the learning module's and the gate's settings lived in ``[agent]`` and in each
-condition. They are moved where they live now, so that old run folders resume.
+"""Reading configurations written before the ``[model]`` section.
+
+In version 0.1.0 and its run folders, the learning module's and the gate's settings lived in
+``[agent]`` and in each condition. They are moved where they live now, so that old run folders
+resume.
 """
 
 from __future__ import annotations

@@ -11,8 +11,9 @@ __all__ = ["AgentConfig", "DetectorConfig"]
 
 @dataclass(frozen=True)
 class AgentConfig(Section):
-    """The robot's embedded mechanisms (paper, section III) that every model shares: visual
-    attention (Eq. 1, 2), the internal evaluator (Eq. 3), the step length and the trial's
+    """The robot's embedded mechanisms (paper, section III) that every model shares.
+
+    Visual attention (Eq. 1, 2), the internal evaluator (Eq. 3), the step length and the trial's
     step limit. What learns is the ``[model]`` section.
     """
 
@@ -33,9 +34,11 @@ class AgentConfig(Section):
 
 @dataclass(frozen=True)
 class DetectorConfig(Section):
-    """The robot's image-based salient feature detector (OpenCV), used in rendered mode and by
-    ``jointattention detect``. The world paints objects with HSV saturation and value of at
-    least 0.85 and everything else below 0.8 saturation, hence the colour thresholds.
+    """The robot's image-based salient feature detector (OpenCV).
+
+    Used in rendered mode and by ``jointattention detect``. The world paints objects with HSV
+    saturation and value of at least 0.85 and everything else below 0.8 saturation, hence the colour
+    thresholds.
     """
 
     min_saturation: float = param(

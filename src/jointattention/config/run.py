@@ -99,8 +99,9 @@ class Config(Section):
 
 def model_options(config: Config, condition: ConditionConfig,
                   where: str = "model") -> ModelOptions:
-    """The options of ``condition``'s model: the run's ``[model]`` with the condition's
-    changes applied.
+    """The options of ``condition``'s model.
+
+    The run's ``[model]`` with the condition's changes applied.
     """
     if not condition.model:
         return config.model

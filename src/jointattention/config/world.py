@@ -1,5 +1,6 @@
-"""The world's configuration: what only the experimenter sets (camera, head, caregiver,
-objects, light, face window).
+"""The world's configuration: what only the experimenter sets.
+
+The camera, head, caregiver, objects, light and face window.
 """
 
 from __future__ import annotations

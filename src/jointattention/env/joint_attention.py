@@ -1,5 +1,6 @@
-"""The Gymnasium environment ``JointAttention-v0``: one trial per episode (its docstring is
-its manual). Needs the ``gym`` extra (``pip install "jointattention[gym]"``).
+"""The Gymnasium environment ``JointAttention-v0``: one trial per episode.
+
+Its docstring is its manual. Needs the ``gym`` extra (``pip install "jointattention[gym]"``).
 """
 
 from __future__ import annotations
@@ -170,8 +171,9 @@ class JointAttentionEnv(gym.Env):
         return obs, info
 
     def face_window(self, image: np.ndarray) -> np.ndarray:
-        """The grayscale face window (``world.face_window`` size) cropped from ``image``,
-        an image taken at the current head angle.
+        """The grayscale face window (``world.face_window`` size) cut from ``image``.
+
+        ``image`` must be taken at the current head angle.
         """
         return capture_face_window(self._world, image)
 

@@ -13,8 +13,9 @@ __all__ = ["EnvTrial"]
 
 
 class EnvTrial:
-    """One episode of a ``JointAttention-v0`` environment seen as a trial, so that
-    :func:`~jointattention.experiment.trial.run_trial` drives an
+    """One episode of a ``JointAttention-v0`` environment seen as a trial.
+
+    So that :func:`~jointattention.experiment.trial.run_trial` drives an
     :class:`~jointattention.agent.protocol.Agent` through it.
 
     The agent gets what the environment gives: the head angle from the observation and the

@@ -10,9 +10,10 @@ __all__ = ["FaceWindowObservation"]
 
 
 class FaceWindowObservation(gym.ObservationWrapper):
-    """Adds ``"face"``: the caregiver's face window (grayscale uint8, 25 x 30 by default), taken
-    from the first image of the episode, when the robot looks at the caregiver, and kept for
-    the whole episode (as the robot keeps it in the paper's model).
+    """Adds ``"face"``: the caregiver's face window, kept for the whole episode.
+
+    Grayscale uint8, 25 x 30 by default, taken from the first image of the episode, when the robot
+    looks at the caregiver, and kept as the robot keeps it in the paper's model.
     """
 
     def __init__(self, env: gym.Env):

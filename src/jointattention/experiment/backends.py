@@ -98,8 +98,9 @@ def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
              backend: str = "local",
              address: str | None = None, progress: Callable[[str], None] | None = None,
              label: Callable[[CellJob], str] = _label) -> None:
-    """Run ``run`` for the ``jobs`` whose ``path`` does not exist yet, and save each cell's
-    records to its ``path`` as it finishes.
+    """Run ``run`` for each job not done yet, saving each cell as it finishes.
+
+    A job is done when its ``path`` exists; each cell's records go to its ``path``.
 
     ``backend`` is ``"local"`` (``workers`` processes; 1 runs in this process) or ``"ray"``
     (a local Ray instance with ``workers`` CPUs, or the cluster at ``address``).

@@ -32,8 +32,10 @@ def datasets_of(config: Config) -> CaregiverDatasets:
 
 
 def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance_m: float):
-    """Where data set ``k``'s target and face are (the target at its recorded position, or,
-    for data sets recorded without it, 0.65 m along the recorded command).
+    """Where data set ``k``'s target and face are.
+
+    The target at its recorded position, or, for data sets recorded without it, 0.65 m along the
+    recorded command.
     """
     theta_face = ds.theta_face_rad[k]
     face = kin.camera_position(theta_face) + distance_m * kin.gaze_direction(theta_face)
@@ -45,8 +47,9 @@ def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance
 
 def random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_objects: int,
                  rng: np.random.Generator) -> tuple[int, FastScene, np.ndarray]:
-    """A trial's data set index, its scene (the recorded target plus random distractors) and
-    where the caregiver's face is.
+    """A trial's data set index, its scene and where the caregiver's face is.
+
+    The scene is the recorded target plus random distractors.
     """
     k = int(rng.integers(len(ds)))
     target_m, face_m = _trial_geometry(ds, k, kin, config.world.caregiver.distance_m)

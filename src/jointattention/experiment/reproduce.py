@@ -1,5 +1,7 @@
-"""The main job as a library call: every cell of a configuration, the ceilings, the figures,
-the table and the checked claims, in one run folder (``jointattention reproduce`` calls it).
+"""The main job as a library call (``jointattention reproduce`` calls it).
+
+Every cell of a configuration, the ceilings, the figures, the table and the checked claims, in one
+run folder.
 """
 
 from __future__ import annotations

@@ -39,8 +39,10 @@ def versions() -> dict:
 
 
 def prepare_run_dir(out: Path, config: Config) -> None:
-    """Create the run folder with its configuration, or check that an existing folder was
-    made with the same configuration (so that a resumed run adds to matching results).
+    """Create the run folder, or check that it holds this configuration.
+
+    An existing folder must have been made with the same configuration, so that a resumed run adds
+    to matching results.
     """
     out = Path(out)
     cfg_file = out / "config.toml"

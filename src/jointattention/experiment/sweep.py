@@ -125,8 +125,9 @@ def run_sweep(sweep: Sweep, out: str | Path, *, workers: int = 1, backend: str =
 
 
 def summarise(sweep: Sweep, out: Path) -> list[dict]:
-    """Final success (mean and 95% interval over seeds, rounded to 3 decimals) per point and
-    condition, written to ``summary.csv`` and ``summary.md`` in ``out``.
+    """Final success per point and condition, written to ``summary.csv`` and ``.md``.
+
+    The mean and 95% interval over seeds, rounded to 3 decimals; the files go in ``out``.
     """
     rows = []
     for name, config in sweep.points.items():

@@ -1,5 +1,7 @@
-"""Figures without pyplot: made with :class:`matplotlib.figure.Figure`, so the library never
-chooses or changes matplotlib's backend, and saved whole or not at all.
+"""Figures without pyplot, saved whole or not at all.
+
+They are made with :class:`matplotlib.figure.Figure`, so the library never chooses or changes
+matplotlib's backend.
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""The ``jointattention detect`` command: what the robot's detectors find in a photograph,
-drawn over it.
+"""The ``jointattention detect`` command: the robot's detectors on a photograph.
+
+What they find is drawn over the photograph.
 
 Bright-colour regions (magenta outline, cross at the centre, the most interesting one by the
 paper's Eq. 1 in yellow), faces (green boxes; OpenCV's Haar cascade by default, the shipped
@@ -102,8 +103,9 @@ def draw(image_rgb: np.ndarray, found: Found) -> np.ndarray:
 
 def detect_files(paths: list[Path], out_dir: Path, config: Config,
                  face_method: str = "haar") -> list[tuple[Path, Found]]:
-    """Write ``<name>_detected.png`` into ``out_dir`` for each image; every image is read
-    before anything is written, so a bad one leaves nothing behind.
+    """Write ``<name>_detected.png`` into ``out_dir`` for each image.
+
+    Every image is read before anything is written, so a bad one leaves nothing behind.
     """
     images = [(Path(p), _read(Path(p))) for p in paths]
     if face_method == "template":

@@ -26,8 +26,9 @@ UNSEEN_DEG = 5.0  # a grid direction farther than this from every data set's is 
 
 
 def fig6(agent, faces, thetas, commands, seen_commands, path: Path) -> dict:
-    """Face windows of the grid with the module's output (red) and the true direction
-    (white, thin); unseen directions titled in blue.
+    """Face windows of the grid with the module's output and the true direction.
+
+    The output in red, the true direction in white (thin); unseen directions titled in blue.
     """
     rows, cols = faces.shape[:2]
     fig = new_figure(2.0 * cols, 1.8 * rows)

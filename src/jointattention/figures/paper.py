@@ -1,5 +1,6 @@
-"""The paper's Fig. 4(a), Fig. 4(b) and Fig. 5 from a run's success curves, and a figure of
-the models side by side when a run's conditions use more than one model.
+"""The paper's Fig. 4(a), Fig. 4(b) and Fig. 5 from a run's success curves.
+
+And a figure of the models side by side when a run's conditions use more than one model.
 """
 
 from __future__ import annotations
@@ -21,8 +22,9 @@ _NOTE = "dotted: chance 1/n; dashed: oracle gaze-line ceiling; bands: 95% interv
 
 
 def is_plain(condition: ConditionConfig, config: Config) -> bool:
-    """A condition of the paper's own figures: the run's model and readings, faces not
-    shuffled (other gates are allowed).
+    """Whether a condition belongs in the paper's own figures.
+
+    It has the run's model and readings, and faces not shuffled (other gates are allowed).
     """
     options, run = model_options(config, condition), config.model
     return (not condition.shuffle_faces and type(options) is type(run)
@@ -73,8 +75,10 @@ def _gates_figure(config: Config, path: Path) -> Path:
 
 
 def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> list[Path]:
-    """Write fig4a_success.png, fig4b_gate.png, fig5_gates.png (and models.png if the
-    conditions use more than one model) into ``out``; returns their paths.
+    """Write the paper's figures into ``out``; returns their paths.
+
+    fig4a_success.png, fig4b_gate.png, fig5_gates.png, and models.png if the conditions use more
+    than one model.
     """
     out = Path(out)
     conds = {c.name: c for c in config.experiment.conditions}

@@ -41,8 +41,9 @@ pre { background: #f6f6f6; padding: 1em; overflow-x: auto; font-size: 0.85em; }
 
 
 def _table(run: Path, stem: str) -> str | None:
-    """The run's table ``stem`` in HTML: from its CSV, or its Markdown text as it is (run
-    folders of older versions wrote no claims.csv).
+    """The run's table ``stem`` in HTML.
+
+    From its CSV, or its Markdown text as it is (run folders of older versions wrote no claims.csv).
     """
     if (run / f"{stem}.csv").is_file():
         return read_csv(run / f"{stem}.csv").to_html()

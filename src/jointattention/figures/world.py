@@ -20,9 +20,7 @@ WHITE, CYAN, YELLOW = (255, 255, 255), (40, 220, 255), (255, 230, 0)
 
 
 def _annotate(world: World, image: np.ndarray, d_th_px: float, show_face: bool) -> np.ndarray:
-    """Outline the objects in view (the target thicker), the face window and the evaluator's
-    circle.
-    """
+    """Outline the objects in view (the target thicker), the face window and Eq. 3's circle."""
     out = image.copy()
     kin, state = world.kinematics, world.state
     scene = world.fast_scene()
@@ -48,9 +46,11 @@ def _annotate(world: World, image: np.ndarray, d_th_px: float, show_face: bool) 
 
 
 def robot_view(world: World, path: str | Path, d_th_px: float) -> Path:
-    """Three panels: the room from behind the robot, the robot looking at the caregiver (face
-    window boxed), and the robot after turning to the caregiver's target; with the internal
-    evaluator's circle of radius ``d_th_px``.
+    """Three panels: the room, the robot looking at the caregiver, then at its target.
+
+    The room from behind the robot, the robot looking at the caregiver (face window boxed), and the
+    robot after turning to the caregiver's target; with the internal evaluator's circle of radius
+    ``d_th_px``.
     """
     overview = world.render("overview")
     world.set_head_angle(world.face_angle_rad)

@@ -48,9 +48,10 @@ class FastScene:
     @classmethod
     def sample(cls, world: WorldConfig, kinematics: HeadKinematics, target_m, face_m,
                n_objects: int, rng: np.random.Generator) -> FastScene:
-        """The caregiver's target at ``target_m`` plus random distractors kept clear of the
-        face at ``face_m``; ``rng`` draws the distractors, the target's size, the objects'
-        order and every object's texture.
+        """The caregiver's target at ``target_m`` plus random distractors.
+
+        The distractors are kept clear of the face at ``face_m``; ``rng`` draws them, the target's
+        size, the objects' order and every object's texture.
         """
         target_radius = rng.uniform(*world.objects.radius_range_m)
         pos, rad = place_objects(world, face_m, rng, n_objects, [target_m], [target_radius])
@@ -58,8 +59,9 @@ class FastScene:
         return cls(kinematics, pos, rad, target, rng.uniform(0, 1, n_objects))
 
     def observe(self, theta_rad) -> Detections:
-        """What the robot's detector reports at head angle ``theta_rad``; the object ids of
-        the detections are left in ``visible_ids``.
+        """What the robot's detector reports at head angle ``theta_rad``.
+
+        The object ids of the detections are left in ``visible_ids``.
         """
         kin = self.kinematics
         uv, depth, area = kin.project_spheres(self.object_pos_m, self.object_radius_m, theta_rad)

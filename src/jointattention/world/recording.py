@@ -16,9 +16,10 @@ __all__ = ["capture_face_window", "face_box", "make_datasets"]
 
 
 def face_box(world: World) -> tuple[np.ndarray, float]:
-    """Where the face window is cut in the robot's current view: the image position of the
-    caregiver's head centre, and the crop's height (``face_window.margin`` times the head's
-    apparent height).
+    """Where the face window is cut in the robot's current view.
+
+    The image position of the caregiver's head centre, and the crop's height (``face_window.margin``
+    times the head's apparent height).
     """
     kin, state = world.kinematics, world.state
     theta = world.head_angle_rad
@@ -37,8 +38,10 @@ def capture_face_window(world: World, image: np.ndarray | None = None) -> np.nda
 def make_datasets(
     config: WorldConfig, n: int, seed: int, progress: Callable[[int], None] | None = None
 ) -> CaregiverDatasets:
-    """``n`` data sets: in each a new scene; the robot looks at the caregiver's face, records
-    the face window and its head angle, and the command that would centre the target.
+    """``n`` data sets, each from a new scene.
+
+    In each, the robot looks at the caregiver's face, records the face window and its head angle,
+    and the command that would centre the target.
     """
     if n < 1:
         raise ValueError(f"n = {n}: expected at least one data set")

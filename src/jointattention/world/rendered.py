@@ -1,5 +1,7 @@
-"""The rendered way to see: a trial's objects shown in MuJoCo, each view rendered and given to
-the robot's OpenCV detector (:mod:`jointattention.agent.vision`).
+"""The rendered way to see: MuJoCo renders given to the robot's OpenCV detector.
+
+A trial's objects are shown in MuJoCo, and each view is rendered and given to
+:mod:`jointattention.agent.vision`.
 
 A :class:`~jointattention.world.protocol.Scene` like
 :class:`~jointattention.world.fast.FastScene`, so the trial loop and the agent cannot tell
@@ -89,8 +91,9 @@ class RenderedScenes:
 
 
 def object_ids(centres_px: np.ndarray, uv: np.ndarray, radius_px: np.ndarray) -> np.ndarray:
-    """The object each detection belongs to: the nearest projected centre whose disc (one
-    pixel wider) holds it, else -1.
+    """The object each detection belongs to, else -1.
+
+    The nearest projected centre whose disc (one pixel wider) holds it.
     """
     ids = np.full(len(centres_px), -1)
     for j, c in enumerate(centres_px):

@@ -114,8 +114,9 @@ def sample_caregiver(world: WorldConfig, rng: np.random.Generator) -> Caregiver:
 
 def _sample_objects(world: WorldConfig, head_pos: np.ndarray, face_radius: float,
                     rng: np.random.Generator, n: int, fixed_pos=(), fixed_rad=()):
-    """Objects at random, apart from each other and from the face, all reachable; the
-    ``fixed`` objects (already placed) come first and count toward ``n``.
+    """Objects at random, apart from each other and from the face, all reachable.
+
+    The ``fixed`` objects (already placed) come first and count toward ``n``.
 
     Candidates are drawn in batches and accepted in order, which is the same as drawing them
     one by one and rejecting the ones that break a rule.
@@ -211,9 +212,10 @@ def _light(world: WorldConfig, rng: np.random.Generator) -> dict:
 
 def scene_with(world: WorldConfig, caregiver: Caregiver, head_pos_m, object_pos_m,
                object_radius_m, target_index: int, rng: np.random.Generator) -> SceneState:
-    """A scene of given geometry (a trial's objects, the caregiver's head where a data set
-    has it) with the caregiver looking at the target without pose noise; ``rng`` draws the
-    objects' colours and the light.
+    """A scene of given geometry, the caregiver looking at the target.
+
+    The geometry is a trial's objects and the caregiver's head where a data set has it; the
+    caregiver looks without pose noise; ``rng`` draws the objects' colours and the light.
     """
     head_pos_m = np.asarray(head_pos_m, float)
     object_pos_m = np.asarray(object_pos_m, float)
@@ -224,8 +226,9 @@ def scene_with(world: WorldConfig, caregiver: Caregiver, head_pos_m, object_pos_
 
 
 def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneState:
-    """``state`` with its target moved to ``target_pos_m`` and the caregiver looking at it
-    without pose noise (for pictures and held-out caregiver poses).
+    """``state`` with its target moved to ``target_pos_m``.
+
+    The caregiver looks at it without pose noise (for pictures and held-out caregiver poses).
     """
     pos = state.object_pos_m.copy()
     pos[state.target_index] = target_pos_m
@@ -248,8 +251,9 @@ def shuffle_target(pos_m: np.ndarray, radius_m: np.ndarray, rng: np.random.Gener
 
 def with_new_distractors(state: SceneState, world: WorldConfig,
                          rng: np.random.Generator) -> SceneState:
-    """``state`` with every object but the target drawn anew and the objects' order shuffled;
-    the caregiver, its gaze and the target stay (a recorded data set in a new scene).
+    """``state`` with every object but the target drawn anew, in a new order.
+
+    The caregiver, its gaze and the target stay (a recorded data set in a new scene).
     """
     n, t = state.n_objects, state.target_index
     pos, rad = _sample_objects(world, state.head_pos_m, state.face_radius_m, rng, n,

@@ -175,8 +175,9 @@ class World:
         return self.state.target_index
 
     def object_at_centre(self, radius_px: float, theta_rad=None) -> int | None:
-        """The object the internal evaluator (Eq. 3, radius ``radius_px``) would fire on at
-        ``theta_rad`` (default: the current angle), else None.
+        """The object the internal evaluator would fire on, else None.
+
+        Eq. 3 with radius ``radius_px``, at ``theta_rad`` (default: the current angle).
         """
         theta = self.head_angle_rad if theta_rad is None else theta_rad
         scene = self.fast_scene()
