@@ -16,12 +16,12 @@ demo: $(STAMP)
 	$(BIN)/jointattention reproduce --preset quick --out runs/demo
 
 test: $(STAMP)
-	$(BIN)/ruff check src tests
+	$(BIN)/ruff check src tests examples docs
 	$(BIN)/python -m pytest -q
 
 lint: $(STAMP)
-	$(BIN)/ruff check src tests
-	$(BIN)/ruff format --check src tests
+	$(BIN)/ruff check src tests examples docs
+	$(BIN)/ruff format --check src tests examples docs
 
 bench: $(STAMP)
 	$(BIN)/jointattention bench
