@@ -137,6 +137,39 @@ def test_non_finite_numbers_are_refused():
         load_config_text("[world.camera]\nfov_deg = inf\n")
 
 
+@settings(max_examples=60, deadline=None)
+@given(
+    names=st.lists(st.text(min_size=1, max_size=12), min_size=1, max_size=3, unique=True),
+    rate=st.floats(0, 1),
+    lr=st.floats(1e-6, 1.0),
+    kind=st.sampled_from(["sigmoid", "constant"]),
+)
+def test_conditions_round_trip_through_toml(names, rate, lr, kind):
+    """Any condition names and model changes written as TOML read back equal."""
+    gate = {"kind": kind, "rate": rate} if kind == "constant" else {"kind": kind}
+    conditions = tuple(ConditionConfig(name=n, model={"gate": gate, "learning_rate": lr})
+                       for n in names)
+    cfg = Config(experiment=ExperimentConfig(conditions=conditions))
+    assert load_config_text(to_toml(cfg)) == cfg
+
+
+def test_configurations_of_version_0_1_still_load():
+    """Version 0.1.0's configurations load as the same configuration in today's form.
+
+    Gate and learning settings were in [agent] and in conditions; old run folders resume.
+    """
+    old = load_config_text(
+        "[agent]\ngate_midpoint_steps = 25000.0\nlearning_rate = 0.001\ngate_rate = 0.8\n"
+        "[[experiment.conditions]]\nname = 'c'\nn_objects = 5\ngate = 'constant'\n"
+        "[[experiment.conditions]]\nname = 't'\nn_objects = 5\ngate_per = 'trial'\n")
+    new = load_config_text(
+        "[model]\nlearning_rate = 0.001\n[model.gate]\nmidpoint_steps = 25000.0\n"
+        "[[experiment.conditions]]\nname = 'c'\nn_objects = 5\n"
+        "model = { gate = { kind = 'constant', rate = 0.8 } }\n"
+        "[[experiment.conditions]]\nname = 't'\nn_objects = 5\nmodel = { gate_per = 'trial' }\n")
+    assert old == new
+
+
 def test_condition_names_survive_the_toml_round_trip():
     """Quotes, backslashes, newlines and non-ASCII text in a name are written as valid TOML."""
     cfg = Config(experiment=ExperimentConfig(conditions=(

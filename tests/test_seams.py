@@ -14,8 +14,7 @@ import numpy as np
 import pytest
 
 import jointattention
-from jointattention import GATES, MODELS, Body, Gate, ModelOptions, Outcome, reproduce
-from jointattention._fields import param
+from jointattention import GATES, MODELS, Body, Gate, ModelOptions, Outcome, param, reproduce
 from jointattention.config import AgentConfig, load_config, model_options
 from jointattention.experiment.results import cell_path, load_cell
 

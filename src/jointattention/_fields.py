@@ -58,7 +58,7 @@ class Registry:
         self._kinds = dict(kinds)
 
     def register(self, name: str, options: type) -> type:
-        """Add the kind ``name``; returns ``options`` (so it can decorate the class)."""
+        """Add the kind ``name``, whose options section is ``options``; returns ``options``."""
         if not (isinstance(options, type) and issubclass(options, Section)):
             raise TypeError(f"{self.part} {name!r}: expected a Section subclass")
         if name in self._kinds and self[name] is not options:
@@ -97,8 +97,12 @@ class FrozenTable(Mapping):
     """An immutable, hashable mapping: a partial table of settings kept as given."""
 
     def __init__(self, data: Mapping | None = None):
-        data = dict(data or {})
-        self._data = {k: FrozenTable(v) if isinstance(v, Mapping) else v for k, v in data.items()}
+        def freeze(v):
+            if isinstance(v, Mapping):
+                return FrozenTable(v)
+            return tuple(freeze(x) for x in v) if isinstance(v, (list, tuple)) else v
+
+        self._data = {k: freeze(v) for k, v in dict(data or {}).items()}
 
     def __getitem__(self, key: str) -> Any:
         return self._data[key]

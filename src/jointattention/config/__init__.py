@@ -4,12 +4,16 @@ Every field carries its help text and its allowed range; building a section chec
 raises :class:`~jointattention.errors.ConfigError` naming the field. Angles are in degrees in
 the configuration (readable) and in radians in the code that uses them (``*_rad`` names).
 
+A model's or a gate's options are a section of :func:`param` fields too (see
+``docs/architecture.md``).
+
 Sections: ``[world]`` (what only the experimenter sets, :mod:`.world`), ``[agent]`` (the
 robot's shared mechanisms) and ``[detector]`` (:mod:`.agent`), ``[model]`` (what learns: a
 kind registered in :data:`~jointattention.agent.models.MODELS` and its options) and
 ``[experiment]`` with its conditions (:mod:`.run`).
 """
 
+from .._fields import param
 from .agent import AgentConfig, DetectorConfig
 from .run import (
     ConditionConfig,
@@ -48,6 +52,7 @@ __all__ = [
     "condition_named",
     "load_config",
     "model_options",
+    "param",
     "preset_names",
     "to_toml",
     "with_n_objects",
