@@ -33,9 +33,8 @@ def param(
 ) -> Any:
     """A configuration field: its default, its help text and the range it must lie in.
 
-    ``choices`` is a tuple or a :class:`Registry` (checked when the value is set, so kinds
-    registered later count). ``registry`` makes a tagged field, whose default comes from
-    ``factory``.
+    ``choices`` is a tuple of the allowed values. ``registry`` makes a tagged field (one of
+    the registry's kinds), whose default comes from ``factory``.
     """
     meta = {"help": help, "lo": lo, "hi": hi, "choices": choices, "registry": registry}
     if isinstance(default, (list, dict)):

@@ -9,7 +9,9 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["atomic_path", "save_json", "write_text"]
+import numpy as np
+
+__all__ = ["atomic_path", "save_json", "save_npz", "write_text"]
 
 
 @contextmanager
@@ -37,6 +39,13 @@ def write_text(path: str | Path, text: str) -> Path:
     """Write ``text`` (UTF-8) to ``path`` atomically."""
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
+    return Path(path)
+
+
+def save_npz(path: str | Path, arrays: dict) -> Path:
+    """Write ``arrays`` as a compressed NumPy ``.npz`` archive to ``path`` atomically."""
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        np.savez_compressed(f, **arrays)
     return Path(path)
 
 

@@ -33,7 +33,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ._files import atomic_path
+from ._files import save_npz
 from .errors import DatasetError
 
 __all__ = ["SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load", "save"]
@@ -112,9 +112,7 @@ def save(datasets: CaregiverDatasets, path: str | Path) -> Path:
     }
     if datasets.target_m is not None:
         arrays["target_m"] = datasets.target_m
-    with atomic_path(path) as tmp, open(tmp, "wb") as f:
-        np.savez_compressed(f, **arrays)
-    return path
+    return save_npz(path, arrays)
 
 
 def load(path: str | Path) -> CaregiverDatasets:

@@ -117,6 +117,7 @@ class JointAttentionEnv(gym.Env):
         self._caregiver = None
         self._poses: list = []
         self._trial: SceneTrial | None = None
+        self._evaluate = evaluator(cfg)
 
     @property
     def max_step_rad(self) -> np.ndarray:
@@ -141,7 +142,7 @@ class JointAttentionEnv(gym.Env):
         kin = self._world.kinematics
         self._trial = SceneTrial(self._world.fast_scene(), kin.clip(self._world.face_angle_rad),
                                  kinematics=kin, max_steps=self.max_steps,
-                                 evaluate=evaluator(self.config))
+                                 evaluate=self._evaluate)
         return self._look()
 
     def step(self, action):
@@ -149,8 +150,8 @@ class JointAttentionEnv(gym.Env):
         trial = self._trial
         if trial is None or trial.end is not None:
             raise gym.error.ResetNeeded("no episode is running; expected reset() before step()")
-        trial.step(np.clip(np.asarray(action, dtype=float), -self.max_step_rad,
-                           self.max_step_rad))
+        high = self.max_step_rad
+        trial.step(np.clip(np.asarray(action, dtype=float), -high, high))
         obs, info = self._look()
         terminated = trial.end is not None and trial.end != END_STEPS
         truncated = trial.end == END_STEPS

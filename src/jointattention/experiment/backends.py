@@ -97,7 +97,7 @@ def _label(job: CellJob) -> str:
 def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
              backend: str = "local",
              address: str | None = None, progress: Callable[[str], None] | None = None,
-             label: Callable[[CellJob], str] = _label) -> None:
+             label: Callable[[CellJob], str] = _label) -> int:
     """Run ``run`` for each job not done yet, saving each cell as it finishes.
 
     A job is done when its ``path`` exists; each cell's records go to its ``path``.
@@ -105,13 +105,14 @@ def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
     ``backend`` is ``"local"`` (``workers`` processes; 1 runs in this process) or ``"ray"``
     (a local Ray instance with ``workers`` CPUs, or the cluster at ``address``).
     ``progress`` hears "K of N cells already done", then ``label(job)`` of each finished cell.
+    Returns the number of cells run.
     """
     check_backend(backend, address)
     todo = [j for j in jobs if not j.path.exists()]
     if progress is not None:
         progress(f"{len(jobs) - len(todo)} of {len(jobs)} cells already done")
     if not todo:
-        return
+        return 0
     finished = (_local(run, todo, workers) if backend == "local"
                 else _ray(run, todo, workers, address))
     with closing(finished):  # an interrupt stops the backend's waiting cells at once
@@ -119,3 +120,4 @@ def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
             save_cell(job.path, records)
             if progress is not None:
                 progress(label(job))
+    return len(todo)

@@ -34,14 +34,21 @@ def run_experiment(config: Config, out: str | Path, workers: int = 1,
     interrupted run loses only the cells in progress. ``backend`` and ``address``: see
     :func:`jointattention.experiment.backends.run_jobs`.
     """
+    jobs, _ = _run_cells(config, Path(out), workers, progress, backend, address)
+    return {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
+
+
+def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
+               address: str | None) -> tuple[list[CellJob], int]:
+    """Every cell's job, after running those not in ``out`` yet; and how many ran."""
     check_backend(backend, address)
-    out = Path(out)
     prepare_run_dir(out, config)
     exp = config.experiment
-    cells = [(c, i) for c in exp.conditions for i in range(exp.n_seeds)]
-    run_jobs(run_cell, [CellJob(config, c, i, cell_path(out, c.name, i)) for c, i in cells],
-             workers=workers, backend=backend, address=address, progress=progress)
-    return {(c.name, i): load_cell(cell_path(out, c.name, i)) for c, i in cells}
+    jobs = [CellJob(config, c, i, cell_path(out, c.name, i))
+            for c in exp.conditions for i in range(exp.n_seeds)]
+    ran = run_jobs(run_cell, jobs, workers=workers, backend=backend, address=address,
+                   progress=progress)
+    return jobs, ran
 
 
 @dataclass(frozen=True)
@@ -70,18 +77,10 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     from ..figures.paper import write_figures  # matplotlib only when figures are drawn
 
     out = Path(out)
-    done_before = []
-
-    def hear(message: str) -> None:
-        if message.endswith("already done"):
-            done_before.append(int(message.split()[0]))
-        if progress is not None:
-            progress(message)
-
     start = time.perf_counter()
-    cells = run_experiment(config, out, workers, hear, backend=backend, address=address)
+    jobs, cells_run = _run_cells(config, out, workers, progress, backend, address)
     wall_min = (time.perf_counter() - start) / 60
-    cells_run = len(cells) - (done_before[0] if done_before else 0)
+    cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
     save_json({"wall_min": round(wall_min, 2), "workers": workers, "cells_run": cells_run,
                "cells_total": len(cells)}, out / "timing.json")
     ceiling_file = out / "ceilings.json"

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from .._files import atomic_path, save_json
+from .._files import atomic_path, save_json, save_npz, write_text
 from ..config import Config, load_config, to_toml
 from ..errors import JointAttentionError
 from .trial import RECORD
@@ -55,8 +55,7 @@ def prepare_run_dir(out: Path, config: Config) -> None:
     if out.exists() and any(out.iterdir()):
         raise JointAttentionError(f"{out}: not empty and not a run folder; expected a new or "
                                   "empty folder")
-    with atomic_path(cfg_file) as tmp:
-        tmp.write_text(to_toml(config))
+    write_text(cfg_file, to_toml(config))
     save_json(versions(), out / "versions.json")
 
 
@@ -67,8 +66,7 @@ def cell_path(out: Path, condition: str, seed_index: int) -> Path:
 
 def save_cell(path: Path, records: dict[str, np.ndarray]) -> None:
     """Save a cell's records (atomically)."""
-    with atomic_path(path) as tmp, open(tmp, "wb") as f:
-        np.savez_compressed(f, **records)
+    save_npz(path, records)
 
 
 def load_cell(path: Path) -> dict[str, np.ndarray]:

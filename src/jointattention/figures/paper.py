@@ -11,7 +11,6 @@ import matplotlib
 import numpy as np
 
 from ..agent.gates import SigmoidGate
-from ..agent.models import MODELS
 from ..analysis.metrics import mean_interval
 from ..config import ConditionConfig, Config, model_options
 from ._save import new_figure, save_figure
@@ -53,14 +52,14 @@ def _plot_conditions(ax, curves, names, conditions, ceilings, labels) -> None:
         ax.legend(fontsize=8, loc="upper left")
 
 
-def _gates_figure(config: Config, path: Path) -> Path:
-    """Fig. 4(b): each gate the conditions use, against learning time."""
+def _gates_figure(config: Config, options: dict, path: Path) -> Path:
+    """Fig. 4(b): each gate the conditions' model ``options`` use, against learning time."""
     fig = new_figure(6.4, 3.2)
     ax = fig.subplots()
     t = np.linspace(0, config.experiment.n_steps, 400)
     gates = {}
-    for c in config.experiment.conditions:
-        gate = getattr(model_options(config, c), "gate", None)
+    for o in options.values():
+        gate = getattr(o, "gate", None)
         if gate is not None:
             gates.setdefault(gate.label, gate)
     for label, gate in gates.items():
@@ -93,7 +92,7 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
                      {n: f"{conds[n].n_objects} objects" for n in sigmoid})
     ax.set_title("Fig. 4(a): success against learning time (sigmoid gate)\n" + _NOTE, fontsize=8)
     written.append(save_figure(fig, out / "fig4a_success.png"))
-    written.append(_gates_figure(config, out / "fig4b_gate.png"))
+    written.append(_gates_figure(config, options, out / "fig4b_gate.png"))
 
     five = [n for n in plain if conds[n].n_objects == 5]
     fig = new_figure(6.4, 4.4)
@@ -104,10 +103,10 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
     ax.set_title("Fig. 5: 5 objects, sigmoid gate against constant rates\n" + _NOTE, fontsize=8)
     written.append(save_figure(fig, out / "fig5_gates.png"))
 
-    kinds = {MODELS.name_of(o) for o in options.values()}
-    if len(kinds) > 1:
-        shown = [n for n, c in conds.items() if n in plain or (not c.shuffle_faces
-                 and type(options[n]) is not type(config.model))]
+    others = {n for n, o in options.items() if type(o) is not type(config.model)}
+    if others:
+        shown = [n for n, c in conds.items()
+                 if n in plain or (n in others and not c.shuffle_faces)]
         written.append(_models_figure(out / "models.png", curves, conds, options, shown,
                                       ceilings))
     return written
