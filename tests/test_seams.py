@@ -75,6 +75,7 @@ def registered():
 
 TINY = """
 [experiment]
+engine = "python"
 n_steps = 600
 n_seeds = 2
 bin_steps = 200
@@ -147,6 +148,21 @@ model = { kind = "wanderer", step_deg = 6.0 }
                    "model = { kind = 'wanderer', step_deg = 90.0 }\n")
     with pytest.raises(jointattention.ConfigError, match=r"model\.step_deg = 90\.0"):
         load_config(bad)
+
+
+def test_the_compiled_engine_refuses_what_it_does_not_run_naming_it(tmp_path, registered):
+    """A model or gate the compiled engine cannot run is refused when the configuration loads."""
+    compiled = TINY.replace('engine = "python"', 'engine = "compiled"')
+    for condition, named in [("model = { kind = 'wanderer' }", "model kind 'wanderer'"),
+                             ("model = { gate = { kind = 'step' } }", "gate kind 'step'")]:
+        path = tmp_path / "c.toml"
+        path.write_text(compiled + f"[[experiment.conditions]]\nname = 'x'\n{condition}\n")
+        with pytest.raises(jointattention.ConfigError,
+                           match=rf"conditions\[0\] \('x'\): .*does not run {named}"):
+            load_config(path)
+    path.write_text(compiled + "perception = 'rendered'\n")
+    with pytest.raises(jointattention.ConfigError, match="perception = 'rendered'"):
+        load_config(path)
 
 
 def test_registries_refuse_clashes_and_non_sections():

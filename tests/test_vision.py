@@ -186,7 +186,8 @@ def test_rendered_cells_follow_the_fast_cells_trials(needs_gl):
     cond = next(c for c in cfg.experiment.conditions if c.name == "n3-sigmoid")
     fast = run_cell(cfg, cond, 0)
     rendered_cfg = dataclasses.replace(
-        cfg, experiment=dataclasses.replace(cfg.experiment, perception="rendered"))
+        cfg, experiment=dataclasses.replace(cfg.experiment, perception="rendered",
+                                          engine="python"))
     rendered = run_cell(rendered_cfg, cond, 0)
     n = 5
     assert np.array_equal(fast["target"][:n], rendered["target"][:n])

@@ -100,7 +100,8 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     start = time.perf_counter()
     run_cell(config, cond, 0)
     fast = config.experiment.n_steps / (time.perf_counter() - start)
-    exp = dataclasses.replace(config.experiment, n_steps=rendered_steps, perception="rendered")
+    exp = dataclasses.replace(config.experiment, n_steps=rendered_steps, perception="rendered",
+                              engine="python")
     start = time.perf_counter()
     run_cell(dataclasses.replace(config, experiment=exp), cond, 0)
     rendered = rendered_steps / (time.perf_counter() - start)

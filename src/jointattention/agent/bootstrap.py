@@ -6,21 +6,59 @@ The agent wires visual attention, self-evaluation, learning and the gate; its op
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
 from .._fields import param
+from .._jit import jit
 from ..config.agent import AgentConfig
 from .attention import most_interesting, visual_feedback
 from .detections import Detections
 from .gates import GATES, Gate, SigmoidGate
-from .learner import FaceStandardiser, LearningModule
+from .learner import FaceStandardiser, LearningModule, accumulate, forward
 from .models import ModelOptions
 from .protocol import LM, RANDOM, VF, Body, Outcome
 
-__all__ = ["BootstrapAgent", "BootstrapOptions"]
+__all__ = ["LEARNING_TARGETS", "BootstrapAgent", "BootstrapOptions", "learning_samples",
+           "random_step", "unit_step"]
+
+LEARNING_TARGETS = ("final_direction", "object_direction", "executed_step")
+
+
+@jit
+def unit_step(out_0: float, out_1: float, step_rad: float) -> tuple[float, float]:
+    """The learning module's command: the direction of its output, one step long."""
+    norm = max(math.hypot(out_0, out_1), 1e-12)
+    return step_rad * out_0 / norm, step_rad * out_1 / norm
+
+
+@jit
+def random_step(rng: np.random.Generator, step_rad: float) -> tuple[float, float]:
+    """One step in a direction drawn from ``rng``."""
+    angle = rng.uniform(0.0, 2 * math.pi)
+    return step_rad * math.cos(angle), step_rad * math.sin(angle)
+
+
+@jit
+def learning_samples(thetas_rad, steps_rad, aim_rad, executed: bool, y_out) -> np.ndarray:
+    """Teaching signals of a successful trial: unit vectors in ``y_out``, and which to keep.
+
+    Each step is taught the unit direction from where the head was to ``aim_rad``, or, if
+    ``executed``, of the step it made; steps of no length are not kept.
+    """
+    keep = np.empty(len(thetas_rad), dtype=np.bool_)
+    for i in range(len(thetas_rad)):
+        if executed:
+            d0, d1 = steps_rad[i, 0], steps_rad[i, 1]
+        else:
+            d0, d1 = aim_rad[0] - thetas_rad[i, 0], aim_rad[1] - thetas_rad[i, 1]
+        norm = max(math.hypot(d0, d1), 1e-12)
+        keep[i] = norm > 1e-9
+        y_out[i, 0], y_out[i, 1] = d0 / norm, d1 / norm
+    return keep
 
 
 @dataclass(frozen=True)
@@ -51,7 +89,7 @@ class BootstrapOptions(ModelOptions):
         "object_direction", "reading: what each step of a successful trial is taught: the unit "
         "direction to the final gaze, to the attended object (the final gaze plus the visual "
         "controller's command that would centre it), or the step that was executed",
-        choices=("final_direction", "object_direction", "executed_step"))
+        choices=LEARNING_TARGETS)
 
     def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> BootstrapAgent:
         """The untrained bootstrap agent."""
@@ -66,7 +104,9 @@ class BootstrapAgent:
         agent: the robot's shared mechanisms (Eq. 1 weights, Eq. 2 gain, step length).
         body: image size, joint ranges (head angles are scaled by them for the learning
             module) and face window size.
-        rng: the agent's own generator (initial weights, gate draws, random steps).
+        rng: the agent's own generator; it is split into one stream per purpose (initial
+            weights, gate draws, random steps), so that a change in one does not shift the
+            others.
 
     A trial is ``begin_trial``, then ``act`` at each step, then ``end_trial``; learning
     happens in ``end_trial`` if the internal evaluator fired.
@@ -76,12 +116,14 @@ class BootstrapAgent:
                  rng: np.random.Generator):
         self.options, self.agent, self.body = options, agent, body
         limits = np.asarray(body.joint_limits_rad, dtype=float)
-        self._theta_mid, self._theta_half = limits.mean(axis=1), np.ptp(limits, axis=1) / 2
-        self.rng = rng
+        # head angles scaled to [-1, 1] by the joint ranges for the learning module
+        self.theta_mid_rad = (limits[:, 0] + limits[:, 1]) / 2
+        self.theta_half_rad = (limits[:, 1] - limits[:, 0]) / 2
+        init_rng, self.gate_rng, self.move_rng = rng.spawn(3)
         n_in = body.face_size_px[0] * body.face_size_px[1] + 2
         self.learner = LearningModule(
             n_in, options.n_hidden, 2, learning_rate=options.learning_rate,
-            momentum=options.momentum, init_scale=options.init_scale, rng=rng)
+            momentum=options.momentum, init_scale=options.init_scale, rng=init_rng)
         self.faces = FaceStandardiser()
         self.learning_time_steps = 0
         self._trial_module: str | None = None
@@ -100,17 +142,27 @@ class BootstrapAgent:
 
     # -- the learning module ---------------------------------------------------------------
     def _inputs(self, face_x: np.ndarray, thetas: np.ndarray) -> np.ndarray:
-        scaled = (np.atleast_2d(thetas) - self._theta_mid) / self._theta_half
+        scaled = (np.atleast_2d(thetas) - self.theta_mid_rad) / self.theta_half_rad
         return np.hstack([np.broadcast_to(face_x, (len(scaled), len(face_x))), scaled])
 
     def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
         """LM dtheta for a face window and head angle: the network's direction, one step long."""
         face_x = self.faces.transform(np.asarray(face_window).ravel())
-        return self._lm(face_x, theta_rad)
+        return self._lm(self._face_part(face_x), theta_rad)
 
-    def _lm(self, face_x: np.ndarray, theta_rad) -> np.ndarray:
-        out = self.learner.predict(self._inputs(face_x, theta_rad))[0]
-        return self.step_rad * out / max(float(np.hypot(*out)), 1e-12)
+    def _face_part(self, face_x: np.ndarray) -> np.ndarray:
+        """The face's part of the hidden units' input: fixed for a trial (it learns at the end)."""
+        acc = np.zeros(len(self.learner.b1_))
+        accumulate(np.ascontiguousarray(face_x, dtype=float), self.learner.w1_, 0, acc)
+        return acc
+
+    def _lm(self, face_part: np.ndarray, theta_rad) -> np.ndarray:
+        learner, acc = self.learner, face_part.copy()
+        scaled = (np.asarray(theta_rad, dtype=float) - self.theta_mid_rad) / self.theta_half_rad
+        accumulate(scaled, learner.w1_, learner.w1_.shape[1] - 2, acc)
+        h, out = np.empty(len(acc)), np.empty(2)
+        forward(acc, learner.b1_, learner.w2_, learner.b2_, h, out)
+        return np.array(unit_step(out[0], out[1], self.step_rad))
 
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
@@ -118,25 +170,25 @@ class BootstrapAgent:
         face = np.asarray(face_window, dtype=float).ravel()
         self.faces.partial_fit(face)
         self._face_x = self.faces.transform(face)
+        self._face_acc = self._face_part(self._face_x)
         self._thetas, self._steps = [], []
         self._trial_module = None
         if self.options.gate_per == "trial":
-            self._trial_module = LM if self.rng.random() < self.gate_rate() else VF
+            self._trial_module = LM if self.gate_rng.random() < self.gate_rate() else VF
 
     def act(self, det: Detections, theta_rad) -> tuple[np.ndarray, str]:
         """One step: the gate picks VF or LM; returns (dtheta, module that moved the head)."""
         o = self.options
-        module = self._trial_module or (LM if self.rng.random() < self.gate_rate() else VF)
+        module = self._trial_module or (LM if self.gate_rng.random() < self.gate_rate() else VF)
         target = most_interesting(det, self.agent.interest_weights) if module == VF else None
         if module == VF and target is None:
             module = LM if o.vf_fallback == "lm" else RANDOM
         if module == VF:
             dtheta = visual_feedback(det, target, self.agent.vf_gain_rad_per_px)
         elif module == LM:
-            dtheta = self._lm(self._face_x, theta_rad)
+            dtheta = self._lm(self._face_acc, theta_rad)
         else:
-            angle = self.rng.uniform(0, 2 * np.pi)
-            dtheta = self.step_rad * np.array([np.cos(angle), np.sin(angle)])
+            dtheta = np.array(random_step(self.move_rng, self.step_rad))
         self._thetas.append(np.asarray(theta_rad, dtype=float))
         self._steps.append(dtheta)
         self.learning_time_steps += 1
@@ -151,17 +203,12 @@ class BootstrapAgent:
         """
         if not outcome.fired or not self._thetas:
             return 0
-        thetas = np.array(self._thetas)
-        target = self.options.learning_target
-        if target == "executed_step":
-            diff = np.array(self._steps)
-        else:
-            aim = np.asarray(outcome.theta_rad, dtype=float)
-            if target == "object_direction":
-                aim = aim + visual_feedback(outcome.detections, outcome.seen,
-                                            self.agent.vf_gain_rad_per_px)
-            diff = aim - thetas
-        norm = np.maximum(np.hypot(diff[:, 0], diff[:, 1]), 1e-12)[:, None]
-        keep = norm[:, 0] > 1e-9
-        self.learner.partial_fit(self._inputs(self._face_x, thetas[keep]), (diff / norm)[keep])
+        thetas, target = np.array(self._thetas), self.options.learning_target
+        aim = np.asarray(outcome.theta_rad, dtype=float)
+        if target == "object_direction":
+            aim = aim + visual_feedback(outcome.detections, outcome.seen,
+                                        self.agent.vf_gain_rad_per_px)
+        y = np.empty_like(thetas)
+        keep = learning_samples(thetas, np.array(self._steps), aim, target == "executed_step", y)
+        self.learner.partial_fit(self._inputs(self._face_x, thetas[keep]), y[keep])
         return int(keep.sum())

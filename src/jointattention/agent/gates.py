@@ -8,13 +8,21 @@ call.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._fields import Registry, Section, param
+from .._jit import jit
 
-__all__ = ["GATES", "ConstantGate", "Gate", "SigmoidGate"]
+__all__ = ["GATES", "ConstantGate", "Gate", "SigmoidGate", "sigmoid_rate"]
+
+
+@jit
+def sigmoid_rate(t: float, midpoint_steps: float, width_steps: float) -> float:
+    """The paper's gate (Fig. 4b): 1 / (1 + exp(-(t - midpoint) / width))."""
+    return 1.0 / (1.0 + math.exp(-(t - midpoint_steps) / width_steps))
 
 
 class Gate(Section):
@@ -40,9 +48,10 @@ class SigmoidGate(Gate):
         2.0e4, "learning time over which the sigmoid gate rises by a factor e", lo=1)
 
     def rate_at(self, learning_time_steps):
-        """1 / (1 + exp(-(t - midpoint) / width)) (paper, Fig. 4b)."""
+        """:func:`sigmoid_rate` at each learning time."""
         t = np.asarray(learning_time_steps, dtype=float)
-        return 1.0 / (1.0 + np.exp(-(t - self.midpoint_steps) / self.width_steps))
+        mid, width = float(self.midpoint_steps), float(self.width_steps)
+        return np.array([sigmoid_rate(x, mid, width) for x in t.ravel()]).reshape(t.shape)
 
 
 @dataclass(frozen=True)

@@ -4,13 +4,104 @@ Inputs are the caregiver's face window (standardised with statistics of the face
 has seen) and the head angle (scaled by the robot's own joint ranges); outputs are a motor
 command in units of one step. The interface follows scikit-learn: ``partial_fit`` and
 ``predict`` on 2-D arrays, learned state in attributes ending in ``_``.
+
+The arithmetic is in compiled kernels (:func:`accumulate`, :func:`forward`, :func:`sgd_update`,
+:func:`welford_update`, :func:`standardise`), which the compiled engine calls too.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-__all__ = ["FaceStandardiser", "LearningModule"]
+from .._jit import jit
+
+__all__ = ["FaceStandardiser", "LearningModule", "accumulate", "forward", "sgd_update",
+           "standardise", "welford_update"]
+
+
+@jit
+def welford_update(x, mean, m2, n_seen: int) -> None:
+    """Add face ``x`` to the running mean and sum of squares; ``n_seen`` counts it already."""
+    for i in range(len(x)):
+        delta = x[i] - mean[i]
+        mean[i] += delta / n_seen
+        m2[i] += delta * (x[i] - mean[i])
+
+
+@jit
+def standardise(x, mean, m2, n_seen: int, min_std: float, out) -> None:
+    """``out`` = (x - mean) / max(s.d., min_std), the s.d. of the faces seen so far."""
+    for i in range(len(x)):
+        out[i] = (x[i] - mean[i]) / max(math.sqrt(m2[i] / max(n_seen, 1)), min_std)
+
+
+@jit
+def accumulate(x, w1, first_input: int, acc) -> None:
+    """``acc[j] += x . w1[j, first_input : first_input + len(x)]`` for each hidden unit j.
+
+    Summed in four interleaved partial sums (so that the loop vectorises), the same way on
+    every call: the compiled engine and the step-by-step agent both sum a face part once per
+    trial, then the head angle part at each step.
+    """
+    n = len(x)
+    n4 = n - n % 4
+    for j in range(len(acc)):
+        row = w1[j, first_input:first_input + n]
+        s0 = s1 = s2 = s3 = 0.0
+        for i in range(0, n4, 4):
+            s0 += x[i] * row[i]
+            s1 += x[i + 1] * row[i + 1]
+            s2 += x[i + 2] * row[i + 2]
+            s3 += x[i + 3] * row[i + 3]
+        for i in range(n4, n):
+            s0 += x[i] * row[i]
+        acc[j] += (s0 + s1) + (s2 + s3)
+
+
+@jit
+def forward(acc, b1, w2, b2, h, out) -> None:
+    """Hidden units ``h = tanh(acc + b1)`` and outputs ``out = h @ w2 + b2``.
+
+    ``acc`` is the hidden units' summed input (:func:`accumulate`).
+    """
+    for j in range(len(h)):
+        h[j] = math.tanh(acc[j] + b1[j])
+    for k in range(len(out)):
+        s = 0.0
+        for j in range(len(h)):
+            s += h[j] * w2[j, k]
+        out[k] = s + b2[k]
+
+
+@jit
+def sgd_update(x, y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate: float,
+               momentum: float) -> None:
+    """One back-propagation step with momentum on 0.5 |out - y|^2 for input ``x``."""
+    n_hidden, n_out = w2.shape
+    acc, h, out = np.zeros(n_hidden), np.empty(n_hidden), np.empty(n_out)
+    accumulate(x, w1, 0, acc)
+    forward(acc, b1, w2, b2, h, out)
+    err = out - y  # d(0.5 |out - y|^2) / d out
+    for j in range(n_hidden):
+        s = 0.0
+        for k in range(n_out):
+            s += w2[j, k] * err[k]
+        rate_dh = learning_rate * (s * (1 - h[j] * h[j]))  # the step times d loss / d acc_j
+        for i in range(len(x)):
+            v1[j, i] = v1[j, i] * momentum - rate_dh * x[i]
+            w1[j, i] += v1[j, i]
+        vb1[j] = vb1[j] * momentum - rate_dh
+        b1[j] += vb1[j]
+        for k in range(n_out):
+            v2[j, k] = v2[j, k] * momentum - learning_rate * (h[j] * err[k])
+    for j in range(n_hidden):  # after the loop above has used w2 for every unit
+        for k in range(n_out):
+            w2[j, k] += v2[j, k]
+    for k in range(n_out):
+        vb2[k] = vb2[k] * momentum - learning_rate * err[k]
+        b2[k] += vb2[k]
 
 
 class FaceStandardiser:
@@ -26,33 +117,37 @@ class FaceStandardiser:
             if self.n_seen_ == 0:
                 self.mean_, self.m2_ = np.zeros_like(x), np.zeros_like(x)
             self.n_seen_ += 1
-            delta = x - self.mean_
-            self.mean_ += delta / self.n_seen_
-            self.m2_ += delta * (x - self.mean_)
+            welford_update(np.ascontiguousarray(x), self.mean_, self.m2_, self.n_seen_)
         return self
 
     def transform(self, faces: np.ndarray) -> np.ndarray:
         """The faces standardised: minus the mean, over the s.d. (at least ``min_std``)."""
-        std = np.sqrt(self.m2_ / max(self.n_seen_, 1))
-        return (np.asarray(faces, dtype=float) - self.mean_) / np.maximum(std, self.min_std)
+        faces = np.asarray(faces, dtype=float)
+        rows = np.ascontiguousarray(np.atleast_2d(faces))
+        out = np.empty_like(rows)
+        for x, o in zip(rows, out, strict=True):
+            standardise(x, self.mean_, self.m2_, self.n_seen_, float(self.min_std), o)
+        return out.reshape(faces.shape)
 
 
 class LearningModule:
     """A 3-layer perceptron, ``n_in - n_hidden - n_out`` (paper: 752 - 7 - 2).
 
     Hidden units are tanh, outputs linear; training is stochastic gradient descent with
-    momentum on the squared error, one update per sample.
+    momentum on the squared error, one update per sample (:func:`sgd_update`). Learned state:
+    ``w1_`` (n_hidden, n_in), one row of input weights per hidden unit; ``b1_``; ``w2_``
+    (n_hidden, n_out); ``b2_``; ``velocity_`` (their momentum terms); ``n_updates_``.
     """
 
     def __init__(self, n_in: int, n_hidden: int = 7, n_out: int = 2, *,
                  learning_rate: float = 0.0003, momentum: float = 0.5, init_scale: float = 1.0,
                  rng: np.random.Generator):
         self.learning_rate, self.momentum = learning_rate, momentum
-        self.w1_ = rng.normal(0, init_scale / np.sqrt(n_in), (n_in, n_hidden))
+        self.w1_ = rng.normal(0, init_scale / np.sqrt(n_in), (n_hidden, n_in))
         self.b1_ = np.zeros(n_hidden)
         self.w2_ = rng.normal(0, init_scale / np.sqrt(n_hidden), (n_hidden, n_out))
         self.b2_ = np.zeros(n_out)
-        self._velocity = [np.zeros_like(p) for p in self._params()]
+        self.velocity_ = [np.zeros_like(p) for p in self._params()]
         self.n_updates_ = 0
 
     def _params(self) -> list[np.ndarray]:
@@ -60,18 +155,21 @@ class LearningModule:
 
     def predict(self, X: np.ndarray) -> np.ndarray:
         """Outputs (n, n_out) for inputs (n, n_in)."""
-        return np.tanh(np.atleast_2d(X) @ self.w1_ + self.b1_) @ self.w2_ + self.b2_
+        X = np.ascontiguousarray(np.atleast_2d(X), dtype=float)
+        n_hidden, n_out = self.w2_.shape
+        out, h = np.empty((len(X), n_out)), np.empty(n_hidden)
+        for x, o in zip(X, out, strict=True):
+            acc = np.zeros(n_hidden)
+            accumulate(x, self.w1_, 0, acc)
+            forward(acc, self.b1_, self.w2_, self.b2_, h, o)
+        return out
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> LearningModule:
         """One back-propagation update per row of ``X`` toward the row of ``Y``."""
-        for x, y in zip(np.atleast_2d(X), np.atleast_2d(Y), strict=True):
-            h = np.tanh(x @ self.w1_ + self.b1_)
-            err = h @ self.w2_ + self.b2_ - y  # d(0.5 |out - y|^2) / d out
-            dh = (self.w2_ @ err) * (1 - h**2)
-            grads = [np.outer(x, dh), dh, np.outer(h, err), err]
-            for p, v, g in zip(self._params(), self._velocity, grads, strict=True):
-                v *= self.momentum
-                v -= self.learning_rate * g
-                p += v
+        X = np.ascontiguousarray(np.atleast_2d(X), dtype=float)
+        Y = np.ascontiguousarray(np.atleast_2d(Y), dtype=float)
+        for x, y in zip(X, Y, strict=True):
+            sgd_update(x, y, *self._params(), *self.velocity_, float(self.learning_rate),
+                       float(self.momentum))
             self.n_updates_ += 1
         return self

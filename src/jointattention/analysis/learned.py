@@ -41,19 +41,19 @@ def train(config: Config, condition_name: str, seed_index: int, checkpoints,
     ``n_steps``); key 0 is the untrained agent, with the face statistics of the data sets.
     """
     condition = condition_named(config, condition_name)
-    pending = sorted(t for t in set(checkpoints) | {config.experiment.n_steps} if t > 0)
+    wanted = sorted(t for t in set(checkpoints) | {config.experiment.n_steps} if t > 0)
     ds = datasets_of(config)
     untrained = make_agent(config, condition, seed_index, ds)
     untrained.faces.partial_fit(ds.face.reshape(len(ds), -1))  # it sees the faces, learns none
     snapshots: dict[int, BootstrapAgent] = {0: untrained}
 
-    def keep(agent: BootstrapAgent) -> None:
-        while pending and agent.learning_time_steps >= pending[0]:
-            snapshots[pending.pop(0)] = copy.deepcopy(agent)
+    def keep(t: int, agent: BootstrapAgent) -> None:
+        snapshots[t] = copy.deepcopy(agent)
 
-    run_cell(config, condition, seed_index, progress=progress, on_trial=keep)
-    for t in pending:  # the run ended before them (trial limit)
-        snapshots[t] = snapshots[max(snapshots)]
+    run_cell(config, condition, seed_index, progress=progress, checkpoints=wanted,
+             on_checkpoint=keep)
+    for t in wanted:  # the run ended before them (trial limit)
+        snapshots.setdefault(t, snapshots[max(snapshots)])
     return dict(sorted(snapshots.items()))
 
 

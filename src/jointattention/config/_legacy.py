@@ -1,8 +1,9 @@
-"""Reading configurations written before the ``[model]`` section.
+"""Reading configurations written before the ``[model]`` section and the compiled engine.
 
 In version 0.1.0 and its run folders, the learning module's and the gate's settings lived in
-``[agent]`` and in each condition. They are moved where they live now, so that old run folders
-resume.
+``[agent]`` and in each condition. They are moved where they live now. A configuration of
+rendered perception written before ``experiment.engine`` existed runs the python engine, the
+only one that renders.
 """
 
 from __future__ import annotations
@@ -33,6 +34,9 @@ def _pop_old(section: dict) -> tuple[dict, dict]:
 
 def upgrade(data: dict[str, Any]) -> dict[str, Any]:
     """``data`` (a parsed configuration) with old-style keys moved to ``[model]``."""
+    experiment = data.get("experiment")
+    if isinstance(experiment, dict) and experiment.get("perception") == "rendered":
+        experiment.setdefault("engine", "python")
     agent = data.get("agent")
     if not isinstance(agent, dict) or isinstance(data.get("model"), dict):
         return data  # new style (or nothing to move)
@@ -42,7 +46,6 @@ def upgrade(data: dict[str, Any]) -> dict[str, Any]:
         model["gate"] = _gate(run_kind, run_gate)
     if model:
         data["model"] = model
-    experiment = data.get("experiment")
     conditions = experiment.get("conditions") if isinstance(experiment, dict) else None
     for c in conditions if isinstance(conditions, list) else ():
         if not isinstance(c, dict) or "model" in c:

@@ -66,6 +66,11 @@ class ExperimentConfig(Section):
         "fast", "how the robot sees during learning: fast (objects projected, no rendering) or "
         "rendered (each step rendered with MuJoCo and detected with OpenCV; about 30x slower)",
         choices=("fast", "rendered"))
+    engine: str = param(
+        "compiled", "how fast-perception cells run: compiled (whole cells in compiled code; the "
+        "bootstrap model with a sigmoid or constant gate) or python (step by step through the "
+        "Agent and Scene seams: any model, rendered perception, step observers); both give the "
+        "same records", choices=("compiled", "python"))
     n_ceiling_trials: int = param(
         4000, "trials of the oracle that measure each object count's ceiling", lo=1)
     conditions: tuple[ConditionConfig, ...] = param(
@@ -94,7 +99,24 @@ class Config(Section):
             if c.name in names[:i]:
                 raise ConfigError(f"experiment.conditions[{i}].name = {c.name!r}: expected "
                                   "distinct condition names")
-            model_options(self, c, where=f"experiment.conditions[{i}].model")
+            options = model_options(self, c, where=f"experiment.conditions[{i}].model")
+            if self.experiment.engine == "compiled":
+                _check_compiled(options, f"experiment.conditions[{i}] ({c.name!r})")
+        if self.experiment.engine == "compiled" and self.experiment.perception != "fast":
+            raise ConfigError(f"experiment.perception = {self.experiment.perception!r}: the "
+                              "compiled engine sees in fast perception only; expected "
+                              "experiment.engine = 'python' with rendered perception")
+
+
+def _check_compiled(options: ModelOptions, where: str) -> None:
+    """Refuse, naming it, a model the compiled engine does not run."""
+    from ..experiment.compiled import unsupported  # numba: loaded only when configs are made
+
+    reason = unsupported(options)
+    if reason is not None:
+        raise ConfigError(f"{where}: experiment.engine = 'compiled' does not run {reason}; "
+                          "expected the bootstrap model with a sigmoid or constant gate, or "
+                          "experiment.engine = 'python'")
 
 
 def model_options(config: Config, condition: ConditionConfig,

@@ -7,7 +7,7 @@ sequence of data sets and distractor scenes (common random numbers across condit
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from functools import partial
 
 import numpy as np
@@ -19,11 +19,14 @@ from ..datasets import CaregiverDatasets, default_datasets, load
 from ..rng import stream
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
+from .compiled import CompiledCell, pack_world
 from .oracle import OracleAgent
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
 __all__ = ["body_of", "datasets_of", "evaluator", "make_agent", "measure_ceiling",
            "random_scene", "run_cell"]
+
+_CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learning steps)
 
 
 def datasets_of(config: Config) -> CaregiverDatasets:
@@ -77,19 +80,54 @@ def evaluator(config: Config) -> Callable:
 
 
 def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
-             progress: Callable[[int], None] | None = None,
-             on_trial: Callable[[Agent], None] | None = None,
+             progress: Callable[[int], None] | None = None, checkpoints: Sequence[int] = (),
+             on_checkpoint: Callable[[int, Agent], None] | None = None,
              observer: StepObserver | None = None) -> dict[str, np.ndarray]:
     """Learn for ``experiment.n_steps`` steps; one record per trial (``trial.RECORD``).
 
-    ``progress`` gets the learning time after each trial, ``on_trial`` the agent, and
-    ``observer`` each step (see :func:`~jointattention.experiment.trial.run_trial`).
+    ``progress`` gets the learning time now and then; ``on_checkpoint(t, agent)`` is called
+    at the first trial end at or past each learning time ``t`` of ``checkpoints``; ``observer``
+    sees each step (see :func:`~jointattention.experiment.trial.run_trial`; the python engine
+    only). ``experiment.engine`` chooses the compiled engine or the step-by-step loop; both
+    give the same records.
     """
     ds = datasets_of(config)
-    kin = HeadKinematics.from_config(config.world)
     agent = make_agent(config, condition, seed_index, ds)
     trials = stream(config.seed, "trials", seed_index)
     shuffle = stream(config.seed, "shuffle", seed_index)
+    n_steps = config.experiment.n_steps
+    pending = sorted(set(checkpoints))
+
+    def reached(t: int) -> None:
+        while pending and t >= pending[0]:
+            on_checkpoint(pending.pop(0), agent)
+
+    if config.experiment.engine == "compiled":
+        if observer is not None:
+            raise ValueError("an observer sees single steps: expected experiment.engine = "
+                             "'python'")
+        kin = HeadKinematics.from_config(config.world)
+        geometry = [_trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+                    for k in range(len(ds))]
+        world = pack_world(config.world, ds, [g[0] for g in geometry], [g[1] for g in geometry],
+                           condition.n_objects, condition.shuffle_faces)
+        cell = CompiledCell(agent, world, trials, shuffle, max_trials=n_steps)
+        stops = sorted({*range(_CHUNK_STEPS, n_steps, _CHUNK_STEPS), *pending, n_steps})
+        for stop in (t for t in stops if t <= n_steps):
+            cell.run_until(stop)
+            if progress is not None:
+                progress(agent.learning_time_steps)
+            reached(agent.learning_time_steps)
+        return cell.records()
+    return _run_steps(config, condition, seed_index, ds, agent, (trials, shuffle), progress,
+                      reached if on_checkpoint else None, observer)
+
+
+def _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached,
+               observer) -> dict[str, np.ndarray]:
+    """run_cell's step-by-step loop through the Agent and Scene seams (engine "python")."""
+    kin = HeadKinematics.from_config(config.world)
+    trials, shuffle = rngs
     evaluate = evaluator(config)
     results: list[TrialResult] = []
     n_steps = config.experiment.n_steps
@@ -110,8 +148,8 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
             results.append(run_trial(trial, agent, face, observer))
             if progress is not None:
                 progress(agent.learning_time_steps)
-            if on_trial is not None:
-                on_trial(agent)
+            if reached is not None:
+                reached(agent.learning_time_steps)
     finally:
         if scenes is not None:
             scenes.close()

@@ -7,20 +7,51 @@ bright-colour area is its image area times the part of it inside the image.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from ..agent.detections import Detections, equal_area_radius
+from .._jit import jit
+from ..agent.detections import Detections
 from ..config import WorldConfig
-from .kinematics import HeadKinematics
+from .kinematics import HeadKinematics, project_spheres_into
 from .scene import place_objects, shuffle_target
 
-__all__ = ["FastScene"]
+__all__ = ["FastScene", "detect_into"]
 
 
-def _inside_fraction(h: np.ndarray) -> np.ndarray:
+@jit
+def _inside_fraction(h: float) -> float:
     """Fraction of a disc inside a straight border at signed distance h (in radii)."""
-    h = np.clip(h, -1.0, 1.0)
-    return 1.0 - (np.arccos(h) - h * np.sqrt(1 - h**2)) / np.pi
+    h = min(max(h, -1.0), 1.0)
+    return 1.0 - (math.acos(h) - h * math.sqrt(1 - h * h)) / math.pi
+
+
+@jit
+def detect_into(pos_m, radius_m, edge, rot, offset_m, focal_px, width_px, height_px,
+                uv, depth, area, centre_out, area_out, edge_out, ids_out) -> int:
+    """The fast detector: the objects whose centre lies in the image, written into ``*_out``.
+
+    Returns how many; ``uv``, ``depth`` and ``area`` are scratch space (one row per object).
+    """
+    w, h = float(width_px), float(height_px)
+    project_spheres_into(pos_m, radius_m, rot, offset_m, focal_px, (w - 1) / 2, (h - 1) / 2,
+                         uv, depth, area)
+    m = 0
+    for i in range(len(radius_m)):
+        u, v = uv[i, 0], uv[i, 1]
+        if not (depth[i] > 0 and u >= -0.5 and u <= w - 0.5 and v >= -0.5 and v <= h - 0.5):
+            continue
+        a = area[i]
+        r = math.sqrt(a / math.pi)  # equal_area_radius
+        # distance of the centre to the nearest image border, in radii
+        if min(min(u + 0.5, w - 0.5 - u), min(v + 0.5, h - 0.5 - v)) / r < 1.0:
+            a = a * (_inside_fraction((u + 0.5) / r) * _inside_fraction((w - 0.5 - u) / r)
+                     * _inside_fraction((v + 0.5) / r) * _inside_fraction((h - 0.5 - v) / r))
+        centre_out[m, 0], centre_out[m, 1] = u, v
+        area_out[m], edge_out[m], ids_out[m] = a, edge[i], i
+        m += 1
+    return m
 
 
 class FastScene:
@@ -63,23 +94,13 @@ class FastScene:
 
         The object ids of the detections are left in ``visible_ids``.
         """
-        kin = self.kinematics
-        uv, depth, area = kin.project_spheres(self.object_pos_m, self.object_radius_m, theta_rad)
-        w, h = kin.width_px, kin.height_px
-        ids = np.flatnonzero(kin.in_image(uv, depth))
-        c, a = uv[ids], area[ids]
-        r = equal_area_radius(a)
-        # distance of each centre to the nearest image border, in radii
-        border = np.minimum(np.minimum(c[:, 0] + 0.5, w - 0.5 - c[:, 0]),
-                            np.minimum(c[:, 1] + 0.5, h - 0.5 - c[:, 1])) / r
-        cut = border < 1.0
-        if cut.any():
-            frac = np.ones(len(ids))
-            cc, rr = c[cut], r[cut]
-            frac[cut] = (_inside_fraction((cc[:, 0] + 0.5) / rr)
-                         * _inside_fraction((w - 0.5 - cc[:, 0]) / rr)
-                         * _inside_fraction((cc[:, 1] + 0.5) / rr)
-                         * _inside_fraction((h - 0.5 - cc[:, 1]) / rr))
-            a = a * frac
-        self.visible_ids = ids
-        return Detections(c, a, self.edge[ids], np.zeros(len(ids)), (w, h))
+        kin, n = self.kinematics, len(self.object_radius_m)
+        centre, area, edge = np.empty((n, 2)), np.empty(n), np.empty(n)
+        ids = np.empty(n, dtype=np.int64)
+        m = detect_into(self.object_pos_m, self.object_radius_m, self.edge,
+                        kin.rotation(theta_rad), np.asarray(kin.offset_m, dtype=float),
+                        float(kin.focal_px), kin.width_px, kin.height_px, np.empty((n, 2)),
+                        np.empty(n), np.empty(n), centre, area, edge, ids)
+        self.visible_ids = ids[:m]
+        return Detections(centre[:m], area[:m], edge[:m], np.zeros(m),
+                          (kin.width_px, kin.height_px))

@@ -17,10 +17,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._jit import jit
 from ..agent.detections import equal_area_radius
 from ..config import WorldConfig
 
-__all__ = ["HeadKinematics", "Unreachable", "angle_rad", "direction"]
+__all__ = ["BEHIND", "CENTRED", "INSIDE_LATERAL", "INSIDE_VERTICAL", "HeadKinematics",
+           "Unreachable", "angle_rad", "centring_angles", "direction", "project_spheres_into",
+           "rotation_matrix"]
 
 
 class Unreachable(ValueError):
@@ -41,11 +44,86 @@ def angle_rad(a, b) -> np.ndarray:
     return np.arccos(np.clip(cos, -1.0, 1.0))
 
 
-def _rotation(pan_rad: float, tilt_rad: float) -> np.ndarray:
+@jit
+def rotation_matrix(pan_rad: float, tilt_rad: float) -> np.ndarray:
     """Head orientation: columns are the head's right, forward and up axes in the world."""
-    cp, sp, ct, st = math.cos(pan_rad), math.sin(pan_rad), math.cos(tilt_rad), math.sin(tilt_rad)
+    cp, sp = math.cos(pan_rad), math.sin(pan_rad)
+    ct, st = math.cos(tilt_rad), math.sin(tilt_rad)
     # (rotation about -z by pan) @ (rotation about +x by tilt), multiplied out
-    return np.array([[cp, sp * ct, -sp * st], [-sp, cp * ct, -cp * st], [0.0, st, ct]])
+    rot = np.empty((3, 3))
+    rot[0, 0], rot[0, 1], rot[0, 2] = cp, sp * ct, -sp * st
+    rot[1, 0], rot[1, 1], rot[1, 2] = -sp, cp * ct, -cp * st
+    rot[2, 0], rot[2, 1], rot[2, 2] = 0.0, st, ct
+    return rot
+
+
+@jit
+def _camera_axis(p: np.ndarray, rot: np.ndarray, offset_m: np.ndarray, j: int) -> float:
+    """Coordinate ``j`` (0 right, 1 depth, 2 up) of world point ``p`` in the camera frame."""
+    return p[0] * rot[0, j] + p[1] * rot[1, j] + p[2] * rot[2, j] - offset_m[j]
+
+
+@jit
+def project_spheres_into(points_m, radii_m, rot, offset_m, focal_px, cx_px, cy_px,
+                         uv, depth, area) -> None:
+    """Pixel positions, depths and image areas of spheres, written into ``uv``, ``depth``, ``area``.
+
+    Points behind the camera get NaN positions and areas. A sphere of angular radius b seen at
+    angle a off the optical axis images as an ellipse with semi-axes
+    f sin(b) cos(b) / (cos^2 a - sin^2 b) (radial) and f sin(b) / sqrt(cos^2 a - sin^2 b):
+    off-axis spheres look larger than on-axis ones.
+    """
+    for i in range(points_m.shape[0]):
+        x = _camera_axis(points_m[i], rot, offset_m, 0)
+        d = _camera_axis(points_m[i], rot, offset_m, 1)
+        z = _camera_axis(points_m[i], rot, offset_m, 2)
+        depth[i] = d
+        if not d > 0:
+            uv[i, 0], uv[i, 1], area[i] = np.nan, np.nan, np.nan
+            continue
+        uv[i, 0] = cx_px + focal_px * (x / d)
+        uv[i, 1] = cy_px + focal_px * (-z / d)
+        dist2 = x * x + d * d + z * z
+        sin2_b = radii_m[i] * radii_m[i] / dist2
+        denom = d * d / dist2 - sin2_b
+        if denom > 0:
+            area[i] = math.pi * focal_px * focal_px * sin2_b * np.sqrt(1 - sin2_b) / denom**1.5
+        else:
+            area[i] = np.nan
+
+
+# centring_angles' status: solved, or why not
+CENTRED, INSIDE_LATERAL, INSIDE_VERTICAL, BEHIND = 0, 1, 2, 3
+
+
+@jit
+def centring_angles(point_m: np.ndarray, offset_m: np.ndarray) -> tuple[float, float, int]:
+    """The head angle (pan, tilt) that puts ``point_m`` on the optical axis, and a status.
+
+    Solved in closed form for the offset camera: the lateral offset fixes pan through
+    ``x' = o_x`` after un-panning, then the vertical offset fixes tilt through ``z'' = o_z``.
+    The status is :data:`CENTRED` or why no angle does it. Joint limits are not applied.
+    """
+    px, py, pz = point_m[0], point_m[1], point_m[2]
+    ox, oz = offset_m[0], offset_m[2]
+    r = math.hypot(px, py)
+    if r <= abs(ox):
+        return np.nan, np.nan, INSIDE_LATERAL
+    # x' = cos(pan) px - sin(pan) py = r cos(pan + gamma) must equal o_x.
+    gamma, spread = math.atan2(py, px), math.acos(ox / r)
+    p1, p2 = -gamma + spread, -gamma - spread
+    p1, p2 = math.atan2(math.sin(p1), math.cos(p1)), math.atan2(math.sin(p2), math.cos(p2))
+    # The right branch leaves the point in front (y' > 0 after un-panning).
+    front1 = math.sin(p1) * px + math.cos(p1) * py
+    pan = p1 if front1 >= math.sin(p2) * px + math.cos(p2) * py else p2
+    y1 = math.sin(pan) * px + math.cos(pan) * py
+    rho = math.hypot(y1, pz)
+    if rho <= abs(oz):
+        return np.nan, np.nan, INSIDE_VERTICAL
+    tilt = math.atan2(pz, y1) - math.asin(oz / rho)
+    if _camera_axis(point_m, rotation_matrix(pan, tilt), offset_m, 1) <= 0:
+        return np.nan, np.nan, BEHIND
+    return pan, tilt, CENTRED
 
 
 @dataclass(frozen=True)
@@ -89,7 +167,7 @@ class HeadKinematics:
 
     def rotation(self, theta_rad) -> np.ndarray:
         """Head orientation for head angle ``theta_rad = (pan, tilt)``."""
-        return _rotation(float(theta_rad[0]), float(theta_rad[1]))
+        return rotation_matrix(float(theta_rad[0]), float(theta_rad[1]))
 
     def camera_position(self, theta_rad) -> np.ndarray:
         """The optical centre in the world for head angle ``theta_rad``."""
@@ -99,31 +177,19 @@ class HeadKinematics:
         """Unit vector of the optical axis in the world for head angle ``theta_rad``."""
         return self.rotation(theta_rad)[:, 1]
 
-    def to_camera(self, points_m, theta_rad) -> np.ndarray:
-        """World points (N, 3) in the camera frame: (right, depth, up)."""
-        rot = self.rotation(theta_rad)
-        return np.atleast_2d(points_m) @ rot - np.asarray(self.offset_m)
-
     def project_spheres(self, points_m, radii_m, theta_rad):
         """Pixel positions (N, 2), depths (N,) and exact image areas (N,) of spheres.
 
-        Points behind the camera get NaN positions and areas. A sphere of angular radius b
-        seen at angle a off the optical axis images as an ellipse with semi-axes
-        f sin(b) cos(b) / (cos^2 a - sin^2 b) (radial) and f sin(b) / sqrt(cos^2 a - sin^2 b):
-        off-axis spheres look larger than on-axis ones.
+        Points behind the camera get NaN positions and areas (see
+        :func:`project_spheres_into`).
         """
-        cam = self.to_camera(points_m, theta_rad)
-        x, depth, z = cam[:, 0], cam[:, 1], cam[:, 2]
-        f = self.focal_px
-        front = depth > 0
-        with np.errstate(divide="ignore", invalid="ignore"):
-            uv = self.centre_px + f * np.stack([x / depth, -z / depth], axis=1)
-            dist2 = x * x + depth * depth + z * z
-            sin2_b = np.asarray(radii_m, dtype=float) ** 2 / dist2
-            denom = depth * depth / dist2 - sin2_b
-            area = np.pi * f * f * sin2_b * np.sqrt(1 - sin2_b) / denom**1.5
-        uv[~front] = np.nan
-        area[~front | (denom <= 0)] = np.nan
+        points = np.atleast_2d(np.asarray(points_m, dtype=float))
+        radii = np.broadcast_to(np.asarray(radii_m, dtype=float), len(points)).copy()
+        n = len(points)
+        uv, depth, area = np.empty((n, 2)), np.empty(n), np.empty(n)
+        cx, cy = self.centre_px
+        project_spheres_into(points, radii, self.rotation(theta_rad), np.asarray(self.offset_m),
+                             float(self.focal_px), cx, cy, uv, depth, area)
         return uv, depth, area
 
     def in_image(self, uv: np.ndarray, depth: np.ndarray) -> np.ndarray:
@@ -163,27 +229,14 @@ class HeadKinematics:
     def centring_angles(self, point_m) -> np.ndarray:
         """The head angle (pan, tilt) that puts ``point_m`` on the optical axis.
 
-        Solved in closed form for the offset camera: the lateral offset fixes pan through
-        ``x' = o_x`` after un-panning, then the vertical offset fixes tilt through ``z'' = o_z``.
-        Joint limits are not applied; see :meth:`within_limits`.
+        Joint limits are not applied; see :meth:`within_limits`. Raises :class:`Unreachable`
+        if no head angle does it (see :func:`centring_angles`).
         """
-        px, py, pz = np.asarray(point_m, dtype=float)
-        ox, _, oz = self.offset_m
-        r = np.hypot(px, py)
-        if r <= abs(ox):
-            raise Unreachable(f"point {point_m} is inside the camera's lateral offset")
-        # x' = cos(pan) px - sin(pan) py = r cos(pan + gamma) must equal o_x.
-        gamma = np.arctan2(py, px)
-        candidates = [-gamma + s * np.arccos(ox / r) for s in (1.0, -1.0)]
-        pans = [np.arctan2(np.sin(p), np.cos(p)) for p in candidates]
-        # The right branch leaves the point in front (y' > 0 after un-panning).
-        pan = max(pans, key=lambda p: np.sin(p) * px + np.cos(p) * py)
-        y1 = np.sin(pan) * px + np.cos(pan) * py
-        rho = np.hypot(y1, pz)
-        if rho <= abs(oz):
-            raise Unreachable(f"point {point_m} is inside the camera's vertical offset")
-        tilt = np.arctan2(pz, y1) - np.arcsin(oz / rho)
-        theta = np.array([pan, tilt])
-        if self.to_camera(point_m, theta)[0, 1] <= 0:
-            raise Unreachable(f"point {point_m} lies behind the camera")
-        return theta
+        point = np.asarray(point_m, dtype=float)
+        pan, tilt, status = centring_angles(point, np.asarray(self.offset_m, dtype=float))
+        if status == CENTRED:
+            return np.array([pan, tilt])
+        where = {INSIDE_LATERAL: "is inside the camera's lateral offset",
+                 INSIDE_VERTICAL: "is inside the camera's vertical offset",
+                 BEHIND: "lies behind the camera"}[status]
+        raise Unreachable(f"point {point_m} {where}")

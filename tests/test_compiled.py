@@ -1,0 +1,174 @@
+"""The compiled engine: the same cells as the step-by-step path; kernels true to the equations.
+
+The kernels are checked against plain numpy formulas of the paper's equations.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from jointattention import run_cell, run_experiment
+from jointattention.agent.attention import attended_index, interest_argmax, visual_feedback_rad
+from jointattention.agent.bootstrap import BootstrapOptions
+from jointattention.agent.gates import SigmoidGate
+from jointattention.agent.learner import LearningModule
+from jointattention.analysis.learned import train
+from jointattention.config import ConditionConfig, Config, ExperimentConfig
+from jointattention.world.kinematics import HeadKinematics
+
+READINGS = [  # each reading and gate of the bootstrap model, early enough to be quick
+    ConditionConfig(name="sigmoid", n_objects=5),
+    ConditionConfig(name="per-trial", n_objects=3, model={"gate_per": "trial"}),
+    ConditionConfig(name="fallback-lm", n_objects=1, model={"vf_fallback": "lm"}),
+    ConditionConfig(name="final", n_objects=10, model={"learning_target": "final_direction"}),
+    ConditionConfig(name="executed", n_objects=5, model={"learning_target": "executed_step"}),
+    ConditionConfig(name="const", n_objects=5, model={
+        "gate": {"kind": "constant", "rate": 0.5}, "n_hidden": 4, "momentum": 0.0}),
+    ConditionConfig(name="shuffled", n_objects=5, shuffle_faces=True),
+]
+CONFIG = Config(
+    model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),
+    experiment=ExperimentConfig(n_steps=3000, n_seeds=2, conditions=tuple(READINGS)))
+
+
+def _engine(config: Config, engine: str) -> Config:
+    return dataclasses.replace(config, experiment=dataclasses.replace(config.experiment,
+                                                                      engine=engine))
+
+
+@pytest.mark.parametrize("condition", READINGS, ids=lambda c: c.name)
+def test_compiled_cells_equal_the_step_by_step_cells_byte_for_byte(condition):
+    """Every reading and gate: the compiled engine writes the python engine's records."""
+    compiled = run_cell(_engine(CONFIG, "compiled"), condition, 1)
+    python = run_cell(_engine(CONFIG, "python"), condition, 1)
+    assert compiled.keys() == python.keys()
+    for key in compiled:
+        assert compiled[key].dtype == python[key].dtype
+        assert np.array_equal(compiled[key], python[key]), key
+    assert compiled["n_lm_steps"].sum() > 0 and compiled["fired"].any()
+
+
+def test_compiled_agents_learn_the_same_weights_at_each_checkpoint():
+    """Fig. 6/7's snapshots: the agents learned by both engines are equal, array by array."""
+    snaps = {e: train(_engine(CONFIG, e), "sigmoid", 0, [1000, 2000]) for e in
+             ("compiled", "python")}
+    assert snaps["compiled"].keys() == snaps["python"].keys() == {0, 1000, 2000, 3000}
+    for t, agent in snaps["compiled"].items():
+        other = snaps["python"][t]
+        assert agent.learning_time_steps == other.learning_time_steps
+        assert agent.learner.n_updates_ == other.learner.n_updates_
+        for a, b in zip(agent.learner._params(), other.learner._params(), strict=True):
+            assert np.array_equal(a, b)
+    assert snaps["compiled"][3000].learner.n_updates_ > 0
+
+
+@pytest.mark.parametrize("backend", ["local", "ray"])
+def test_compiled_runs_do_not_depend_on_workers_or_backend(tmp_path, backend):
+    """One process, two workers and Ray give the same cells."""
+    if backend == "ray":
+        pytest.importorskip("ray")
+    small = dataclasses.replace(CONFIG, experiment=dataclasses.replace(
+        CONFIG.experiment, n_steps=1500, conditions=READINGS[:2]))
+    one = run_experiment(small, tmp_path / "one", workers=1)
+    two = run_experiment(small, tmp_path / "two", workers=2, backend=backend)
+    for key in one:
+        for col in one[key]:
+            assert np.array_equal(one[key][col], two[key][col])
+
+
+def test_a_second_process_loads_the_compiled_engine_from_the_cache():
+    """The engine is compiled once per machine: a new process finds it in the cache."""
+    script = ("import dataclasses\n"
+              "from jointattention import load_config, run_cell\n"
+              "from jointattention.experiment.compiled import _run\n"
+              "c = load_config('quick')\n"
+              "c = dataclasses.replace(c, experiment=dataclasses.replace(c.experiment, "
+              "n_steps=50))\n"
+              "run_cell(c, c.experiment.conditions[0], 0)\n"
+              "print(sum(_run.stats.cache_hits.values()), sum(_run.stats.cache_misses.values()))")
+    for _ in range(2):  # the first may compile (a fresh machine); the second must not
+        out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                             check=True).stdout.split()
+    assert out == ["1", "0"]
+
+
+KIN = HeadKinematics.from_config(Config().world)
+points = st.tuples(st.floats(-0.6, 0.6), st.floats(0.2, 1.2), st.floats(-0.5, 0.5))
+angles = st.tuples(st.floats(-1.0, 1.0), st.floats(-0.7, 0.6))
+
+
+@settings(max_examples=60, deadline=None)
+@given(points, st.floats(0.01, 0.1), angles)
+def test_projection_agrees_with_the_pinhole_formula(point, radius, theta):
+    """Projection: positions and the off-axis ellipse's area, against numpy, to 1e-9."""
+    p = np.array(point)
+    uv, depth, area = KIN.project_spheres(p, radius, theta)
+    rot = KIN.rotation(theta)
+    cam = p @ rot - np.array(KIN.offset_m)  # (right, depth, up)
+    assert depth[0] == pytest.approx(cam[1], abs=1e-12)
+    if cam[1] <= 0:
+        assert np.isnan(uv).all()
+        return
+    f = KIN.focal_px
+    expected_uv = KIN.centre_px + f * np.array([cam[0], -cam[2]]) / cam[1]
+    np.testing.assert_allclose(uv[0], expected_uv, rtol=0, atol=1e-9)
+    sin_b = radius / np.linalg.norm(cam)
+    cos_a = cam[1] / np.linalg.norm(cam)
+    denom = cos_a**2 - sin_b**2
+    if denom > 0:  # semi-axes f sin b cos b / denom and f sin b / sqrt(denom)
+        ellipse = np.pi * (f * sin_b * np.sqrt(1 - sin_b**2) / denom) * (f * sin_b
+                                                                          / np.sqrt(denom))
+        assert area[0] == pytest.approx(ellipse, rel=1e-9)
+
+
+detections = st.integers(1, 10).flatmap(lambda n: st.tuples(
+    st.lists(st.tuples(st.floats(0, 319), st.floats(0, 239)), min_size=n, max_size=n),
+    st.lists(st.floats(0, 5000), min_size=n, max_size=n),
+    st.lists(st.floats(0, 1), min_size=n, max_size=n)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(detections, st.tuples(st.floats(0, 2), st.floats(0, 2), st.floats(0, 2)))
+def test_equations_1_2_3_agree_with_numpy(det, weights):
+    """Eq. 1 (weighted argmax), 2 (gain times offset) and 3 (nearest within d_th) match numpy."""
+    centre, area, edge = (np.array(x, dtype=float) for x in det)
+    motion = np.zeros(len(area))
+    a1, a2, a3 = weights
+    score = a1 * area + a2 * edge + a3 * motion
+    assert interest_argmax(area, edge, motion, a1, a2, a3) == int(np.argmax(score))
+    c = np.array([159.5, 119.5])
+    for i in range(len(area)):
+        got = visual_feedback_rad(centre[i, 0], centre[i, 1], c[0], c[1], 0.0025)
+        np.testing.assert_allclose(got, 0.0025 * np.array([centre[i, 0] - c[0],
+                                                           c[1] - centre[i, 1]]), atol=1e-12)
+    dist = np.hypot(*(centre - c).T)
+    expected = int(np.argmin(dist)) if dist.min() < 53.3 else -1
+    assert attended_index(centre, c[0], c[1], 53.3) == expected
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 12), st.floats(0, 0.9))
+def test_forward_pass_and_one_update_agree_with_numpy(seed, n_hidden, momentum):
+    """The learning module's forward pass and one update match numpy's to 1e-9."""
+    rng = np.random.default_rng(seed)
+    net = LearningModule(40, n_hidden, 2, learning_rate=0.01, momentum=momentum, rng=rng)
+    x, y = rng.normal(size=(2, 40)), rng.normal(size=(2, 2))
+    net.partial_fit(x[:1], y[:1])  # some momentum to carry
+    w1, b1, w2, b2 = (p.copy() for p in net._params())
+    v = [p.copy() for p in net.velocity_]
+    h = np.tanh(w1 @ x[1] + b1)
+    out = h @ w2 + b2
+    np.testing.assert_allclose(net.predict(x[1:]), out[None], rtol=0, atol=1e-9)
+    err = out - y[1]
+    dh = (w2 @ err) * (1 - h**2)
+    grads = [np.outer(dh, x[1]), dh, np.outer(h, err), err]
+    net.partial_fit(x[1:], y[1:])
+    for p, p0, v0, g in zip(net._params(), (w1, b1, w2, b2), v, grads, strict=True):
+        np.testing.assert_allclose(p, p0 + (momentum * v0 - 0.01 * g), rtol=0, atol=1e-9)
