@@ -13,7 +13,8 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 demo: $(STAMP)
-	$(BIN)/jointattention reproduce --preset quick --out runs/demo
+	$(BIN)/jointattention reproduce --preset paper --out runs/demo
+	$(BIN)/jointattention report runs/demo
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests examples docs

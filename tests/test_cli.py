@@ -102,14 +102,15 @@ def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
 
 
 def test_bench_estimates_every_preset():
-    """The wall-time estimate covers each preset at the rate of its perception mode.
+    """The wall-time estimate covers each preset at the rate of its engine or perception.
 
     The rendered preset is scaled by the rendered rate only.
     """
     from jointattention.bench import preset_estimates
     from jointattention.config import preset_names
 
-    slow, fast = preset_estimates(1000.0, 50.0, 2), preset_estimates(2000.0, 50.0, 2)
+    rates = {"compiled": 1e5, "python": 1e4, "rendered": 50.0}
+    slow, fast = preset_estimates(rates, 2), preset_estimates({**rates, "compiled": 2e5}, 2)
     assert [r[0].split(":")[0] for r in slow] == [f"preset {n}" for n in preset_names()]
     for (name, a, unit), (_, b, _) in zip(slow, fast, strict=True):
         expected = 1.0 if name.startswith("preset rendered") else 2.0

@@ -7,10 +7,12 @@ from collections.abc import Callable
 
 import numpy as np
 
+from ._jit import jit
+from .agent.learner import LearningModule, sgd_update
 from .config import WorldConfig
 
-__all__ = ["preset_estimates", "run_agent_benchmark", "run_env_benchmark", "run_preset",
-           "run_world_benchmarks"]
+__all__ = ["compile_times", "preset_estimates", "run_agent_benchmark", "run_env_benchmark",
+           "run_preset", "run_world_benchmarks"]
 
 
 def _rate(fn: Callable[[int], object], n: int, repeats: int = 3) -> float:
@@ -83,46 +85,104 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
     return [("JointAttention-v0 steps, random actions (rendered)", rate, "steps/s")]
 
 
-def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
-    """Agent-steps per second of learning, in fast and in rendered mode.
-
-    The quick preset's 5-object sigmoid cell in fast mode (whose gate goes from the visual
-    controller to the learning module), and its first ``rendered_steps`` steps in rendered mode
-    (MuJoCo render + OpenCV detection each step).
-    """
+def _cell_rate(config, condition, **experiment) -> float:
+    """Agent steps per second of one cell of ``config`` with ``experiment``'s fields changed."""
     import dataclasses
 
-    from .config import load_config
     from .experiment.cells import run_cell
+
+    exp = dataclasses.replace(config.experiment, **experiment)
+    start = time.perf_counter()
+    run_cell(dataclasses.replace(config, experiment=exp), condition, 0)
+    return exp.n_steps / (time.perf_counter() - start)
+
+
+def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
+    """Agent-steps per second of learning: compiled engine, python engine, rendered mode.
+
+    The quick preset's 5-object sigmoid cell (whose gate goes from the visual controller to the
+    learning module) in both engines, and its first ``rendered_steps`` steps in rendered mode
+    (MuJoCo render + OpenCV detection each step). Then one compiled step's time against its
+    bound: one forward and backward pass of the learning module alone, in compiled code.
+    """
+    from .config import load_config
 
     config = load_config("quick")
     cond = next(c for c in config.experiment.conditions if c.name == "n5-sigmoid")
-    start = time.perf_counter()
-    run_cell(config, cond, 0)
-    fast = config.experiment.n_steps / (time.perf_counter() - start)
-    exp = dataclasses.replace(config.experiment, n_steps=rendered_steps, perception="rendered",
-                              engine="python")
-    start = time.perf_counter()
-    run_cell(dataclasses.replace(config, experiment=exp), cond, 0)
-    rendered = rendered_steps / (time.perf_counter() - start)
-    return [("agent steps, fast mode, learning (quick n5-sigmoid)", fast, "steps/s"),
+    _cell_rate(config, cond, n_steps=100)  # load (or compile) the engine outside the timing
+    compiled = _cell_rate(config, cond, engine="compiled")
+    python = _cell_rate(config, cond, engine="python")
+    rendered = _cell_rate(config, cond, n_steps=rendered_steps, perception="rendered",
+                          engine="python")
+    step_us, bound_us = 1e6 / compiled, _update_us()
+    return [("agent steps, compiled engine, learning (quick n5-sigmoid)", compiled, "steps/s"),
+            ("agent steps, python engine, learning (same cell)", python, "steps/s"),
             ("agent steps, rendered mode + OpenCV, learning (same cell)", rendered, "steps/s"),
-            ("fast / rendered", fast / rendered, "x")]
+            ("compiled / python engine", compiled / python, "x"),
+            ("compiled / rendered", compiled / rendered, "x"),
+            ("one compiled step (mean over the cell)", step_us, "us"),
+            ("bound: one forward + backward pass, 752-7-2, compiled", bound_us, "us"),
+            ("step / bound", step_us / bound_us, "x")]
 
 
-def preset_estimates(fast_steps_per_s: float, rendered_steps_per_s: float,
-                     workers: int) -> list[tuple[str, float, str]]:
+def _update_us(n: int = 20000) -> float:
+    """Microseconds of one back-propagation step (forward and backward) of a 752-7-2 network."""
+    net = LearningModule(752, 7, 2, rng=np.random.default_rng(0))
+    x, y = np.random.default_rng(1).normal(size=(n, 752)), np.tile([0.6, 0.8], (n, 1))
+    net.partial_fit(x[:10], y[:10])
+    best = np.inf
+    for _ in range(3):
+        start = time.perf_counter()
+        _updates(x, y, *net._params(), *net.velocity_)
+        best = min(best, time.perf_counter() - start)
+    return best / n * 1e6
+
+
+@jit
+def _updates(x, y, w1, b1, w2, b2, v1, vb1, v2, vb2) -> None:
+    """One :func:`~.agent.learner.sgd_update` per row, in one compiled loop (no call overhead)."""
+    for i in range(len(x)):
+        sgd_update(x[i], y[i], w1, b1, w2, b2, v1, vb1, v2, vb2, 0.0003, 0.5)
+
+
+def compile_times() -> list[tuple[str, float, str]]:
+    """Seconds of a first run on a new machine (empty kernel cache) and of a second run.
+
+    Each in a new process: import, load or compile the kernels, learn a 100-step cell.
+    """
+    import os
+    import subprocess
+    import sys
+    import tempfile
+
+    script = ("import dataclasses\n"
+              "from jointattention import load_config, run_cell\n"
+              "c = load_config('quick')\n"
+              "c = dataclasses.replace(c, experiment=dataclasses.replace(c.experiment, "
+              "n_steps=100))\n"
+              "run_cell(c, c.experiment.conditions[0], 0)\n")
+    rows = []
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        for name in ("first run, empty kernel cache (compiles)", "second run (cache loaded)"):
+            start = time.perf_counter()
+            subprocess.run([sys.executable, "-c", script], env=env, check=True)
+            rows.append((name, time.perf_counter() - start, "s"))
+    return rows
+
+
+def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, float, str]]:
     """Estimated wall time of each shipped preset.
 
-    Its agent-steps over ``workers`` processes at the rate of its perception mode (``reproduce``
-    records the measured time).
+    Its agent-steps over ``workers`` processes at the rate of its engine or perception
+    (``rates``: "compiled", "python", "rendered"); ``reproduce`` records the measured time.
     """
     from .config import load_config, preset_names
 
     rows = []
     for name in preset_names():
         exp = load_config(name).experiment
-        rate = rendered_steps_per_s if exp.perception == "rendered" else fast_steps_per_s
+        rate = rates["rendered" if exp.perception == "rendered" else exp.engine]
         cells = len(exp.conditions) * exp.n_seeds
         rounds = np.ceil(cells / workers)  # cells are the unit of parallel work
         rows.append((f"preset {name}: {cells} cells on {workers} workers (estimate)",

@@ -51,6 +51,7 @@ def _cmd_report(args: argparse.Namespace) -> None:
 
 def _cmd_bench(args: argparse.Namespace) -> None:
     from ..bench import (
+        compile_times,
         preset_estimates,
         run_agent_benchmark,
         run_env_benchmark,
@@ -62,13 +63,14 @@ def _cmd_bench(args: argparse.Namespace) -> None:
     n_workers = workers(args)
     for preset in args.run:
         load_config(preset)  # an unknown preset is refused before anything runs
-    rows = run_world_benchmarks(load_config(args.config).world)
+    rows = compile_times() + run_world_benchmarks(load_config(args.config).world)
     agent = run_agent_benchmark()
-    rows += run_env_benchmark() + agent + preset_estimates(agent[0][1], agent[1][1], n_workers)
+    rates = dict(zip(("compiled", "python", "rendered"), (r[1] for r in agent[:3]), strict=True))
+    rows += run_env_benchmark() + agent + preset_estimates(rates, n_workers)
     for preset in args.run:
         rows += run_preset(preset, n_workers)
     for name, value, unit in rows:
-        print(f"{name:<60} {value:>10,.{1 if unit in ('min', 'x') else 0}f} {unit}")
+        print(f"{name:<60} {value:>10,.{1 if unit in ('min', 'x', 's', 'us') else 0}f} {unit}")
 
 
 def _cmd_config(args: argparse.Namespace) -> None:
