@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -64,3 +66,13 @@ def test_oracle_ceiling_falls_with_more_objects():
     """The oracle always succeeds with one object and less often with ten."""
     assert measure_ceiling(SMALL, 1, 200) == 1.0
     assert measure_ceiling(SMALL, 10, 300) < measure_ceiling(SMALL, 3, 300) < 1.0
+
+
+def test_run_folder_of_another_version_is_refused(tmp_path):
+    """A folder made by a version whose cells differ (0.1.0: one agent stream) is not resumed."""
+    out = tmp_path / "run"
+    run_experiment(SMALL, out)
+    made = json.loads((out / "versions.json").read_text())
+    (out / "versions.json").write_text(json.dumps({**made, "jointattention": "0.1.0"}))
+    with pytest.raises(JointAttentionError, match=r"made by jointattention 0\.1\.0"):
+        run_experiment(SMALL, out)

@@ -37,7 +37,7 @@ from ..errors import ConfigError
 from ..world.fast import detect_into
 from ..world.kinematics import HeadKinematics, rotation_matrix
 from ..world.mjcf import HEAD_RADII_M
-from ..world.scene import place_into, region_of
+from ..world.placement import place_into, region_of
 from .trial import END_FIRED, RECORD
 
 __all__ = ["CompiledCell", "pack_world", "unsupported"]

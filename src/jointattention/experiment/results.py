@@ -9,6 +9,7 @@ writes from them.
 from __future__ import annotations
 
 import csv
+import json
 import platform
 from importlib import metadata
 from pathlib import Path
@@ -51,12 +52,26 @@ def prepare_run_dir(out: Path, config: Config) -> None:
             raise JointAttentionError(
                 f"{out}: holds results of another configuration; expected a new --out folder "
                 "(or the same configuration, to resume)")
+        made_by = _made_by(out)
+        if made_by.split(".")[:2] != __version__.split(".")[:2]:
+            raise JointAttentionError(
+                f"{out}: made by jointattention {made_by}, whose cells differ from version "
+                f"{__version__}'s; expected a new --out folder")
         return
     if out.exists() and any(out.iterdir()):
         raise JointAttentionError(f"{out}: not empty and not a run folder; expected a new or "
                                   "empty folder")
     write_text(cfg_file, to_toml(config))
     save_json(versions(), out / "versions.json")
+
+
+def _made_by(out: Path) -> str:
+    """The version of jointattention that made run folder ``out`` ("unknown" if not told)."""
+    try:
+        made = json.loads((out / "versions.json").read_text(encoding="utf-8"))
+        return str(made["jointattention"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return "unknown"
 
 
 def cell_path(out: Path, condition: str, seed_index: int) -> Path:

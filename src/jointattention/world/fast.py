@@ -15,7 +15,8 @@ from .._jit import jit
 from ..agent.detections import Detections
 from ..config import WorldConfig
 from .kinematics import HeadKinematics, project_spheres_into
-from .scene import place_objects, shuffle_target
+from .placement import place_objects
+from .scene import shuffle_target
 
 __all__ = ["FastScene", "detect_into"]
 

@@ -7,23 +7,18 @@ it, the fast projection projects it, and ground truth (the caregiver's target) l
 from __future__ import annotations
 
 import colorsys
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .._jit import jit
 from ..config import WorldConfig
-from ..errors import ConfigError
-from .kinematics import CENTRED, centring_angles
 from .mjcf import HEAD_RADII_M
+from .placement import sample_objects
 
 __all__ = [
     "Caregiver",
     "SceneState",
     "gaze_angles",
-    "place_into",
-    "region_of",
     "sample_caregiver",
     "sample_scene",
     "scene_with",
@@ -50,7 +45,6 @@ _HAIR_COLOURS = np.array(
         [0.45, 0.20, 0.10],
     ]
 )
-_MAX_TRIES = 4000
 
 
 @dataclass(frozen=True)
@@ -116,103 +110,6 @@ def sample_caregiver(world: WorldConfig, rng: np.random.Generator) -> Caregiver:
     )
 
 
-@jit
-def _angle(a: np.ndarray, b: np.ndarray) -> float:
-    """Angle (rad) between vectors ``a`` and ``b`` (3,)."""
-    dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-    norms = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * math.sqrt(
-        b[0] * b[0] + b[1] * b[1] + b[2] * b[2])
-    return math.acos(min(max(dot / norms, -1.0), 1.0))
-
-
-@jit
-def place_into(rng, pos, rad, n_fixed, head_pos_m, face_radius_m, region, offset_m,
-               limits_rad) -> int:
-    """Fill ``pos`` (n, 3) and ``rad`` (n,) after their ``n_fixed`` first rows with objects.
-
-    The objects are drawn at random, apart from each other and from the face, all reachable.
-    ``region`` holds, in degrees and metres: pan range, tilt range, distance range, radius
-    range, least gap, face clearance; ``limits_rad`` the pan and tilt joint ranges. Returns the
-    number of rows filled (fewer than n if ``_MAX_TRIES`` draws did not suffice).
-
-    Candidates are drawn in batches and accepted in order, which is the same as drawing them
-    one by one and rejecting the ones that break a rule.
-    """
-    n = len(rad)
-    face_half = math.asin(face_radius_m / math.sqrt(
-        head_pos_m[0] ** 2 + head_pos_m[1] ** 2 + head_pos_m[2] ** 2))
-    gap, clearance = np.deg2rad(region[8]), np.deg2rad(region[9])
-    half = np.empty(n)
-    for i in range(n_fixed):
-        half[i] = math.asin(rad[i] / math.sqrt(pos[i, 0] ** 2 + pos[i, 1] ** 2 + pos[i, 2] ** 2))
-    placed, drawn = n_fixed, 0
-    cand = np.empty(3)
-    while placed < n and drawn < _MAX_TRIES:
-        batch = 8 * (n - placed)
-        drawn += batch
-        pan = np.deg2rad(rng.uniform(region[0], region[1], batch))
-        tilt = np.deg2rad(rng.uniform(region[2], region[3], batch))
-        dist = rng.uniform(region[4], region[5], batch)
-        radius = rng.uniform(region[6], region[7], batch)
-        for j in range(batch):
-            if placed == n:
-                break
-            cand[0] = dist[j] * (math.sin(pan[j]) * math.cos(tilt[j]))
-            cand[1] = dist[j] * (math.cos(pan[j]) * math.cos(tilt[j]))
-            cand[2] = dist[j] * math.sin(tilt[j])
-            cand_half = math.asin(radius[j] / dist[j])
-            if not _angle(cand, head_pos_m) - cand_half - face_half >= clearance:
-                continue
-            apart = True
-            for i in range(placed):
-                if _angle(pos[i], cand) - half[i] - cand_half < gap:
-                    apart = False
-                    break
-            if not apart:
-                continue
-            p, t, status = centring_angles(cand, offset_m)
-            if status != CENTRED or not (limits_rad[0] <= p <= limits_rad[1]
-                                         and limits_rad[2] <= t <= limits_rad[3]):
-                continue
-            pos[placed] = cand
-            rad[placed], half[placed] = radius[j], cand_half
-            placed += 1
-    return placed
-
-
-def region_of(world: WorldConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``place_into``'s region, camera offset and joint limits for ``world``."""
-    o = world.objects
-    region = np.array([*o.pan_range_deg, *o.tilt_range_deg, *o.distance_range_m,
-                       *o.radius_range_m, o.min_gap_deg, o.face_clearance_deg], dtype=float)
-    limits = np.deg2rad([*world.head.pan_limits_deg, *world.head.tilt_limits_deg])
-    return region, np.asarray(world.camera.offset_m, dtype=float), limits
-
-
-def _sample_objects(world: WorldConfig, head_pos: np.ndarray, face_radius: float,
-                    rng: np.random.Generator, n: int, fixed_pos=(), fixed_rad=()):
-    """Objects at random, apart from each other and from the face, all reachable.
-
-    The ``fixed`` objects (already placed) come first and count toward ``n``.
-    """
-    pos, rad = np.zeros((n, 3)), np.zeros(n)
-    k = len(fixed_rad)
-    pos[:k], rad[:k] = np.reshape(fixed_pos, (k, 3)), fixed_rad
-    if place_into(rng, pos, rad, k, np.asarray(head_pos, dtype=float), float(face_radius),
-                  *region_of(world)) < n:
-        raise ConfigError(
-            f"objects: could not place {n} objects apart within the object region after "
-            f"{_MAX_TRIES} draws; expected fewer objects, a wider region or smaller gaps")
-    return pos, rad
-
-
-def place_objects(world: WorldConfig, head_pos_m, rng: np.random.Generator, n: int,
-                  fixed_pos=(), fixed_rad=()) -> tuple[np.ndarray, np.ndarray]:
-    """Positions (n, 3) and radii (n,) of ``n`` objects, the ``fixed`` ones first."""
-    return _sample_objects(world, np.asarray(head_pos_m, float), HEAD_RADII_M[2], rng, n,
-                           fixed_pos, fixed_rad)
-
-
 def sample_scene(
     world: WorldConfig,
     rng: np.random.Generator,
@@ -225,7 +122,7 @@ def sample_scene(
     caregiver = caregiver if caregiver is not None else sample_caregiver(world, rng)
     head_pos = np.array([0.0, cg.distance_m, cg.height_m]) + rng.normal(0, cg.position_noise_m, 3)
     face_radius = HEAD_RADII_M[2] * caregiver.head_scale
-    obj_pos, obj_rad = _sample_objects(world, head_pos, face_radius, rng, n)
+    obj_pos, obj_rad = sample_objects(world, head_pos, face_radius, rng, n)
     rgb = _object_colours(n, rng)
     target = int(rng.integers(n))
     gaze = gaze_angles(head_pos, obj_pos[target])
@@ -303,7 +200,7 @@ def with_new_distractors(state: SceneState, world: WorldConfig,
     The caregiver, its gaze and the target stay (a recorded data set in a new scene).
     """
     n, t = state.n_objects, state.target_index
-    pos, rad = _sample_objects(world, state.head_pos_m, state.face_radius_m, rng, n,
+    pos, rad = sample_objects(world, state.head_pos_m, state.face_radius_m, rng, n,
                                [state.target_pos_m], [state.object_radius_m[t]])
     pos, rad, target = shuffle_target(pos, rad, rng)
     return replace(state, object_pos_m=pos, object_radius_m=rad, target_index=target)
