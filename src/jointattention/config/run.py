@@ -112,11 +112,9 @@ def _check_compiled(options: ModelOptions, where: str) -> None:
     """Refuse, naming it, a model the compiled engine does not run."""
     from ..experiment.compiled import unsupported  # numba: loaded only when configs are made
 
-    reason = unsupported(options)
-    if reason is not None:
-        raise ConfigError(f"{where}: experiment.engine = 'compiled' does not run {reason}; "
-                          "expected the bootstrap model with a sigmoid or constant gate, or "
-                          "experiment.engine = 'python'")
+    refusal = unsupported(options)
+    if refusal is not None:
+        raise ConfigError(f"{where}: {refusal}")
 
 
 def model_options(config: Config, condition: ConditionConfig,

@@ -93,10 +93,8 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     """
     ds = datasets_of(config)
     agent = make_agent(config, condition, seed_index, ds)
-    trials = stream(config.seed, "trials", seed_index)
-    shuffle = stream(config.seed, "shuffle", seed_index)
-    n_steps = config.experiment.n_steps
-    pending = sorted(set(checkpoints))
+    rngs = stream(config.seed, "trials", seed_index), stream(config.seed, "shuffle", seed_index)
+    pending = sorted(set(checkpoints)) if on_checkpoint is not None else []
 
     def reached(t: int) -> None:
         while pending and t >= pending[0]:
@@ -106,21 +104,29 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
         if observer is not None:
             raise ValueError("an observer sees single steps: expected experiment.engine = "
                              "'python'")
-        kin = HeadKinematics.from_config(config.world)
-        geometry = [_trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
-                    for k in range(len(ds))]
-        world = pack_world(config.world, ds, [g[0] for g in geometry], [g[1] for g in geometry],
-                           condition.n_objects, condition.shuffle_faces)
-        cell = CompiledCell(agent, world, trials, shuffle, max_trials=n_steps)
-        stops = sorted({*range(_CHUNK_STEPS, n_steps, _CHUNK_STEPS), *pending, n_steps})
-        for stop in (t for t in stops if t <= n_steps):
-            cell.run_until(stop)
-            if progress is not None:
-                progress(agent.learning_time_steps)
-            reached(agent.learning_time_steps)
-        return cell.records()
-    return _run_steps(config, condition, seed_index, ds, agent, (trials, shuffle), progress,
-                      reached if on_checkpoint else None, observer)
+        return _run_compiled(config, condition, ds, agent, rngs, progress, pending, reached)
+    return _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached,
+                      observer)
+
+
+def _run_compiled(config, condition, ds, agent, rngs, progress, pending,
+                  reached) -> dict[str, np.ndarray]:
+    """run_cell in the compiled engine, stopping at each checkpoint and every _CHUNK_STEPS."""
+    kin = HeadKinematics.from_config(config.world)
+    geometry = [_trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+                for k in range(len(ds))]
+    world = pack_world(config.world, ds, [g[0] for g in geometry], [g[1] for g in geometry],
+                       condition.n_objects, condition.shuffle_faces)
+    n_steps = config.experiment.n_steps
+    cell = CompiledCell(agent, world, *rngs, max_trials=n_steps)
+    for stop in sorted({*range(_CHUNK_STEPS, n_steps, _CHUNK_STEPS), *pending, n_steps}):
+        if stop > n_steps:
+            break
+        cell.run_until(stop)
+        if progress is not None:
+            progress(agent.learning_time_steps)
+        reached(agent.learning_time_steps)
+    return cell.records()
 
 
 def _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached,
@@ -148,8 +154,7 @@ def _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached
             results.append(run_trial(trial, agent, face, observer))
             if progress is not None:
                 progress(agent.learning_time_steps)
-            if reached is not None:
-                reached(agent.learning_time_steps)
+            reached(agent.learning_time_steps)
     finally:
         if scenes is not None:
             scenes.close()

@@ -3,7 +3,7 @@
 It runs what :func:`~.cells.run_cell` runs step by step (scene sampling, projection and the fast
 detector, Eq. 1-3, the gate, the learning module) as one compiled loop over trials. It calls
 the same kernels as the step-by-step path (:mod:`~jointattention.world.kinematics`,
-:mod:`~jointattention.world.fast`, :mod:`~jointattention.world.scene`,
+:mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
 :mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner`,
 :mod:`~jointattention.agent.bootstrap`) and draws from the same random streams in the same
 order, so both give byte-identical cells (``tests/test_compiled.py``).
@@ -22,6 +22,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.attention import attended_index, interest_argmax, visual_feedback_rad
 from ..agent.bootstrap import (
+    LEARNING_TARGETS,
     BootstrapAgent,
     BootstrapOptions,
     learning_samples,
@@ -38,22 +39,25 @@ from ..world.fast import detect_into
 from ..world.kinematics import HeadKinematics, rotation_matrix
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import place_into, region_of
-from .trial import END_FIRED, RECORD
+from .trial import END_FIRED, END_LIMIT, END_STEPS, RECORD
 
 __all__ = ["CompiledCell", "pack_world", "unsupported"]
 
-_VF, _LM, _RANDOM = 0, 1, 2
-_FIRED, _STEPS, _LIMIT = 0, 1, 2  # trial.END_*
-_OBJECT_DIRECTION, _FINAL_DIRECTION, _EXECUTED_STEP = 0, 1, 2
+_VF, _LM, _RANDOM = 0, 1, 2  # the modules, as codes
+_OBJECT_DIRECTION = LEARNING_TARGETS.index("object_direction")
+_EXECUTED_STEP = LEARNING_TARGETS.index("executed_step")
 
 
 def unsupported(options: ModelOptions) -> str | None:
-    """Why the compiled engine cannot run ``options`` (None if it can)."""
+    """Why the compiled engine cannot run ``options``, as an error message (None if it can)."""
     if type(options) is not BootstrapOptions:
-        return f"model kind {MODELS.name_of(options)!r}"
-    if type(options.gate) not in (SigmoidGate, ConstantGate):
-        return f"gate kind {options.gate.label!r}"
-    return None
+        what = f"model kind {MODELS.name_of(options)!r}"
+    elif type(options.gate) not in (SigmoidGate, ConstantGate):
+        what = f"gate kind {options.gate.label!r}"
+    else:
+        return None
+    return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap model "
+            "with a sigmoid or constant gate, or experiment.engine = 'python'")
 
 
 class _World(NamedTuple):
@@ -87,7 +91,7 @@ class _Robot(NamedTuple):
     gate_b: float  # the sigmoid's width
     gate_per_trial: bool
     vf_fallback_lm: bool
-    learning_target: int
+    learning_target: int  # its index in LEARNING_TARGETS
     theta_mid_rad: np.ndarray
     theta_half_rad: np.ndarray
     min_std: float
@@ -194,11 +198,11 @@ def _run(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, 
                             seen_edge, ids)
             seen = attended_index(centre[:m], cx, cy, robot.d_th_px)
             if seen >= 0:
-                attended, end = ids[seen], _FIRED
+                attended, end = ids[seen], END_FIRED
             elif limit_hit:
-                end = _LIMIT
+                end = END_LIMIT
             elif n_steps >= robot.max_steps:
-                end = _STEPS
+                end = END_STEPS
             if end >= 0:
                 break
             # the agent acts (BootstrapAgent.act)
@@ -232,7 +236,7 @@ def _run(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, 
             n_steps += 1
             limit_hit = pan != want_pan or tilt != want_tilt
         # the agent learns (BootstrapAgent.end_trial)
-        if end == _FIRED and n_steps > 0:
+        if end == END_FIRED and n_steps > 0:
             aim = np.array([pan, tilt])
             if robot.learning_target == _OBJECT_DIRECTION:
                 v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
@@ -261,7 +265,7 @@ class CompiledCell:
     Args:
         agent: the cell's untrained bootstrap agent (:func:`~.cells.make_agent`); it learns in
             place.
-        world: the data sets, the world and the condition as :meth:`from_config` packs them.
+        world: the data sets, the world and the condition as :func:`pack_world` packs them.
         trials: the stream that draws each trial's data set and scene.
         shuffle: the stream that draws a random face (``shuffle_faces`` conditions).
         max_trials: the most trials the cell may hold.
@@ -271,11 +275,9 @@ class CompiledCell:
 
     def __init__(self, agent: BootstrapAgent, world: _World, trials: np.random.Generator,
                  shuffle: np.random.Generator, max_trials: int):
-        reason = unsupported(agent.options)
-        if reason is not None:
-            raise ConfigError(f"experiment.engine = 'compiled' does not run {reason}; expected "
-                              "the bootstrap model with a sigmoid or constant gate, or "
-                              "experiment.engine = 'python'")
+        refusal = unsupported(agent.options)
+        if refusal is not None:
+            raise ConfigError(refusal)
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
         opts, shared = agent.options, agent.agent
@@ -287,7 +289,7 @@ class CompiledCell:
             constant, float(gate.rate if constant else gate.midpoint_steps),
             0.0 if constant else float(gate.width_steps), opts.gate_per == "trial",
             opts.vf_fallback == "lm",
-            ("object_direction", "final_direction", "executed_step").index(opts.learning_target),
+            LEARNING_TARGETS.index(opts.learning_target),
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
             float(opts.learning_rate), float(opts.momentum))
         learner, faces = agent.learner, agent.faces
