@@ -5,7 +5,7 @@ Run first (about 15 min on 2 cores):
 then:
     python docs/rendered/compare_modes.py [runs/rendered] [--fast-seeds 10]
 
-It runs the same preset in the fast mode with --fast-seeds seeds (seconds) into
+It runs the same preset in the fast mode (compiled engine) with --fast-seeds seeds (seconds) into
 runs/rendered-fast, and checks, bin by bin, whether the rendered mode's mean success lies
 inside the fast mode's 95% interval (t interval of the mean over seeds).
 """
@@ -37,7 +37,7 @@ def main() -> None:
     args = ap.parse_args()
     run = Path(args.run)
     rendered_cfg = load_config(run / "config.toml")
-    exp = dataclasses.replace(rendered_cfg.experiment, perception="fast",
+    exp = dataclasses.replace(rendered_cfg.experiment, perception="fast", engine="compiled",
                               n_seeds=args.fast_seeds)
     fast_cfg = dataclasses.replace(rendered_cfg, experiment=exp)
     fast_run = run.parent / f"{run.name}-fast"
