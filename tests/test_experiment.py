@@ -7,7 +7,9 @@ import json
 import numpy as np
 import pytest
 
-from jointattention import measure_ceiling, run_cell, run_experiment
+from jointattention import measure_ceiling, reproduce, run_cell, run_experiment
+from jointattention.analysis.diagnostics import METRICS
+from jointattention.analysis.tables import read_csv
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 from jointattention.errors import JointAttentionError
 from jointattention.experiment import results
@@ -76,3 +78,25 @@ def test_run_folder_of_another_version_is_refused(tmp_path):
     (out / "versions.json").write_text(json.dumps({**made, "jointattention": "0.1.0"}))
     with pytest.raises(JointAttentionError, match=r"made by jointattention 0\.1\.0"):
         run_experiment(SMALL, out)
+
+
+def test_a_run_folder_explains_itself_bin_by_bin(tmp_path):
+    """diagnostics.csv: per condition and bin, fractions that add up, and the module's error."""
+    cfg = Config(experiment=ExperimentConfig(n_steps=1200, n_seeds=2, bin_steps=400,
+                                             n_ceiling_trials=50, conditions=(
+        ConditionConfig(name="one", n_objects=1), ConditionConfig(name="five", n_objects=5))))
+    result = reproduce(cfg, tmp_path / "run")
+    assert (result.out / "diagnostics.png").exists()
+    rows = read_csv(result.out / "diagnostics.csv").rows
+    assert [(r[0], int(r[1])) for r in rows] == [(c, t) for c in ("one", "five")
+                                                 for t in (400, 800, 1200)]
+    for row in rows:
+        values = dict(zip(METRICS, map(float, row[2:]), strict=True))
+        steps = values["lm_steps"] + values["vf_steps"] + values["random_steps"]
+        ends = values["fired"] + values["step_limit"] + values["joint_limit"]
+        assert steps == pytest.approx(1, abs=0.002) and ends == pytest.approx(1, abs=0.002)
+        assert 0 < values["lm_error_deg"] <= 180
+        if row[0] == "one" and values["fired"] > 0:
+            assert values["on_target"] == 1.0  # the only object is the target
+    cell = results.load_cell(results.cell_path(result.out, "five", 0))
+    assert len(cell["lm_error_deg"]) == 3

@@ -10,6 +10,7 @@ import pytest
 from jointattention.analysis import learned
 from jointattention.config import load_config
 from jointattention.errors import ConfigError
+from jointattention.experiment import probes
 from jointattention.experiment.cells import datasets_of
 
 
@@ -31,8 +32,8 @@ def test_learning_turns_the_output_toward_the_target(trained):
     cfg, agents = trained
     assert sorted(agents) == [0, 15_000, 30_000]
     ds = datasets_of(cfg)
-    before = np.median(learned.angle_errors(agents[0], ds))
-    after = np.median(learned.angle_errors(agents[30_000], ds))
+    before = np.median(probes.angle_errors(agents[0], ds))
+    after = np.median(probes.angle_errors(agents[30_000], ds))
     assert before > 60 and after < 30
 
 

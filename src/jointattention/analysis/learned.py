@@ -1,9 +1,9 @@
 """What the learning module learned (the paper's Fig. 6 and Fig. 7) and how well.
 
 :func:`train` learns one cell in the fast world and keeps copies of the agent at checkpoints;
-:func:`angle_errors` measures the angle between the module's output and the true direction to
-the target for a set of caregiver poses; :func:`grid_faces` renders the caregiver's face
-window for a grid of gaze directions; :func:`record_trial` renders one trial step by step.
+:func:`grid_faces` renders the caregiver's face window for a grid of gaze directions;
+:func:`record_trial` renders one trial step by step. The angle errors are
+:mod:`jointattention.experiment.probes`'.
 The figures are drawn by :mod:`jointattention.figures.learned`.
 """
 
@@ -23,13 +23,13 @@ from ..errors import JointAttentionError
 from ..experiment.cells import datasets_of, evaluator, make_agent, random_scene, run_cell
 from ..experiment.trial import SceneTrial, Trial, TrialResult, run_trial
 from ..rng import stream
-from ..world.kinematics import HeadKinematics, angle_rad, direction
+from ..world.kinematics import HeadKinematics, direction
 from ..world.recording import capture_face_window, make_datasets
 from ..world.rendered import RenderedScene, RenderedScenes
 from ..world.scene import with_target
 from ..world.simulator import World
 
-__all__ = ["Frame", "angle_deg", "angle_errors", "grid_faces", "held_out_poses",
+__all__ = ["Frame", "grid_faces", "held_out_poses",
            "record_trial", "train"]
 
 
@@ -55,20 +55,6 @@ def train(config: Config, condition_name: str, seed_index: int, checkpoints,
     for t in wanted:  # the run ended before them (trial limit)
         snapshots.setdefault(t, snapshots[max(snapshots)])
     return dict(sorted(snapshots.items()))
-
-
-def angle_errors(agent: BootstrapAgent, ds: CaregiverDatasets) -> np.ndarray:
-    """Per data set, the angle (deg) from the module's output to the command to the target.
-
-    The output is taken at the face, the command is the one that centres the target.
-    """
-    return np.array([angle_deg(agent.lm_command(f, t), c) for f, t, c
-                     in zip(ds.face, ds.theta_face_rad, ds.command_rad, strict=True)])
-
-
-def angle_deg(a, b) -> np.ndarray:
-    """The angle (deg) between each vector of ``a`` (..., k) and the vector ``b`` (k,)."""
-    return np.rad2deg(angle_rad(a, b))
 
 
 def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDatasets:

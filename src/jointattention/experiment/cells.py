@@ -21,6 +21,7 @@ from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
 from .compiled import CompiledCell, pack_world
 from .oracle import OracleAgent
+from .probes import median_error_deg
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
 __all__ = ["body_of", "datasets_of", "evaluator", "make_agent", "measure_ceiling",
@@ -85,7 +86,10 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
              observer: StepObserver | None = None) -> dict[str, np.ndarray]:
     """Learn for ``experiment.n_steps`` steps; one record per trial (``trial.RECORD``).
 
-    ``progress`` gets the learning time now and then; ``on_checkpoint(t, agent)`` is called
+    The cell also holds ``lm_error_deg``, one value per learning-time bin: the learning
+    module's median angle error over the data sets' faces at the first trial end past the
+    bin (:func:`~.probes.median_error_deg`; NaN for a model without one). ``progress`` gets
+    the learning time now and then; ``on_checkpoint(t, agent)`` is called
     at the first trial end at or past each learning time ``t`` of ``checkpoints``; ``observer``
     sees each step (see :func:`~jointattention.experiment.trial.run_trial`; the python engine
     only). ``experiment.engine`` chooses the compiled engine or the step-by-step loop; both
@@ -95,23 +99,35 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     agent = make_agent(config, condition, seed_index, ds)
     rngs = stream(config.seed, "trials", seed_index), stream(config.seed, "shuffle", seed_index)
     pending = sorted(set(checkpoints)) if on_checkpoint is not None else []
+    exp = config.experiment
+    bin_ends = [min(t, exp.n_steps) for t in range(exp.bin_steps, exp.n_steps + exp.bin_steps,
+                                                     exp.bin_steps)]
+    errors = np.full(len(bin_ends), np.nan)
+    measured = 0  # bins whose error is measured
 
     def reached(t: int) -> None:
+        nonlocal measured
         while pending and t >= pending[0]:
             on_checkpoint(pending.pop(0), agent)
+        while measured < len(bin_ends) and t >= bin_ends[measured]:
+            errors[measured] = median_error_deg(agent, ds)
+            measured += 1
 
     if config.experiment.engine == "compiled":
         if observer is not None:
             raise ValueError("an observer sees single steps: expected experiment.engine = "
                              "'python'")
-        return _run_compiled(config, condition, ds, agent, rngs, progress, pending, reached)
-    return _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached,
-                      observer)
+        records = _run_compiled(config, condition, ds, agent, rngs, progress,
+                                [*pending, *bin_ends], reached)
+    else:
+        records = _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached,
+                             observer)
+    return {**records, "lm_error_deg": errors}
 
 
-def _run_compiled(config, condition, ds, agent, rngs, progress, pending,
+def _run_compiled(config, condition, ds, agent, rngs, progress, stops,
                   reached) -> dict[str, np.ndarray]:
-    """run_cell in the compiled engine, stopping at each checkpoint and every _CHUNK_STEPS."""
+    """run_cell in the compiled engine, stopping at ``stops`` and every _CHUNK_STEPS."""
     kin = HeadKinematics.from_config(config.world)
     geometry = [_trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
                 for k in range(len(ds))]
@@ -119,7 +135,7 @@ def _run_compiled(config, condition, ds, agent, rngs, progress, pending,
                        condition.n_objects, condition.shuffle_faces)
     n_steps = config.experiment.n_steps
     cell = CompiledCell(agent, world, *rngs, max_trials=n_steps)
-    for stop in sorted({*range(_CHUNK_STEPS, n_steps, _CHUNK_STEPS), *pending, n_steps}):
+    for stop in sorted({*range(_CHUNK_STEPS, n_steps, _CHUNK_STEPS), *stops, n_steps}):
         if stop > n_steps:
             break
         cell.run_until(stop)

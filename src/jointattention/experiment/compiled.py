@@ -44,6 +44,9 @@ from .trial import END_FIRED, END_LIMIT, END_STEPS, RECORD
 __all__ = ["CompiledCell", "pack_world", "unsupported"]
 
 _VF, _LM, _RANDOM = 0, 1, 2  # the modules, as codes
+# the records _run writes, one row each (the rest of trial.RECORD is computed from them)
+_COLUMNS = ("learning_time", "n_steps", "n_lm_steps", "n_random_steps", "attended", "target",
+            "end")
 _OBJECT_DIRECTION = LEARNING_TARGETS.index("object_direction")
 _EXECUTED_STEP = LEARNING_TARGETS.index("executed_step")
 
@@ -191,7 +194,8 @@ def _run(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, 
             trial_module = _LM if gate_rng.random() < _gate_rate(robot, c[0]) else _VF
         # the trial (SceneTrial, run_trial)
         pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
-        n_steps, n_lm, end, attended, seen, limit_hit = 0, 0, -1, -1, -1, False
+        n_steps, n_lm, n_random, end, attended, seen = 0, 0, 0, -1, -1, -1
+        limit_hit = False
         while True:
             m = detect_into(obj_pos, obj_rad, edge, rotation_matrix(pan, tilt), world.offset_m,
                             world.focal_px, w, h, uv, depth, area, centre, seen_area,
@@ -229,6 +233,7 @@ def _run(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, 
             steps[n_steps, 0], steps[n_steps, 1] = d_pan, d_tilt
             c[0] += 1
             n_lm += module == _LM
+            n_random += module == _RANDOM
             # the head moves, stopping at its joint limits (SceneTrial.step)
             want_pan, want_tilt = pan + d_pan, tilt + d_tilt
             pan = min(max(want_pan, world.limits_rad[0]), world.limits_rad[1])
@@ -253,8 +258,8 @@ def _run(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, 
                                robot.momentum)
                     c[2] += 1
         r = c[3]
-        records[0, r], records[1, r], records[2, r] = start, n_steps, n_lm
-        records[3, r], records[4, r], records[5, r] = attended, target, end
+        records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random
+        records[4, r], records[5, r], records[6, r] = attended, target, end
         c[3] += 1
     return 0
 
@@ -299,7 +304,7 @@ class CompiledCell:
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
             faces.mean_, faces.m2_,
             np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0]))
-        self._records = np.zeros((6, max_trials), dtype=np.int64)
+        self._records = np.zeros((len(_COLUMNS), max_trials), dtype=np.int64)
 
     def run_until(self, learning_time_steps: int) -> None:
         """Learn trial after trial until the learning time reaches ``learning_time_steps``."""
@@ -316,8 +321,7 @@ class CompiledCell:
     def records(self) -> dict[str, np.ndarray]:
         """The trial records so far (:data:`~.trial.RECORD`)."""
         r = self._records[:, : self._state.counters[3]]
-        cols = dict(zip(("learning_time", "n_steps", "n_lm_steps", "attended", "target", "end"),
-                        r, strict=True))
+        cols = dict(zip(_COLUMNS, r, strict=True))
         cols["success"] = cols["attended"] == cols["target"]
         cols["fired"] = cols["end"] == END_FIRED
         return {name: cols[name].astype(dtype) for name, (dtype, _) in RECORD.items()}

@@ -17,6 +17,7 @@ import numpy as np
 from .._files import save_json
 from ..analysis.claims import Claim, check_claims, claims_table
 from ..analysis.curves import condition_curves, final_table
+from ..analysis.diagnostics import condition_diagnostics, diagnostics_table
 from ..config import Config
 from .backends import CellJob, check_backend, run_jobs
 from .cells import measure_ceiling, run_cell
@@ -70,11 +71,14 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
 
     Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json``, the oracle
     ceilings (``ceilings.json``, measured once), ``trials.csv``, the figures
-    (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md`` and
-    ``claims.csv``/``.md``. ``progress`` hears the runner's messages (see
+    (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md``,
+    ``claims.csv``/``.md``, and the diagnostics per learning-time bin
+    (``diagnostics.csv``/``.md``/``.png``, :mod:`jointattention.analysis.diagnostics`).
+    ``progress`` hears the runner's messages (see
     :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``.
     """
-    from ..figures.paper import write_figures  # matplotlib only when figures are drawn
+    from ..figures.diagnostics import diagnostics_figure  # matplotlib only when drawn
+    from ..figures.paper import write_figures
 
     out = Path(out)
     start = time.perf_counter()
@@ -92,7 +96,10 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     ceilings = json.loads(ceiling_file.read_text())
     curves = condition_curves(out, config)
     claims = check_claims(config, curves, ceilings)
+    diagnostics = condition_diagnostics(out, config)
     files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
              *final_table(config, curves, ceilings).write(out / "table"),
-             *claims_table(claims).write(out / "claims")]
+             *claims_table(claims).write(out / "claims"),
+             *diagnostics_table(diagnostics).write(out / "diagnostics"),
+             diagnostics_figure(diagnostics, out / "diagnostics.png")]
     return RunResult(out, files, claims, cells_run, len(cells), wall_min)

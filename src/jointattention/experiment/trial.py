@@ -21,7 +21,7 @@ from typing import Protocol
 import numpy as np
 
 from ..agent.detections import Detections
-from ..agent.protocol import LM, Agent, Outcome
+from ..agent.protocol import LM, RANDOM, Agent, Outcome
 from ..world.kinematics import HeadKinematics
 from ..world.protocol import Scene
 
@@ -35,6 +35,7 @@ RECORD = {
     "learning_time": (np.int64, "the agent's learning time when the trial began (steps)"),
     "n_steps": (np.int32, "head moves in the trial"),
     "n_lm_steps": (np.int32, "of them, moves made by the learning module"),
+    "n_random_steps": (np.int32, "of them, random moves (the visual controller saw nothing)"),
     "attended": (np.int16, "object the evaluator fired on (-1: it did not fire)"),
     "target": (np.int16, "the caregiver's target"),
     "end": (np.int8, "how the trial ended: 0 fired, 1 step limit, 2 joint limit"),
@@ -50,6 +51,7 @@ class TrialResult:
     learning_time: int
     n_steps: int
     n_lm_steps: int
+    n_random_steps: int
     attended: int
     target: int
     end: int
@@ -162,15 +164,16 @@ def run_trial(trial: Trial, agent: Agent, face_window: np.ndarray,
     """
     start = agent.learning_time_steps
     agent.begin_trial(face_window, trial.theta_rad)
-    n_lm = 0
+    n_lm = n_random = 0
     while trial.end is None:
         dtheta, module = agent.act(trial.detections, trial.theta_rad)
         if observer is not None:
             observer(trial, module)
         n_lm += module == LM
+        n_random += module == RANDOM
         trial.step(dtheta)
     if observer is not None:
         observer(trial, None)
     agent.end_trial(trial.outcome)
-    return TrialResult(start, trial.n_steps, n_lm, trial.attended, trial.target, trial.end,
-                       trial.theta_rad)
+    return TrialResult(start, trial.n_steps, n_lm, n_random, trial.attended, trial.target,
+                       trial.end, trial.theta_rad)

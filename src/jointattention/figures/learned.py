@@ -15,6 +15,7 @@ from PIL import Image
 from .._files import atomic_path, save_json
 from ..analysis import learned
 from ..config import Config, condition_named
+from ..experiment import probes
 from ..experiment.cells import datasets_of
 from ._save import new_figure, save_figure
 
@@ -45,8 +46,8 @@ def fig6(agent, faces, thetas, commands, seen_commands, path: Path) -> dict:
                                (out, dict(color="r", lw=2.5))):
                 d = vec / np.linalg.norm(vec) * 0.45 * h
                 ax.plot(*np.array([centre, centre + [d[0], -d[1]]]).T, **style)
-            near = float(np.min(learned.angle_deg(seen_commands, commands[i, j])))
-            err = float(learned.angle_deg(out, commands[i, j]))
+            near = float(np.min(probes.angle_deg(seen_commands, commands[i, j])))
+            err = float(probes.angle_deg(out, commands[i, j]))
             is_unseen = near > UNSEEN_DEG
             errors.append(err)
             unseen.append(is_unseen)
@@ -128,8 +129,8 @@ def write_gaze_figures(config: Config, condition: str, seed_index: int, out: Pat
     agents = learned.train(config, condition, seed_index, checkpoints, progress)
     ds = datasets_of(config)
     held = learned.held_out_poses(config, ds, n_held_out)
-    curve = {t: (float(np.median(learned.angle_errors(a, ds))),
-                 float(np.median(learned.angle_errors(a, held)))) for t, a in agents.items()}
+    curve = {t: (float(np.median(probes.angle_errors(a, ds))),
+                 float(np.median(probes.angle_errors(a, held)))) for t, a in agents.items()}
     trained = agents[max(agents)]
     faces, thetas, commands = learned.grid_faces(config, int(ds.meta.get("seed", 0)), PAN_DEG,
                                               TILT_DEG)

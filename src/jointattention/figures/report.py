@@ -24,6 +24,9 @@ _FIGURES = {
                          "mean and 95% interval over seeds, with chance and the oracle ceiling.",
     "fig4b_gate.png": "Fig. 4(b): the gate's rate of choosing the learning module.",
     "fig5_gates.png": "Fig. 5: five objects, the sigmoid gate against constant rates.",
+    "diagnostics.png": "Diagnostics per learning-time bin: the share of learning situations on "
+                       "the caregiver's target, the learning module's error, who moved the head, "
+                       "how trials ended (diagnostics.csv).",
 }
 _TABLES = {"claims": "The paper's claims, checked", "table": "Final success per condition",
            "summary": "Sweep summary"}

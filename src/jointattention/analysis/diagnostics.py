@@ -1,0 +1,88 @@
+"""Why a run learns as it does: per learning-time bin, what the robot learned from and how.
+
+For each condition and bin (means over seeds):
+- ``on_target``: the fraction of the evaluator's firings on the caregiver's target, i.e. of
+  the robot's learning situations, the share that teaches the right direction;
+- ``fired``, ``step_limit``, ``joint_limit``: how trials ended (fractions of trials);
+- ``lm_steps``, ``vf_steps``, ``random_steps``: which module drove the head (fractions of
+  steps);
+- ``lm_error_deg``: the learning module's median angle error over the data sets' faces at
+  the bin's end (the cell's ``lm_error_deg``).
+"""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from ..config import Config
+from ..experiment.results import cell_path, load_cell
+from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
+from .tables import Table
+
+__all__ = ["METRICS", "condition_diagnostics", "diagnostics_table"]
+
+METRICS = {
+    "on_target": "fraction of the evaluator's firings on the caregiver's target",
+    "fired": "fraction of trials ended by the evaluator",
+    "step_limit": "fraction of trials ended at the step limit",
+    "joint_limit": "fraction of trials ended at a joint limit",
+    "lm_steps": "fraction of steps moved by the learning module",
+    "vf_steps": "fraction of steps moved by the visual controller",
+    "random_steps": "fraction of steps that were random (nothing in view)",
+    "lm_error_deg": "learning module's median angle error at the data sets' faces (deg)",
+}
+
+Diagnostics = dict[str, tuple[np.ndarray, dict[str, np.ndarray]]]
+
+
+def _ratio(num: np.ndarray, den: np.ndarray) -> np.ndarray:
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, num / np.maximum(den, 1), np.nan)
+
+
+def _cell_metrics(rec: dict[str, np.ndarray], bin_steps: int, n_bins: int) -> np.ndarray:
+    """(metrics, bins) for one cell, in the order of :data:`METRICS`."""
+    idx = np.minimum(rec["learning_time"] // bin_steps, n_bins - 1).astype(int)
+
+    def per_bin(values) -> np.ndarray:
+        return np.bincount(idx, weights=np.asarray(values, float), minlength=n_bins)
+
+    trials, steps = per_bin(np.ones(len(idx))), per_bin(rec["n_steps"])
+    fired = rec["end"] == END_FIRED
+    lm, rand = per_bin(rec["n_lm_steps"]), per_bin(rec["n_random_steps"])
+    error = rec.get("lm_error_deg", np.full(n_bins, np.nan))[:n_bins]
+    return np.array([
+        _ratio(per_bin(fired & rec["success"]), per_bin(fired)),
+        _ratio(per_bin(fired), trials),
+        _ratio(per_bin(rec["end"] == END_STEPS), trials),
+        _ratio(per_bin(rec["end"] == END_LIMIT), trials),
+        _ratio(lm, steps), _ratio(steps - lm - rand, steps), _ratio(rand, steps),
+        np.pad(error, (0, n_bins - len(error)), constant_values=np.nan)])
+
+
+def condition_diagnostics(out: Path, config: Config) -> Diagnostics:
+    """{condition: (bin ends, {metric: mean over seeds per bin})} from a run folder's cells."""
+    exp = config.experiment
+    n_bins = int(np.ceil(exp.n_steps / exp.bin_steps))
+    ends = np.minimum(np.arange(1, n_bins + 1) * exp.bin_steps, exp.n_steps)
+    result = {}
+    for c in exp.conditions:
+        per_seed = np.array([_cell_metrics(load_cell(cell_path(out, c.name, i)), exp.bin_steps,
+                                           n_bins) for i in range(exp.n_seeds)])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # a bin no seed has data for: NaN
+            means = np.nanmean(per_seed, axis=0)
+        result[c.name] = (ends, dict(zip(METRICS, means, strict=True)))
+    return result
+
+
+def diagnostics_table(diagnostics: Diagnostics) -> Table:
+    """One row per condition and bin: the bin's end and every metric (3 decimals)."""
+    rows = []
+    for name, (ends, metrics) in diagnostics.items():
+        for k, end in enumerate(ends):
+            rows.append((name, int(end), *(round(float(metrics[m][k]), 3) for m in METRICS)))
+    return Table(("condition", "bin_end_steps", *METRICS), rows)

@@ -1,0 +1,37 @@
+"""What the experimenter measures of a learner while it learns, beside the trial records.
+
+The learning module's angle error at the caregiver's face: the angle between its output and the
+command that centres the caregiver's target, over the data sets. Only the experimenter knows
+the command; the robot never sees it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..datasets import CaregiverDatasets
+from ..world.kinematics import angle_rad
+
+__all__ = ["angle_deg", "angle_errors", "median_error_deg"]
+
+
+def angle_deg(a, b) -> np.ndarray:
+    """The angle (deg) between each vector of ``a`` (..., k) and the vector ``b`` (k,)."""
+    return np.rad2deg(angle_rad(a, b))
+
+
+def angle_errors(agent, ds: CaregiverDatasets) -> np.ndarray:
+    """Per data set, the angle (deg) from the module's output to the command to the target.
+
+    The output is taken at the face (``agent.lm_command``), the command is the one that
+    centres the target.
+    """
+    return np.array([angle_deg(agent.lm_command(f, t), c) for f, t, c
+                     in zip(ds.face, ds.theta_face_rad, ds.command_rad, strict=True)])
+
+
+def median_error_deg(agent, ds: CaregiverDatasets) -> float:
+    """The median of :func:`angle_errors`; NaN for an agent without a learning module."""
+    if not hasattr(agent, "lm_command"):
+        return float("nan")
+    return float(np.median(angle_errors(agent, ds)))
