@@ -35,7 +35,8 @@ def test_report_holds_everything_inline(run):
     Figures as data URIs, the tables, the configuration and the versions.
     """
     page = write_report(run).read_text()
-    assert page.count('src="data:image/png;base64,') == len(list(run.glob("*.png"))) == 3
+    assert page.count('src="data:image/png;base64,') == len(list(run.glob("*.png"))) == 4
+    assert "Diagnostics per learning-time bin" in page
     assert "The paper&#x27;s claims, checked" in page and "n5-sigmoid" in page
     assert "n_steps = 300" in page and "mujoco" in page
     assert not re.search(r'(src|href)="(https?:)?//', page)  # readable offline
