@@ -21,6 +21,7 @@ from jointattention.agent.gates import SigmoidGate
 from jointattention.agent.learner import LearningModule
 from jointattention.analysis.learned import train
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
+from jointattention.experiment.cells import datasets_of
 from jointattention.world.kinematics import HeadKinematics
 
 READINGS = [  # each reading and gate of the bootstrap model, early enough to be quick
@@ -67,6 +68,15 @@ def test_compiled_agents_learn_the_same_weights_at_each_checkpoint():
         for a, b in zip(agent.learner._params(), other.learner._params(), strict=True):
             assert np.array_equal(a, b)
     assert snaps["compiled"][3000].learner.n_updates_ > 0
+
+
+def test_the_batched_learning_module_command_equals_the_single_one():
+    """lm_commands (the diagnostics' probe) gives lm_command's outputs exactly."""
+    agent = train(_engine(CONFIG, "compiled"), "sigmoid", 0, [])[3000]
+    ds = datasets_of(CONFIG)
+    single = np.array([agent.lm_command(f, t) for f, t in zip(ds.face, ds.theta_face_rad,
+                                                                strict=True)])
+    assert np.array_equal(agent.lm_commands(ds.face, ds.theta_face_rad), single)
 
 
 @pytest.mark.parametrize("backend", ["local", "ray"])

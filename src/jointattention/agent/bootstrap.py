@@ -18,12 +18,12 @@ from ..config.agent import AgentConfig
 from .attention import most_interesting, visual_feedback
 from .detections import Detections
 from .gates import GATES, Gate, SigmoidGate
-from .learner import FaceStandardiser, LearningModule, accumulate, forward
+from .learner import FaceStandardiser, LearningModule, accumulate, forward, standardise
 from .models import ModelOptions
 from .protocol import LM, RANDOM, VF, Body, Outcome
 
 __all__ = ["LEARNING_TARGETS", "BootstrapAgent", "BootstrapOptions", "learning_samples",
-           "random_step", "unit_step"]
+           "lm_commands_into", "random_step", "unit_step"]
 
 LEARNING_TARGETS = ("final_direction", "object_direction", "executed_step")
 
@@ -40,6 +40,27 @@ def random_step(rng: np.random.Generator, step_rad: float) -> tuple[float, float
     """One step in a direction drawn from ``rng``."""
     angle = rng.uniform(0.0, 2 * math.pi)
     return step_rad * math.cos(angle), step_rad * math.sin(angle)
+
+
+@jit
+def lm_commands_into(faces, thetas_rad, mean, m2, n_seen, min_std, w1, b1, w2, b2,
+                     theta_mid_rad, theta_half_rad, step_rad, out) -> None:
+    """The learning module's command for each face window (K, pixels) and head angle (K, 2).
+
+    As :meth:`BootstrapAgent.lm_command` computes it, one row at a time, into ``out`` (K, 2).
+    """
+    n_pix = faces.shape[1]
+    x, scaled = np.empty(n_pix), np.empty(2)
+    acc, h, o = np.empty(len(b1)), np.empty(len(b1)), np.empty(w2.shape[1])
+    for k in range(len(faces)):
+        standardise(faces[k], mean, m2, n_seen, min_std, x)
+        acc[:] = 0.0
+        accumulate(x, w1, 0, acc)
+        for i in range(2):
+            scaled[i] = (thetas_rad[k, i] - theta_mid_rad[i]) / theta_half_rad[i]
+        accumulate(scaled, w1, n_pix, acc)
+        forward(acc, b1, w2, b2, h, o)
+        out[k, 0], out[k, 1] = unit_step(o[0], o[1], step_rad)
 
 
 @jit
@@ -149,6 +170,16 @@ class BootstrapAgent:
         """LM dtheta for a face window and head angle: the network's direction, one step long."""
         face_x = self.faces.transform(np.asarray(face_window).ravel())
         return self._lm(self._face_part(face_x), theta_rad)
+
+    def lm_commands(self, face_windows: np.ndarray, thetas_rad: np.ndarray) -> np.ndarray:
+        """:meth:`lm_command` for K face windows (K, H, W) and head angles (K, 2), (K, 2)."""
+        faces = np.ascontiguousarray(np.reshape(face_windows, (len(face_windows), -1)),
+                                     dtype=float)
+        out, f, net = np.empty((len(faces), 2)), self.faces, self.learner
+        lm_commands_into(faces, np.ascontiguousarray(thetas_rad, dtype=float), f.mean_, f.m2_,
+                         f.n_seen_, float(f.min_std), net.w1_, net.b1_, net.w2_, net.b2_,
+                         self.theta_mid_rad, self.theta_half_rad, float(self.step_rad), out)
+        return out
 
     def _face_part(self, face_x: np.ndarray) -> np.ndarray:
         """The face's part of the hidden units' input: fixed for a trial (it learns at the end)."""

@@ -23,11 +23,17 @@ def angle_deg(a, b) -> np.ndarray:
 def angle_errors(agent, ds: CaregiverDatasets) -> np.ndarray:
     """Per data set, the angle (deg) from the module's output to the command to the target.
 
-    The output is taken at the face (``agent.lm_command``), the command is the one that
-    centres the target.
+    The output is taken at the face (``agent.lm_commands``, or ``agent.lm_command`` one face
+    at a time), the command is the one that centres the target.
     """
-    return np.array([angle_deg(agent.lm_command(f, t), c) for f, t, c
-                     in zip(ds.face, ds.theta_face_rad, ds.command_rad, strict=True)])
+    if hasattr(agent, "lm_commands"):
+        out = agent.lm_commands(ds.face, ds.theta_face_rad)
+    else:
+        out = np.array([agent.lm_command(f, t) for f, t in zip(ds.face, ds.theta_face_rad,
+                                                                 strict=True)])
+    cmd = np.asarray(ds.command_rad, dtype=float)
+    cos = np.sum(out * cmd, axis=1) / (np.linalg.norm(out, axis=1) * np.linalg.norm(cmd, axis=1))
+    return np.rad2deg(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
 def median_error_deg(agent, ds: CaregiverDatasets) -> float:
