@@ -134,6 +134,7 @@ def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_ob
 
 @jit
 def _gate_rate(robot, t):
+    """The gate's rate of choosing the learning module at learning time ``t``."""
     if robot.gate_constant:
         return robot.gate_a
     return sigmoid_rate(float(t), robot.gate_a, robot.gate_b)
