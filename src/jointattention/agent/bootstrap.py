@@ -23,7 +23,7 @@ from .models import ModelOptions
 from .protocol import LM, RANDOM, VF, Body, Outcome
 
 __all__ = ["LEARNING_TARGETS", "BootstrapAgent", "BootstrapOptions", "learning_samples",
-           "lm_commands_into", "random_step", "unit_step"]
+           "lm_commands_into", "random_step", "scale_angle_into", "unit_step"]
 
 LEARNING_TARGETS = ("final_direction", "object_direction", "executed_step")
 
@@ -43,6 +43,16 @@ def random_step(rng: np.random.Generator, step_rad: float) -> tuple[float, float
 
 
 @jit
+def scale_angle_into(pan_rad, tilt_rad, theta_mid_rad, theta_half_rad, out, first) -> None:
+    """The head angle scaled to [-1, 1] by the joint ranges (the learning module's input).
+
+    Written into ``out[first]`` and ``out[first + 1]``.
+    """
+    out[first] = (pan_rad - theta_mid_rad[0]) / theta_half_rad[0]
+    out[first + 1] = (tilt_rad - theta_mid_rad[1]) / theta_half_rad[1]
+
+
+@jit
 def lm_commands_into(faces, thetas_rad, mean, m2, n_seen, min_std, w1, b1, w2, b2,
                      theta_mid_rad, theta_half_rad, step_rad, out) -> None:
     """The learning module's command for each face window (K, pixels) and head angle (K, 2).
@@ -56,8 +66,8 @@ def lm_commands_into(faces, thetas_rad, mean, m2, n_seen, min_std, w1, b1, w2, b
         standardise(faces[k], mean, m2, n_seen, min_std, x)
         acc[:] = 0.0
         accumulate(x, w1, 0, acc)
-        for i in range(2):
-            scaled[i] = (thetas_rad[k, i] - theta_mid_rad[i]) / theta_half_rad[i]
+        scale_angle_into(thetas_rad[k, 0], thetas_rad[k, 1], theta_mid_rad, theta_half_rad,
+                         scaled, 0)
         accumulate(scaled, w1, n_pix, acc)
         forward(acc, b1, w2, b2, h, o)
         out[k, 0], out[k, 1] = unit_step(o[0], o[1], step_rad)
@@ -163,8 +173,13 @@ class BootstrapAgent:
 
     # -- the learning module ---------------------------------------------------------------
     def _inputs(self, face_x: np.ndarray, thetas: np.ndarray) -> np.ndarray:
-        scaled = (np.atleast_2d(thetas) - self.theta_mid_rad) / self.theta_half_rad
-        return np.hstack([np.broadcast_to(face_x, (len(scaled), len(face_x))), scaled])
+        thetas = np.atleast_2d(thetas)
+        inputs = np.empty((len(thetas), len(face_x) + 2))
+        inputs[:, :len(face_x)] = face_x
+        for row, (pan, tilt) in zip(inputs, thetas, strict=True):
+            scale_angle_into(float(pan), float(tilt), self.theta_mid_rad, self.theta_half_rad,
+                             row, len(face_x))
+        return inputs
 
     def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
         """LM dtheta for a face window and head angle: the network's direction, one step long."""
@@ -189,7 +204,9 @@ class BootstrapAgent:
 
     def _lm(self, face_part: np.ndarray, theta_rad) -> np.ndarray:
         learner, acc = self.learner, face_part.copy()
-        scaled = (np.asarray(theta_rad, dtype=float) - self.theta_mid_rad) / self.theta_half_rad
+        scaled = np.empty(2)
+        scale_angle_into(float(theta_rad[0]), float(theta_rad[1]), self.theta_mid_rad,
+                         self.theta_half_rad, scaled, 0)
         accumulate(scaled, learner.w1_, learner.w1_.shape[1] - 2, acc)
         h, out = np.empty(len(acc)), np.empty(2)
         forward(acc, learner.b1_, learner.w2_, learner.b2_, h, out)

@@ -27,6 +27,7 @@ from ..agent.bootstrap import (
     BootstrapOptions,
     learning_samples,
     random_step,
+    scale_angle_into,
     unit_step,
 )
 from ..agent.gates import ConstantGate, SigmoidGate, sigmoid_rate
@@ -141,13 +142,6 @@ def _gate_rate(robot, t):
 
 
 @jit
-def _scale_into(robot, pan, tilt, out, first) -> None:
-    """The head angle scaled by the joint ranges (BootstrapAgent's input) into ``out``."""
-    out[first] = (pan - robot.theta_mid_rad[0]) / robot.theta_half_rad[0]
-    out[first + 1] = (tilt - robot.theta_mid_rad[1]) / robot.theta_half_rad[1]
-
-
-@jit
 def _run(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, gate_rng,
          move_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
@@ -224,7 +218,7 @@ def _run(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, 
                                                     robot.gain_rad_per_px)
             elif module == _LM:
                 acc[:] = face_acc
-                _scale_into(robot, pan, tilt, scaled, 0)
+                scale_angle_into(pan, tilt, robot.theta_mid_rad, robot.theta_half_rad, scaled, 0)
                 accumulate(scaled, state.w1, n_pix, acc)
                 forward(acc, state.b1, state.w2, state.b2, hid, out)
                 d_pan, d_tilt = unit_step(out[0], out[1], robot.step_rad)
@@ -253,7 +247,8 @@ def _run(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, 
             x_full[:n_pix] = face_x
             for s in range(n_steps):
                 if keep[s]:
-                    _scale_into(robot, thetas[s, 0], thetas[s, 1], x_full, n_pix)
+                    scale_angle_into(thetas[s, 0], thetas[s, 1], robot.theta_mid_rad,
+                                     robot.theta_half_rad, x_full, n_pix)
                     sgd_update(x_full, y[s], state.w1, state.b1, state.w2, state.b2, state.v1,
                                state.vb1, state.v2, state.vb2, robot.learning_rate,
                                robot.momentum)
