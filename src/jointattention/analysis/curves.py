@@ -19,8 +19,7 @@ Curves = dict[str, tuple[np.ndarray, np.ndarray]]
 def condition_curves(out: Path, config: Config) -> Curves:
     """{condition: (bin ends, per-seed success curves (seeds, bins))} from the saved cells."""
     exp = config.experiment
-    ends = np.minimum(np.arange(1, int(np.ceil(exp.n_steps / exp.bin_steps)) + 1)
-                      * exp.bin_steps, exp.n_steps)
+    ends = exp.bin_ends_steps()
     curves = {}
     for c in exp.conditions:
         per_seed = []

@@ -17,9 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from ..config import Config
+from ..config import Config, ExperimentConfig
 from ..experiment.results import cell_path, load_cell
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
+from .metrics import bin_index
 from .tables import Table
 
 __all__ = ["METRICS", "condition_diagnostics", "diagnostics_table"]
@@ -43,9 +44,10 @@ def _ratio(num: np.ndarray, den: np.ndarray) -> np.ndarray:
         return np.where(den > 0, num / np.maximum(den, 1), np.nan)
 
 
-def _cell_metrics(rec: dict[str, np.ndarray], bin_steps: int, n_bins: int) -> np.ndarray:
+def _cell_metrics(rec: dict[str, np.ndarray], exp: ExperimentConfig) -> np.ndarray:
     """(metrics, bins) for one cell, in the order of :data:`METRICS`."""
-    idx = np.minimum(rec["learning_time"] // bin_steps, n_bins - 1).astype(int)
+    n_bins = len(exp.bin_ends_steps())
+    idx = bin_index(rec["learning_time"], exp.bin_steps, exp.n_steps)
 
     def per_bin(values) -> np.ndarray:
         return np.bincount(idx, weights=np.asarray(values, float), minlength=n_bins)
@@ -66,12 +68,11 @@ def _cell_metrics(rec: dict[str, np.ndarray], bin_steps: int, n_bins: int) -> np
 def condition_diagnostics(out: Path, config: Config) -> Diagnostics:
     """{condition: (bin ends, {metric: mean over seeds per bin})} from a run folder's cells."""
     exp = config.experiment
-    n_bins = int(np.ceil(exp.n_steps / exp.bin_steps))
-    ends = np.minimum(np.arange(1, n_bins + 1) * exp.bin_steps, exp.n_steps)
+    ends = exp.bin_ends_steps()
     result = {}
     for c in exp.conditions:
-        per_seed = np.array([_cell_metrics(load_cell(cell_path(out, c.name, i)), exp.bin_steps,
-                                           n_bins) for i in range(exp.n_seeds)])
+        per_seed = np.array([_cell_metrics(load_cell(cell_path(out, c.name, i)), exp)
+                             for i in range(exp.n_seeds)])
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # a bin no seed has data for: NaN
             means = np.nanmean(per_seed, axis=0)

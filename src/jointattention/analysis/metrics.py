@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["T975", "final_success", "mean_interval", "success_by_bin", "time_to_fraction"]
+__all__ = ["T975", "bin_index", "final_success", "mean_interval", "success_by_bin",
+           "time_to_fraction"]
 
 # Two-sided 95% Student t quantiles for 1..30 degrees of freedom; beyond, the normal's.
 T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179,
@@ -12,11 +13,17 @@ T975 = (12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2
          2.060, 2.056, 2.052, 2.048, 2.045, 2.042)
 
 
+def bin_index(learning_time: np.ndarray, bin_steps: int, n_steps: int) -> np.ndarray:
+    """The learning-time bin of each trial (by its start); the last bin takes any overrun."""
+    n_bins = int(np.ceil(n_steps / bin_steps))
+    return np.minimum(np.asarray(learning_time) // bin_steps, n_bins - 1).astype(int)
+
+
 def success_by_bin(learning_time: np.ndarray, success: np.ndarray, bin_steps: int,
                    n_steps: int) -> np.ndarray:
     """Success rate of the trials starting in each learning-time bin (NaN for empty bins)."""
     n_bins = int(np.ceil(n_steps / bin_steps))
-    idx = np.minimum(np.asarray(learning_time) // bin_steps, n_bins - 1).astype(int)
+    idx = bin_index(learning_time, bin_steps, n_steps)
     count = np.bincount(idx, minlength=n_bins)
     wins = np.bincount(idx, weights=np.asarray(success, float), minlength=n_bins)
     with np.errstate(invalid="ignore"):

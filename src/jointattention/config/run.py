@@ -9,6 +9,8 @@ from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
 
+import numpy as np
+
 from .._fields import FrozenTable, Section, from_mapping, merge_tagged, param, to_mapping
 from .._toml import dumps
 from ..agent.models import MODELS, ModelOptions
@@ -75,6 +77,11 @@ class ExperimentConfig(Section):
         4000, "trials of the oracle that measure each object count's ceiling", lo=1)
     conditions: tuple[ConditionConfig, ...] = param(
         (ConditionConfig(),), "the conditions to run")
+
+    def bin_ends_steps(self) -> np.ndarray:
+        """The learning time at which each learning-time bin ends (the last one at n_steps)."""
+        n_bins = int(np.ceil(self.n_steps / self.bin_steps))
+        return np.minimum(np.arange(1, n_bins + 1) * self.bin_steps, self.n_steps)
 
 
 @dataclass(frozen=True)

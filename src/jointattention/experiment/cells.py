@@ -100,8 +100,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     rngs = stream(config.seed, "trials", seed_index), stream(config.seed, "shuffle", seed_index)
     pending = sorted(set(checkpoints)) if on_checkpoint is not None else []
     exp = config.experiment
-    bin_ends = [min(t, exp.n_steps) for t in range(exp.bin_steps, exp.n_steps + exp.bin_steps,
-                                                     exp.bin_steps)]
+    bin_ends = [int(t) for t in exp.bin_ends_steps()]
     errors = np.full(len(bin_ends), np.nan)
     measured = 0  # bins whose error is measured
 

@@ -31,9 +31,7 @@ def angle_errors(agent, ds: CaregiverDatasets) -> np.ndarray:
     else:
         out = np.array([agent.lm_command(f, t) for f, t in zip(ds.face, ds.theta_face_rad,
                                                                  strict=True)])
-    cmd = np.asarray(ds.command_rad, dtype=float)
-    cos = np.sum(out * cmd, axis=1) / (np.linalg.norm(out, axis=1) * np.linalg.norm(cmd, axis=1))
-    return np.rad2deg(np.arccos(np.clip(cos, -1.0, 1.0)))
+    return np.array([angle_deg(o, c) for o, c in zip(out, ds.command_rad, strict=True)])
 
 
 def median_error_deg(agent, ds: CaregiverDatasets) -> float:
