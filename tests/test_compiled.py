@@ -97,12 +97,13 @@ def test_a_second_process_loads_the_compiled_engine_from_the_cache():
     """The engine is compiled once per machine: a new process finds it in the cache."""
     script = ("import dataclasses\n"
               "from jointattention import load_config, run_cell\n"
-              "from jointattention.experiment.compiled import _run\n"
+              "from jointattention.experiment._compiled_loop import run_trials\n"
               "c = load_config('quick')\n"
               "c = dataclasses.replace(c, experiment=dataclasses.replace(c.experiment, "
               "n_steps=50))\n"
               "run_cell(c, c.experiment.conditions[0], 0)\n"
-              "print(sum(_run.stats.cache_hits.values()), sum(_run.stats.cache_misses.values()))")
+              "print(sum(run_trials.stats.cache_hits.values()), "
+              "sum(run_trials.stats.cache_misses.values()))")
     for _ in range(2):  # the first may compile (a fresh machine); the second must not
         out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                              check=True).stdout.split()

@@ -1,0 +1,221 @@
+"""The compiled engine's loop over a cell's trials, and the inputs it takes.
+
+:mod:`.compiled` packs the inputs and drives the loop; this module is the loop itself. Each step
+calls the kernels the step-by-step path calls (:mod:`~jointattention.world.fast`,
+:mod:`~jointattention.world.placement`, :mod:`~jointattention.agent.attention`,
+:mod:`~jointattention.agent.learner`, :mod:`~jointattention.agent.bootstrap`), in the order of
+its random draws.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .._jit import jit
+from ..agent.attention import attended_index, interest_argmax, visual_feedback_rad
+from ..agent.bootstrap import (
+    LEARNING_TARGETS,
+    learning_samples,
+    random_step,
+    scale_angle_into,
+    unit_step,
+)
+from ..agent.gates import sigmoid_rate
+from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
+from ..world.fast import detect_into
+from ..world.kinematics import rotation_matrix
+from ..world.placement import place_into
+from .trial import END_FIRED, END_LIMIT, END_STEPS
+
+__all__ = ["COLUMNS", "LoopRobot", "LoopState", "LoopWorld", "run_trials"]
+
+_VF, _LM, _RANDOM = 0, 1, 2  # the modules, as codes
+# the records run_trials writes, one row each (the rest of trial.RECORD is computed from them)
+COLUMNS = ("learning_time", "n_steps", "n_lm_steps", "n_random_steps", "attended", "target",
+           "end")
+_OBJECT_DIRECTION = LEARNING_TARGETS.index("object_direction")
+_EXECUTED_STEP = LEARNING_TARGETS.index("executed_step")
+
+
+class LoopWorld(NamedTuple):
+    """The world as the compiled loop takes it."""
+
+    n_objects: int
+    region: np.ndarray  # place_into's object region
+    offset_m: np.ndarray
+    limits_rad: np.ndarray  # pan lo, pan hi, tilt lo, tilt hi
+    focal_px: float
+    width_px: int
+    height_px: int
+    face_radius_m: float
+    theta_face_rad: np.ndarray  # (K, 2) per data set
+    target_m: np.ndarray  # (K, 3)
+    face_m: np.ndarray  # (K, 3)
+    faces: np.ndarray  # (K, pixels) float
+    shuffle_faces: bool
+
+
+class LoopRobot(NamedTuple):
+    """The agent's mechanisms and options as the compiled loop takes them."""
+
+    weights: np.ndarray  # Eq. 1's (a1, a2, a3)
+    gain_rad_per_px: float
+    d_th_px: float
+    step_rad: float
+    max_steps: int
+    gate_constant: bool
+    gate_a: float  # the constant rate, or the sigmoid's midpoint
+    gate_b: float  # the sigmoid's width
+    gate_per_trial: bool
+    vf_fallback_lm: bool
+    learning_target: int  # its index in LEARNING_TARGETS
+    theta_mid_rad: np.ndarray
+    theta_half_rad: np.ndarray
+    min_std: float
+    learning_rate: float
+    momentum: float
+
+
+class LoopState(NamedTuple):
+    """The learned state (the agent's own arrays) and the counters, changed in place."""
+
+    w1: np.ndarray
+    b1: np.ndarray
+    w2: np.ndarray
+    b2: np.ndarray
+    v1: np.ndarray
+    vb1: np.ndarray
+    v2: np.ndarray
+    vb2: np.ndarray
+    mean: np.ndarray
+    m2: np.ndarray
+    counters: np.ndarray  # learning time, faces seen, updates, records
+
+
+@jit
+def _gate_rate(robot, t):
+    """The gate's rate of choosing the learning module at learning time ``t``."""
+    if robot.gate_constant:
+        return robot.gate_a
+    return sigmoid_rate(float(t), robot.gate_a, robot.gate_b)
+
+
+@jit
+def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, gate_rng,
+         move_rng, records) -> int:
+    """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
+
+    Each trial is :func:`~.cells.random_scene`, a :class:`~.trial.SceneTrial` and
+    :func:`~.trial.run_trial` of a bootstrap agent, in that order of random draws.
+    """
+    n, n_pix = world.n_objects, world.faces.shape[1]
+    n_hidden = len(state.b1)
+    w, h = world.width_px, world.height_px
+    cx, cy = (w - 1) / 2, (h - 1) / 2
+    pos, rad = np.empty((n, 3)), np.empty(n)
+    uv, depth, area = np.empty((n, 2)), np.empty(n), np.empty(n)
+    centre, seen_area, seen_edge = np.empty((n, 2)), np.empty(n), np.empty(n)
+    ids, motion = np.empty(n, dtype=np.int64), np.zeros(n)
+    face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
+    hid, out, x_full = np.empty(n_hidden), np.empty(2), np.empty(n_pix + 2)
+    scaled = np.empty(2)
+    thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
+    y = np.empty((robot.max_steps, 2))
+    a1, a2, a3 = robot.weights[0], robot.weights[1], robot.weights[2]
+    c = state.counters
+    while c[0] < until_steps and c[3] < max_trials:
+        start = c[0]
+        # the scene (cells.random_scene, FastScene.sample)
+        k = trials_rng.integers(0, len(world.faces))
+        pos[0], rad[0] = world.target_m[k], trials_rng.uniform(world.region[6], world.region[7])
+        if place_into(trials_rng, pos, rad, 1, world.face_m[k], world.face_radius_m,
+                      world.region, world.offset_m, world.limits_rad) < n:
+            return -1
+        order = trials_rng.permutation(n)
+        obj_pos, obj_rad = pos[order], rad[order]
+        target = np.argmin(order)
+        edge = trials_rng.uniform(0.0, 1.0, n)
+        face = world.faces[shuffle_rng.integers(0, len(world.faces))
+                           if world.shuffle_faces else k]
+        # the agent begins (BootstrapAgent.begin_trial)
+        c[1] += 1
+        welford_update(face, state.mean, state.m2, c[1])
+        standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
+        face_acc[:] = 0.0
+        accumulate(face_x, state.w1, 0, face_acc)
+        trial_module = -1
+        if robot.gate_per_trial:
+            trial_module = _LM if gate_rng.random() < _gate_rate(robot, c[0]) else _VF
+        # the trial (SceneTrial, run_trial)
+        pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
+        n_steps, n_lm, n_random, end, attended, seen = 0, 0, 0, -1, -1, -1
+        limit_hit = False
+        while True:
+            m = detect_into(obj_pos, obj_rad, edge, rotation_matrix(pan, tilt), world.offset_m,
+                            world.focal_px, w, h, uv, depth, area, centre, seen_area,
+                            seen_edge, ids)
+            seen = attended_index(centre[:m], cx, cy, robot.d_th_px)
+            if seen >= 0:
+                attended, end = ids[seen], END_FIRED
+            elif limit_hit:
+                end = END_LIMIT
+            elif n_steps >= robot.max_steps:
+                end = END_STEPS
+            if end >= 0:
+                break
+            # the agent acts (BootstrapAgent.act)
+            module = trial_module
+            if module < 0:
+                module = _LM if gate_rng.random() < _gate_rate(robot, c[0]) else _VF
+            i = -1
+            if module == _VF:
+                i = interest_argmax(seen_area[:m], seen_edge[:m], motion[:m], a1, a2, a3)
+                if i < 0:
+                    module = _LM if robot.vf_fallback_lm else _RANDOM
+            if module == _VF:
+                d_pan, d_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
+                                                    robot.gain_rad_per_px)
+            elif module == _LM:
+                acc[:] = face_acc
+                scale_angle_into(pan, tilt, robot.theta_mid_rad, robot.theta_half_rad, scaled, 0)
+                accumulate(scaled, state.w1, n_pix, acc)
+                forward(acc, state.b1, state.w2, state.b2, hid, out)
+                d_pan, d_tilt = unit_step(out[0], out[1], robot.step_rad)
+            else:
+                d_pan, d_tilt = random_step(move_rng, robot.step_rad)
+            thetas[n_steps, 0], thetas[n_steps, 1] = pan, tilt
+            steps[n_steps, 0], steps[n_steps, 1] = d_pan, d_tilt
+            c[0] += 1
+            n_lm += module == _LM
+            n_random += module == _RANDOM
+            # the head moves, stopping at its joint limits (SceneTrial.step)
+            want_pan, want_tilt = pan + d_pan, tilt + d_tilt
+            pan = min(max(want_pan, world.limits_rad[0]), world.limits_rad[1])
+            tilt = min(max(want_tilt, world.limits_rad[2]), world.limits_rad[3])
+            n_steps += 1
+            limit_hit = pan != want_pan or tilt != want_tilt
+        # the agent learns (BootstrapAgent.end_trial)
+        if end == END_FIRED and n_steps > 0:
+            aim = np.array([pan, tilt])
+            if robot.learning_target == _OBJECT_DIRECTION:
+                v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
+                                                    robot.gain_rad_per_px)
+                aim[0], aim[1] = pan + v_pan, tilt + v_tilt
+            keep = learning_samples(thetas[:n_steps], steps[:n_steps], aim,
+                                    robot.learning_target == _EXECUTED_STEP, y[:n_steps])
+            x_full[:n_pix] = face_x
+            for s in range(n_steps):
+                if keep[s]:
+                    scale_angle_into(thetas[s, 0], thetas[s, 1], robot.theta_mid_rad,
+                                     robot.theta_half_rad, x_full, n_pix)
+                    sgd_update(x_full, y[s], state.w1, state.b1, state.w2, state.b2, state.v1,
+                               state.vb1, state.v2, state.vb2, robot.learning_rate,
+                               robot.momentum)
+                    c[2] += 1
+        r = c[3]
+        records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random
+        records[4, r], records[5, r], records[6, r] = attended, target, end
+        c[3] += 1
+    return 0
