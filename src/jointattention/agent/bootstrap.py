@@ -15,17 +15,20 @@ import numpy as np
 from .._fields import param
 from .._jit import jit
 from ..config.agent import AgentConfig
+from ..errors import ConfigError
 from .attention import most_interesting, visual_feedback
 from .detections import Detections
 from .gates import GATES, Gate, SigmoidGate
 from .learner import FaceStandardiser, LearningModule, accumulate, forward, standardise
+from .memory import MemoryOptions
 from .models import ModelOptions
 from .protocol import LM, RANDOM, VF, Body, Outcome
 
-__all__ = ["LEARNING_TARGETS", "BootstrapAgent", "BootstrapOptions", "learning_samples",
+__all__ = ["LEARNERS", "LEARNING_TARGETS", "BootstrapAgent", "BootstrapOptions", "learning_samples",
            "lm_commands_into", "random_step", "scale_angle_into", "unit_step"]
 
 LEARNING_TARGETS = ("final_direction", "object_direction", "executed_step")
+LEARNERS = ("backprop", "memory")
 
 
 @jit
@@ -115,15 +118,34 @@ class BootstrapOptions(ModelOptions):
         choices=("step", "trial"))
     vf_fallback: str = param(
         "random", "reading: what moves the head when the gate picks the visual controller and no "
-        "object is in view: the learning module, or a random step", choices=("lm", "random"))
+        "object is in view: the learning module, a random step, or a sweep (a random "
+        "direction drawn once per trial, so that far objects are reached)",
+        choices=("lm", "random", "sweep"))
     learning_target: str = param(
         "object_direction", "reading: what each step of a successful trial is taught: the unit "
         "direction to the final gaze, to the attended object (the final gaze plus the visual "
         "controller's command that would centre it), or the step that was executed",
         choices=LEARNING_TARGETS)
+    learner: str = param(
+        "backprop", "the learning module: the paper's network trained by back-propagation, or "
+        "an episodic memory that recalls where objects were found for similar faces (beyond the "
+        "paper: README, Beyond the paper)", choices=LEARNERS)
+    memory: MemoryOptions = param(factory=MemoryOptions,
+                                  help="the episodic memory's options (learner = 'memory')")
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.learner == "memory" and self.learning_target == "executed_step":
+            raise ConfigError("learning_target = 'executed_step': the memory learner keeps "
+                              "places, not steps; expected 'object_direction' or "
+                              "'final_direction' with learner = 'memory'")
 
     def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> BootstrapAgent:
-        """The untrained bootstrap agent."""
+        """The untrained bootstrap agent (with the memory learner if ``learner = 'memory'``)."""
+        if self.learner == "memory":
+            from .episodic import MemoryAgent  # it subclasses BootstrapAgent
+
+            return MemoryAgent(self, agent, body, rng)
         return BootstrapAgent(self, agent, body, rng)
 
 
@@ -221,6 +243,8 @@ class BootstrapAgent:
         self._face_acc = self._face_part(self._face_x)
         self._thetas, self._steps = [], []
         self._trial_module = None
+        if self.options.vf_fallback == "sweep":
+            self._sweep = np.array(random_step(self.move_rng, self.step_rad))
         if self.options.gate_per == "trial":
             self._trial_module = LM if self.gate_rng.random() < self.gate_rate() else VF
 
@@ -235,6 +259,8 @@ class BootstrapAgent:
             dtheta = visual_feedback(det, target, self.agent.vf_gain_rad_per_px)
         elif module == LM:
             dtheta = self._lm(self._face_acc, theta_rad)
+        elif o.vf_fallback == "sweep":
+            dtheta = self._sweep.copy()
         else:
             dtheta = np.array(random_step(self.move_rng, self.step_rad))
         self._thetas.append(np.asarray(theta_rad, dtype=float))

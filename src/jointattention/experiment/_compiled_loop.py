@@ -3,8 +3,8 @@
 :mod:`.compiled` packs the inputs and drives the loop; this module is the loop itself. Each step
 calls the kernels the step-by-step path calls (:mod:`~jointattention.world.fast`,
 :mod:`~jointattention.world.placement`, :mod:`~jointattention.agent.attention`,
-:mod:`~jointattention.agent.learner`, :mod:`~jointattention.agent.bootstrap`), in the order of
-its random draws.
+:mod:`~jointattention.agent.learner` or :mod:`~jointattention.agent.memory`,
+:mod:`~jointattention.agent.bootstrap`), in the order of its random draws.
 """
 
 from __future__ import annotations
@@ -24,6 +24,7 @@ from ..agent.bootstrap import (
 )
 from ..agent.gates import sigmoid_rate
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
+from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..world.fast import detect_into
 from ..world.kinematics import rotation_matrix
 from ..world.placement import place_into
@@ -70,12 +71,19 @@ class LoopRobot(NamedTuple):
     gate_b: float  # the sigmoid's width
     gate_per_trial: bool
     vf_fallback_lm: bool
+    vf_fallback_sweep: bool
     learning_target: int  # its index in LEARNING_TARGETS
     theta_mid_rad: np.ndarray
     theta_half_rad: np.ndarray
     min_std: float
     learning_rate: float
     momentum: float
+    memory: bool  # the episodic learner (agent.memory) instead of back-propagation
+    projection: np.ndarray  # the memory's face code
+    memory_lo_rad: np.ndarray
+    memory_cell_rad: float
+    memory_k: int
+    memory_radius_rad: float
 
 
 class LoopState(NamedTuple):
@@ -91,7 +99,10 @@ class LoopState(NamedTuple):
     vb2: np.ndarray
     mean: np.ndarray
     m2: np.ndarray
-    counters: np.ndarray  # learning time, faces seen, updates, records
+    codes: np.ndarray  # the memory's kept trials (empty for back-propagation)
+    aims: np.ndarray
+    base: np.ndarray
+    counters: np.ndarray  # learning time, faces seen, updates, records, trials kept
 
 
 @jit
@@ -120,7 +131,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
     ids, motion = np.empty(n, dtype=np.int64), np.zeros(n)
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, x_full = np.empty(n_hidden), np.empty(2), np.empty(n_pix + 2)
-    scaled = np.empty(2)
+    scaled, code, aim, sweep = np.empty(2), np.empty(len(robot.projection)), np.empty(2), (0., 0.)
     thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
     y = np.empty((robot.max_steps, 2))
     a1, a2, a3 = robot.weights[0], robot.weights[1], robot.weights[2]
@@ -139,12 +150,20 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         edge = trials_rng.uniform(0.0, 1.0, n)
         face = world.faces[shuffle_rng.integers(0, len(world.faces))
                            if world.shuffle_faces else k]
-        # the agent begins (BootstrapAgent.begin_trial)
+        # the agent begins (MemoryAgent.begin_trial, then BootstrapAgent.begin_trial)
+        recalled = False
+        if robot.memory:
+            face_code_into(face, robot.projection, code)
+            recalled = memory_recall(code, state.codes, state.aims, state.base, c[4],
+                                     robot.memory_lo_rad, robot.memory_cell_rad, robot.memory_k,
+                                     robot.memory_radius_rad, aim) >= 0
         c[1] += 1
         welford_update(face, state.mean, state.m2, c[1])
         standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
         face_acc[:] = 0.0
         accumulate(face_x, state.w1, 0, face_acc)
+        if robot.vf_fallback_sweep:
+            sweep = random_step(move_rng, robot.step_rad)
         trial_module = -1
         if robot.gate_per_trial:
             trial_module = _LM if gate_rng.random() < _gate_rate(robot, c[0]) else _VF
@@ -177,12 +196,19 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             if module == _VF:
                 d_pan, d_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
                                                     robot.gain_rad_per_px)
+            elif module == _LM and robot.memory:
+                if recalled:
+                    d_pan, d_tilt = unit_step(aim[0] - pan, aim[1] - tilt, robot.step_rad)
+                else:
+                    d_pan, d_tilt = random_step(move_rng, robot.step_rad)
             elif module == _LM:
                 acc[:] = face_acc
                 scale_angle_into(pan, tilt, robot.theta_mid_rad, robot.theta_half_rad, scaled, 0)
                 accumulate(scaled, state.w1, n_pix, acc)
                 forward(acc, state.b1, state.w2, state.b2, hid, out)
                 d_pan, d_tilt = unit_step(out[0], out[1], robot.step_rad)
+            elif robot.vf_fallback_sweep:
+                d_pan, d_tilt = sweep
             else:
                 d_pan, d_tilt = random_step(move_rng, robot.step_rad)
             thetas[n_steps, 0], thetas[n_steps, 1] = pan, tilt
@@ -196,13 +222,18 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             tilt = min(max(want_tilt, world.limits_rad[2]), world.limits_rad[3])
             n_steps += 1
             limit_hit = pan != want_pan or tilt != want_tilt
-        # the agent learns (BootstrapAgent.end_trial)
+        # the agent learns (BootstrapAgent.end_trial, MemoryAgent.end_trial)
         if end == END_FIRED and n_steps > 0:
-            aim = np.array([pan, tilt])
+            aim[0], aim[1] = pan, tilt
             if robot.learning_target == _OBJECT_DIRECTION:
                 v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
                                                     robot.gain_rad_per_px)
                 aim[0], aim[1] = pan + v_pan, tilt + v_tilt
+        if end == END_FIRED and n_steps > 0 and robot.memory:
+            memory_store(code, aim[0], aim[1], state.codes, state.aims, state.base, c[4],
+                         robot.memory_lo_rad, robot.memory_cell_rad)
+            c[4] += 1
+        elif end == END_FIRED and n_steps > 0:
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], aim,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])
             x_full[:n_pix] = face_x

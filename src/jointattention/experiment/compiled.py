@@ -59,6 +59,14 @@ def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_ob
                   ds.face.reshape(len(ds), -1).astype(float), bool(shuffle_faces))
 
 
+def _memory_inputs(memory, n_pix: int) -> tuple:
+    """The episodic memory's face code and grid as LoopRobot takes them (stand-ins if none)."""
+    if memory is None:
+        return np.zeros((0, n_pix)), np.zeros(2), 1.0, 1, 0.0
+    return (memory.projection, memory.lo_rad, float(memory.cell_rad),
+            int(memory.options.k_nearest), memory.radius_rad)
+
+
 class CompiledCell:
     """One cell (a condition and a seed) learning in the compiled engine.
 
@@ -81,6 +89,7 @@ class CompiledCell:
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
         opts, shared = agent.options, agent.agent
+        memory = getattr(agent, "memory", None)
         gate = opts.gate
         constant = isinstance(gate, ConstantGate)
         self._robot = LoopRobot(
@@ -88,17 +97,21 @@ class CompiledCell:
             float(shared.d_th_px(world.width_px)), float(agent.step_rad), int(shared.max_steps),
             constant, float(gate.rate if constant else gate.midpoint_steps),
             0.0 if constant else float(gate.width_steps), opts.gate_per == "trial",
-            opts.vf_fallback == "lm",
+            opts.vf_fallback == "lm", opts.vf_fallback == "sweep",
             LEARNING_TARGETS.index(opts.learning_target),
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
-            float(opts.learning_rate), float(opts.momentum))
+            float(opts.learning_rate), float(opts.momentum), memory is not None,
+            *_memory_inputs(memory, world.faces.shape[1]))
         learner, faces = agent.learner, agent.faces
         if faces.n_seen_ == 0:
             faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
+        kept = (np.zeros((1, 1)), np.zeros((1, 2)), np.zeros((1, 1))) if memory is None else (
+            memory.codes_, memory.aims_, memory.base_)
         self._state = LoopState(
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
-            faces.mean_, faces.m2_,
-            np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0]))
+            faces.mean_, faces.m2_, *kept,
+            np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0,
+                      0 if memory is None else memory.n_stored_]))
         self._records = np.zeros((len(COLUMNS), max_trials), dtype=np.int64)
 
     def run_until(self, learning_time_steps: int) -> None:
@@ -112,6 +125,8 @@ class CompiledCell:
         c = self._state.counters
         self.agent.learning_time_steps = int(c[0])
         self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
+        if hasattr(self.agent, "memory"):
+            self.agent.memory.n_stored_ = int(c[4])
 
     def records(self) -> dict[str, np.ndarray]:
         """The trial records so far (:data:`~.trial.RECORD`)."""

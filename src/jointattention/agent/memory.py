@@ -1,0 +1,200 @@
+"""An episodic learning module: where the robot found an object, recalled by the face.
+
+The paper's learning module regresses a direction on the face (squared error). When the
+evaluator fires on one of n objects, the caregiver's target is only one of the places the robot
+learns from; a squared-error learner converges to the *mean* of those places, which for 10
+objects points at the distractors' average, not at the target (README, *Beyond the paper*).
+This module looks for the *mode* instead: it keeps each self-evaluated trial as a pair (a
+compact code of the face, the head angle at which the object was centred) and, for a face,
+recalls the place that the trials with the most similar faces agree on beyond what every face
+agrees on (the base rate, which the distractors set). Everything it uses is the robot's own:
+the face window, its head angle and its evaluator.
+
+The kernels (:func:`face_code_into`, :func:`memory_store`, :func:`memory_recall`) are compiled;
+:class:`EpisodicMemory` is their scikit-learn-style wrapper.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._fields import Section, param
+from .._jit import jit
+
+__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "memory_recall", "memory_store"]
+
+
+@dataclass(frozen=True)
+class MemoryOptions(Section):
+    """The episodic learning module's options (``[model.memory]``, with ``learner = "memory"``)."""
+
+    code_dims: int = param(
+        32, "length of the face code: a random projection of the face window that the robot "
+        "draws once (it keeps distances between faces)", lo=1, hi=4096)
+    k_nearest: int = param(
+        64, "trials recalled for a face: those whose faces are the k nearest (ties included)",
+        lo=1, hi=100_000)
+    radius_deg: float = param(
+        2.0, "places closer than this count as one place when the recalled trials vote",
+        lo=0.01, hi=90)
+    capacity: int = param(
+        20_000, "trials kept; the oldest is forgotten when it is full", lo=1, hi=10_000_000)
+
+
+@jit
+def face_code_into(face, projection, out) -> None:
+    """``out = projection @ face``: the face window's compact code."""
+    for j in range(len(out)):
+        s = 0.0
+        for i in range(len(face)):
+            s += projection[j, i] * face[i]
+        out[j] = s
+
+
+@jit
+def _cell_of(pan_rad, tilt_rad, lo_rad, cell_rad, shape) -> tuple[int, int]:
+    i = min(max(int((pan_rad - lo_rad[0]) / cell_rad), 0), shape[0] - 1)
+    j = min(max(int((tilt_rad - lo_rad[1]) / cell_rad), 0), shape[1] - 1)
+    return i, j
+
+
+@jit
+def _count_around(pan_rad, tilt_rad, grid, lo_rad, cell_rad, by) -> None:
+    """Add ``by`` to the grid cells within the voting radius (two cells) of a place."""
+    ci, cj = _cell_of(pan_rad, tilt_rad, lo_rad, cell_rad, grid.shape)
+    for di in range(-2, 3):
+        for dj in range(-2, 3):
+            i, j = ci + di, cj + dj
+            if di * di + dj * dj <= 4 and 0 <= i < grid.shape[0] and 0 <= j < grid.shape[1]:
+                grid[i, j] += by
+
+
+@jit
+def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, aims, base, n_stored, lo_rad,
+                 cell_rad) -> None:
+    """Keep a trial (face code, place) in slot ``n_stored % capacity``, forgetting its last.
+
+    ``base`` counts, per grid cell, the kept places within the voting radius: the base rate.
+    """
+    slot = n_stored % len(codes)
+    if n_stored >= len(codes):
+        _count_around(aims[slot, 0], aims[slot, 1], base, lo_rad, cell_rad, -1.0)
+    codes[slot, :] = code
+    aims[slot, 0], aims[slot, 1] = aim_pan_rad, aim_tilt_rad
+    _count_around(aim_pan_rad, aim_tilt_rad, base, lo_rad, cell_rad, 1.0)
+
+
+@jit
+def memory_recall(code, codes, aims, base, n_stored, lo_rad, cell_rad, k_nearest,
+                  radius_rad, out) -> float:
+    """The place recalled for a face code, into ``out``; returns its support (-1: no memory).
+
+    The trials of the k nearest face codes vote: each of their places counts the places within
+    ``radius_rad`` of it, less the count the base rate predicts for so many trials. The winner's
+    neighbours are averaged into ``out``. The support is the winner's excess over the base
+    rate, as a fraction of the trials recalled (0: nothing beyond chance; 1: all agree).
+    """
+    n = min(n_stored, len(codes))
+    if n == 0:
+        return -1.0
+    d2 = np.empty(n)
+    for i in range(n):
+        s = 0.0
+        for j in range(len(code)):
+            s += (codes[i, j] - code[j]) ** 2
+        d2[i] = s
+    k = min(k_nearest, n)
+    near = np.flatnonzero(d2 <= np.partition(d2, k - 1)[k - 1])
+    m, r2 = len(near), radius_rad * radius_rad
+    best, best_a = -np.inf, 0
+    for a in range(m):
+        pa, ta = aims[near[a], 0], aims[near[a], 1]
+        votes = 0
+        for b in range(m):
+            votes += (aims[near[b], 0] - pa) ** 2 + (aims[near[b], 1] - ta) ** 2 < r2
+        ci, cj = _cell_of(pa, ta, lo_rad, cell_rad, base.shape)
+        excess = votes - m * base[ci, cj] / n
+        if excess > best:  # the first of equal votes
+            best, best_a = excess, a
+    pa, ta = aims[near[best_a], 0], aims[near[best_a], 1]
+    s0 = s1 = 0.0
+    votes = 0
+    for b in range(m):
+        if (aims[near[b], 0] - pa) ** 2 + (aims[near[b], 1] - ta) ** 2 < r2:
+            s0 += aims[near[b], 0]
+            s1 += aims[near[b], 1]
+            votes += 1
+    out[0], out[1] = s0 / votes, s1 / votes
+    return best / m
+
+
+class EpisodicMemory:
+    """Self-evaluated trials, kept as (face code, place) and recalled by face (see module).
+
+    Args:
+        n_in: pixels of a face window.
+        options: code length, neighbours, voting radius, capacity.
+        limits_rad: the head's joint ranges ((pan lo, hi), (tilt lo, hi)); the base rate is
+            counted on a grid over them (a margin of 0.2 rad each side).
+        rng: draws the face code's projection.
+
+    Learned state: ``codes_``, ``aims_`` (the kept trials), ``base_`` (the base-rate grid),
+    ``n_stored_`` (trials kept so far, forgotten ones included).
+    """
+
+    def __init__(self, n_in: int, options: MemoryOptions, limits_rad, rng: np.random.Generator):
+        self.options = options
+        self.projection = rng.normal(0.0, 1.0 / math.sqrt(options.code_dims),
+                                     (options.code_dims, n_in))
+        limits = np.asarray(limits_rad, dtype=float)
+        self.lo_rad = limits[:, 0] - 0.2
+        self.cell_rad = self.radius_rad / 2
+        shape = np.ceil((limits[:, 1] + 0.2 - self.lo_rad) / self.cell_rad).astype(int) + 1
+        self.codes_ = np.zeros((options.capacity, options.code_dims))
+        self.aims_ = np.zeros((options.capacity, 2))
+        self.base_ = np.zeros(tuple(shape))
+        self.n_stored_ = 0
+
+    @property
+    def radius_rad(self) -> float:
+        """The voting radius."""
+        return math.radians(self.options.radius_deg)
+
+    def code(self, face_window) -> np.ndarray:
+        """The compact code of a face window."""
+        out = np.empty(self.options.code_dims)
+        face_code_into(np.ascontiguousarray(face_window, dtype=float).ravel(), self.projection,
+                       out)
+        return out
+
+    def store(self, code: np.ndarray, aim_rad) -> None:
+        """Keep one trial: the face's code and the place (pan, tilt) where it found an object."""
+        memory_store(code, float(aim_rad[0]), float(aim_rad[1]), self.codes_, self.aims_,
+                     self.base_, self.n_stored_, self.lo_rad, self.cell_rad)
+        self.n_stored_ += 1
+
+    def recall(self, code: np.ndarray) -> tuple[np.ndarray | None, float]:
+        """The place recalled for a face code and its support; (None, -1) with no memory."""
+        out = np.empty(2)
+        support = memory_recall(code, self.codes_, self.aims_, self.base_, self.n_stored_,
+                                self.lo_rad, self.cell_rad, self.options.k_nearest,
+                                self.radius_rad, out)
+        return (None if support < 0 else out), support
+
+    def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> EpisodicMemory:
+        """Keep each row's trial: face windows ``X`` (n, pixels), places ``Y`` (n, 2)."""
+        for x, y in zip(np.atleast_2d(X), np.atleast_2d(Y), strict=True):
+            self.store(self.code(x), y)
+        return self
+
+    def predict(self, X: np.ndarray) -> np.ndarray:
+        """The place recalled for each face window (n, pixels), (n, 2); NaN with no memory."""
+        out = np.full((len(np.atleast_2d(X)), 2), np.nan)
+        for row, x in zip(out, np.atleast_2d(X), strict=True):
+            aim, _ = self.recall(self.code(x))
+            if aim is not None:
+                row[:] = aim
+        return out
