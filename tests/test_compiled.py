@@ -33,6 +33,17 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
     ConditionConfig(name="const", n_objects=5, model={
         "gate": {"kind": "constant", "rate": 0.5}, "n_hidden": 4, "momentum": 0.0}),
     ConditionConfig(name="shuffled", n_objects=5, shuffle_faces=True),
+    ConditionConfig(name="sweep", n_objects=5, model={"vf_fallback": "sweep"}),
+    ConditionConfig(name="memory", n_objects=5, model={"learner": "memory"}),
+    ConditionConfig(name="memory-forgets", n_objects=10, model={
+        "learner": "memory", "vf_fallback": "sweep", "memory": {"capacity": 40}}),
+    ConditionConfig(name="memory-final", n_objects=3, model={
+        "learner": "memory", "learning_target": "final_direction", "gate_per": "trial"}),
+    ConditionConfig(name="performance", n_objects=3, model={
+        "gate": {"kind": "performance", "window_trials": 20.0, "full_agreement": 0.2}}),
+    ConditionConfig(name="memory-performance", n_objects=5, model={
+        "learner": "memory", "gate_per": "trial",
+        "gate": {"kind": "performance", "window_trials": 20.0, "full_agreement": 0.2}}),
 ]
 CONFIG = Config(
     model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),

@@ -18,7 +18,7 @@ from ..config.agent import AgentConfig
 from ..errors import ConfigError
 from .attention import most_interesting, visual_feedback
 from .detections import Detections
-from .gates import GATES, Gate, SigmoidGate
+from .gates import GATES, Gate, PerformanceGate, SigmoidGate, agreement_update
 from .learner import FaceStandardiser, LearningModule, accumulate, forward, standardise
 from .memory import MemoryOptions
 from .models import ModelOptions
@@ -140,6 +140,13 @@ class BootstrapOptions(ModelOptions):
                               "places, not steps; expected 'object_direction' or "
                               "'final_direction' with learner = 'memory'")
 
+    @property
+    def label(self) -> str:
+        """``bootstrap, <gate>``, or ``bootstrap + memory, <gate>`` with the memory learner."""
+        label = super().label
+        return label if self.learner == "backprop" else label.replace(
+            "bootstrap", "bootstrap + memory", 1)
+
     def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> BootstrapAgent:
         """The untrained bootstrap agent (with the memory learner if ``learner = 'memory'``)."""
         if self.learner == "memory":
@@ -179,6 +186,7 @@ class BootstrapAgent:
             momentum=options.momentum, init_scale=options.init_scale, rng=init_rng)
         self.faces = FaceStandardiser()
         self.learning_time_steps = 0
+        self.agreement_ = 0.0  # the performance gate's measure (PerformanceGate)
         self._trial_module: str | None = None
         self._thetas: list[np.ndarray] = []
         self._steps: list[np.ndarray] = []
@@ -189,9 +197,15 @@ class BootstrapAgent:
         return np.deg2rad(self.agent.lm_step_deg)
 
     def gate_rate(self, learning_time_steps=None):
-        """Rate of choosing the learning module at a learning time (default: now)."""
+        """Rate of choosing the learning module at a learning time (default: now).
+
+        A performance gate's rate now follows the measured agreement, not the time.
+        """
+        gate = self.options.gate
+        if learning_time_steps is None and isinstance(gate, PerformanceGate):
+            return gate.rate_of(self.agreement_)
         t = self.learning_time_steps if learning_time_steps is None else learning_time_steps
-        return self.options.gate.rate_at(t)
+        return gate.rate_at(t)
 
     # -- the learning module ---------------------------------------------------------------
     def _inputs(self, face_x: np.ndarray, thetas: np.ndarray) -> np.ndarray:
@@ -234,6 +248,21 @@ class BootstrapAgent:
         forward(acc, learner.b1_, learner.w2_, learner.b2_, h, out)
         return np.array(unit_step(out[0], out[1], self.step_rad))
 
+    def _lm_direction(self, theta_rad) -> np.ndarray:
+        """The learning module's command now, without a random draw (the gate's measure)."""
+        return self._lm(self._face_acc, theta_rad)
+
+    def _measure(self, outcome: Outcome) -> None:
+        """A performance gate's measure: did the module point, at the start, to the place found?"""
+        gate = self.options.gate
+        if not isinstance(gate, PerformanceGate):
+            return
+        u = self._lm_direction(self._theta_start)
+        v = outcome.theta_rad + visual_feedback(outcome.detections, outcome.seen,
+                                                self.agent.vf_gain_rad_per_px) - self._theta_start
+        self.agreement_ = agreement_update(self.agreement_, u[0], u[1], float(v[0]), float(v[1]),
+                                           math.radians(gate.agree_deg), gate.window_trials)
+
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Start a trial looking at the caregiver, whose face window the robot keeps."""
@@ -241,6 +270,7 @@ class BootstrapAgent:
         self.faces.partial_fit(face)
         self._face_x = self.faces.transform(face)
         self._face_acc = self._face_part(self._face_x)
+        self._theta_start = np.asarray(theta_rad, dtype=float)
         self._thetas, self._steps = [], []
         self._trial_module = None
         if self.options.vf_fallback == "sweep":
@@ -277,6 +307,7 @@ class BootstrapAgent:
         """
         if not outcome.fired or not self._thetas:
             return 0
+        self._measure(outcome)
         thetas, target = np.array(self._thetas), self.options.learning_target
         aim = np.asarray(outcome.theta_rad, dtype=float)
         if target == "object_direction":

@@ -69,10 +69,15 @@ class MemoryAgent(BootstrapAgent):
             return np.array(random_step(self.move_rng, self.step_rad))
         return self._command(self._aim_rad, theta_rad)
 
+    def _lm_direction(self, theta_rad) -> np.ndarray:
+        """A step toward the recalled place; no step while nothing is kept."""
+        return self._command(self._aim_rad, theta_rad)
+
     def end_trial(self, outcome: Outcome) -> int:
         """Keep the trial if the evaluator fired; returns the number of trials kept (0 or 1)."""
         if not outcome.fired or not self._thetas:
             return 0
+        self._measure(outcome)
         aim = np.asarray(outcome.theta_rad, dtype=float)
         if self.options.learning_target == "object_direction":
             aim = aim + visual_feedback(outcome.detections, outcome.seen,

@@ -15,8 +15,10 @@ import numpy as np
 
 from .._fields import Registry, Section, param
 from .._jit import jit
+from ..errors import ConfigError
 
-__all__ = ["GATES", "ConstantGate", "Gate", "SigmoidGate", "sigmoid_rate"]
+__all__ = ["GATES", "ConstantGate", "Gate", "PerformanceGate", "SigmoidGate", "agreement_update",
+           "performance_rate", "sigmoid_rate"]
 
 
 @jit
@@ -70,4 +72,60 @@ class ConstantGate(Gate):
         return f"constant {self.rate}"
 
 
-GATES = Registry("gate", {"sigmoid": SigmoidGate, "constant": ConstantGate})
+@jit
+def agreement_update(agreement: float, u0: float, u1: float, v0: float, v1: float,
+                     agree_rad: float, window_trials: float) -> float:
+    """The running agreement after one self-evaluated trial.
+
+    The trial agrees if the learning module's command at its start, ``u``, points within
+    ``agree_rad`` of the place the evaluator fired on, ``v`` (both from the start's head angle).
+    The agreement is an exponential average over about ``window_trials`` trials.
+    """
+    nu, nv = math.hypot(u0, u1), math.hypot(v0, v1)
+    agreed = nu > 0 and nv > 0 and (u0 * v0 + u1 * v1) > math.cos(agree_rad) * nu * nv
+    return agreement + ((1.0 if agreed else 0.0) - agreement) / window_trials
+
+
+@jit
+def performance_rate(agreement: float, agree_rad: float, full_agreement: float) -> float:
+    """The performance gate's rate: 0 at chance agreement, 1 at ``full_agreement``, linear."""
+    chance = agree_rad / math.pi  # a command in a uniformly random direction
+    return min(max((agreement - chance) / (full_agreement - chance), 0.0), 1.0)
+
+
+@dataclass(frozen=True)
+class PerformanceGate(Gate):
+    """Beyond the paper: the rate follows the learning module's measured performance.
+
+    After each trial the evaluator ends, the robot checks whether its learning module, asked
+    at the trial's start, pointed toward the place the evaluator fired on
+    (:func:`agreement_update`). The rate rises from 0 at chance agreement to 1 at
+    ``full_agreement`` (:func:`performance_rate`). The learning time plays no part.
+    """
+
+    agree_deg: float = param(
+        20.0, "a trial agrees if the module's command points within this angle of the place "
+        "found", lo=1, hi=90)
+    window_trials: float = param(
+        3000.0, "trials over which the agreement is averaged (exponentially)", lo=1, hi=1e6)
+    full_agreement: float = param(
+        0.6, "agreement at which the module is always chosen", lo=0, hi=1)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.full_agreement <= self.agree_deg / 180:
+            raise ConfigError(f"full_agreement = {self.full_agreement}: expected more than "
+                              f"the chance agreement agree_deg / 180 = {self.agree_deg / 180:.3f}")
+
+    def rate_at(self, learning_time_steps):
+        """NaN: the rate is not a function of learning time."""
+        return np.full(np.shape(learning_time_steps), np.nan)
+
+    def rate_of(self, agreement: float) -> float:
+        """The rate at a measured agreement (:func:`performance_rate`)."""
+        return performance_rate(float(agreement), math.radians(self.agree_deg),
+                                float(self.full_agreement))
+
+
+GATES = Registry("gate", {"sigmoid": SigmoidGate, "constant": ConstantGate,
+                          "performance": PerformanceGate})

@@ -92,10 +92,13 @@ def memory_recall(code, codes, aims, base, n_stored, lo_rad, cell_rad, k_nearest
                   radius_rad, out) -> float:
     """The place recalled for a face code, into ``out``; returns its support (-1: no memory).
 
-    The trials of the k nearest face codes vote: each of their places counts the places within
-    ``radius_rad`` of it, less the count the base rate predicts for so many trials. The winner's
-    neighbours are averaged into ``out``. The support is the winner's excess over the base
-    rate, as a fraction of the trials recalled (0: nothing beyond chance; 1: all agree).
+    The trials of the k nearest face codes (ties included) vote, each with the weight
+    exp(-d^2 / d_k^2) of its face's distance d (d_k: the k-th nearest), so that the face's own
+    trials outvote a similar face's. Each of their places counts the weight of the places
+    within ``radius_rad`` of it, less what the base rate predicts for so much weight. The
+    winner's neighbours are averaged (weighted) into ``out``. The support is the winner's
+    excess over the base rate, as a fraction of the weight recalled (0: nothing beyond
+    chance; 1: all agree).
     """
     n = min(n_stored, len(codes))
     if n == 0:
@@ -106,29 +109,30 @@ def memory_recall(code, codes, aims, base, n_stored, lo_rad, cell_rad, k_nearest
         for j in range(len(code)):
             s += (codes[i, j] - code[j]) ** 2
         d2[i] = s
-    k = min(k_nearest, n)
-    near = np.flatnonzero(d2 <= np.partition(d2, k - 1)[k - 1])
-    m, r2 = len(near), radius_rad * radius_rad
+    d2_k = np.partition(d2, min(k_nearest, n) - 1)[min(k_nearest, n) - 1]
+    near = np.flatnonzero(d2 <= d2_k)
+    weight = np.exp(-d2[near] / max(d2_k, 1e-300))
+    total, r2 = weight.sum(), radius_rad * radius_rad
     best, best_a = -np.inf, 0
-    for a in range(m):
+    for a in range(len(near)):
         pa, ta = aims[near[a], 0], aims[near[a], 1]
-        votes = 0
-        for b in range(m):
-            votes += (aims[near[b], 0] - pa) ** 2 + (aims[near[b], 1] - ta) ** 2 < r2
+        votes = 0.0
+        for b in range(len(near)):
+            if (aims[near[b], 0] - pa) ** 2 + (aims[near[b], 1] - ta) ** 2 < r2:
+                votes += weight[b]
         ci, cj = _cell_of(pa, ta, lo_rad, cell_rad, base.shape)
-        excess = votes - m * base[ci, cj] / n
+        excess = votes - total * base[ci, cj] / n
         if excess > best:  # the first of equal votes
             best, best_a = excess, a
     pa, ta = aims[near[best_a], 0], aims[near[best_a], 1]
-    s0 = s1 = 0.0
-    votes = 0
-    for b in range(m):
+    s0 = s1 = votes = 0.0
+    for b in range(len(near)):
         if (aims[near[b], 0] - pa) ** 2 + (aims[near[b], 1] - ta) ** 2 < r2:
-            s0 += aims[near[b], 0]
-            s1 += aims[near[b], 1]
-            votes += 1
+            s0 += weight[b] * aims[near[b], 0]
+            s1 += weight[b] * aims[near[b], 1]
+            votes += weight[b]
     out[0], out[1] = s0 / votes, s1 / votes
-    return best / m
+    return best / total
 
 
 class EpisodicMemory:

@@ -12,6 +12,8 @@ model of your own with a gate is checked like the paper's:
   0.05 of its ceiling only has to stay there.
 - **sigmoid beats constant r** (5 objects): final success of the sigmoid minus that of the
   constant rate, paired over seeds (common random numbers), lower 95% bound above zero.
+- **performance gate beats sigmoid / constant r** (5 objects, beyond the paper): the same
+  rule; the performance gate's conditions are also checked for rising and the ceiling.
 - **constant 1.0 stays near or below chance** (5 objects): final success at most 1.25 x chance.
 - **shuffled faces stay at chance** (the control): final success at most 1.25 x chance.
 - **final success at least 0.9 of the ceiling** (1, 3 and 5 objects: the issue's aim).
@@ -23,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..agent.gates import ConstantGate, SigmoidGate
+from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from ..agent.models import MODELS
 from ..config import Config, model_options
 from .metrics import final_success, mean_interval
@@ -45,17 +47,27 @@ class Claim:
 def reading_of(condition, config: Config) -> str:
     """The condition's reading, e.g. ``gate_per=step, vf_fallback=lm, learning_target=...``.
 
-    Preceded by ``model=<kind>`` for models other than the bootstrap model.
+    Preceded by ``model=<kind>`` for models other than the bootstrap model, and by
+    ``learner=<kind>`` for a learning module other than the paper's.
     """
     options = model_options(config, condition)
     kind = MODELS.name_of(options)
     parts = [f"{k}={getattr(options, k)}" for k in options.readings]
+    if getattr(options, "learner", "backprop") != "backprop":
+        parts.insert(0, f"learner={options.learner}")
     return ", ".join(parts if kind == "bootstrap" else [f"model={kind}", *parts])
 
 
 def _paired_lower(a: np.ndarray, b: np.ndarray) -> float:
     """Lower end of the 95% interval of mean(a - b) over seeds (paired)."""
     return float(mean_interval((a - b)[:, None])[1][0])
+
+
+def _paired(a: np.ndarray, b: np.ndarray) -> tuple[bool, str]:
+    """Whether finals ``a`` beat ``b`` (paired 95% lower bound above zero), and the numbers."""
+    lower = _paired_lower(a, b)
+    return lower > 0, (f"final {a.mean():.3f} against {b.mean():.3f}; paired difference "
+                       f"{(a - b).mean():+.3f}, 95% lower bound {lower:+.3f}")
 
 
 def _finals(per_seed: np.ndarray) -> np.ndarray:
@@ -81,34 +93,41 @@ def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
         finals = {c.name: _finals(curves[c.name][1]) for c in conds}
         sigmoid = [c for c in conds
                    if isinstance(gates[c.name], SigmoidGate) and not c.shuffle_faces]
-        for c in sigmoid:
+        performance = [c for c in conds
+                       if isinstance(gates[c.name], PerformanceGate) and not c.shuffle_faces]
+        for c in sigmoid + performance:
             per_seed = curves[c.name][1]
             first, final = per_seed[:, 0], finals[c.name]
             chance, ceiling = 1 / c.n_objects, ceilings.get(str(c.n_objects), np.nan)
             numbers = (f"first bin {first.mean():.3f}, final {final.mean():.3f}, chance "
                        f"{chance:.3f}, ceiling {ceiling:.3f}")
+            n_objects = (f"{c.n_objects} objects" if c in sigmoid
+                         else f"{c.n_objects} objects, performance gate")
             if first.mean() >= ceiling - 0.05:
-                add(f"{c.n_objects} objects: starts at the ceiling and stays there",
+                add(f"{n_objects}: starts at the ceiling and stays there",
                     final.mean() >= ceiling - 0.05, numbers)
             else:
-                add(f"{c.n_objects} objects: starts no better than chance and rises",
+                add(f"{n_objects}: starts no better than chance and rises",
                     first.mean() <= chance + 0.05 and _paired_lower(final, first) > 0, numbers)
             if c.n_objects <= 5:
-                add(f"{c.n_objects} objects: final success at least 0.9 of the ceiling",
+                add(f"{n_objects}: final success at least 0.9 of the ceiling",
                     final.mean() >= 0.9 * ceiling,
                     f"final {final.mean():.3f} = {final.mean() / ceiling:.2f} of ceiling "
                     f"{ceiling:.3f}")
         sig5 = [c for c in sigmoid if c.n_objects == 5]
+        for p in (c for c in performance if c.n_objects == 5):
+            for c in conds:
+                if c.n_objects == 5 and not c.shuffle_faces and c is not p and isinstance(
+                        gates[c.name], (SigmoidGate, ConstantGate)):
+                    add(f"5 objects: performance gate beats {gates[c.name].label}",
+                        *_paired(finals[p.name], finals[c.name]))
         for c in conds:
             if c.n_objects != 5 or not isinstance(gates[c.name], ConstantGate) or c.shuffle_faces:
                 continue
             rate = gates[c.name].rate
             for s in sig5:
-                diff = finals[s.name] - finals[c.name]
-                lower = _paired_lower(finals[s.name], finals[c.name])
-                add(f"5 objects: sigmoid beats constant {rate}", lower > 0,
-                    f"final {finals[s.name].mean():.3f} against {finals[c.name].mean():.3f}; "
-                    f"paired difference {diff.mean():+.3f}, 95% lower bound {lower:+.3f}")
+                add(f"5 objects: sigmoid beats constant {rate}",
+                    *_paired(finals[s.name], finals[c.name]))
             if rate == 1.0:
                 add("5 objects: constant 1.0 stays near or below chance",
                     finals[c.name].mean() <= 1.25 * 0.2,

@@ -22,7 +22,7 @@ from ..agent.bootstrap import (
     scale_angle_into,
     unit_step,
 )
-from ..agent.gates import sigmoid_rate
+from ..agent.gates import agreement_update, performance_rate, sigmoid_rate
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..world.fast import detect_into
@@ -33,6 +33,7 @@ from .trial import END_FIRED, END_LIMIT, END_STEPS
 __all__ = ["COLUMNS", "LoopRobot", "LoopState", "LoopWorld", "run_trials"]
 
 _VF, _LM, _RANDOM = 0, 1, 2  # the modules, as codes
+SIGMOID, CONSTANT, PERFORMANCE = 0, 1, 2  # the gates, as codes
 # the records run_trials writes, one row each (the rest of trial.RECORD is computed from them)
 COLUMNS = ("learning_time", "n_steps", "n_lm_steps", "n_random_steps", "attended", "target",
            "end")
@@ -66,9 +67,10 @@ class LoopRobot(NamedTuple):
     d_th_px: float
     step_rad: float
     max_steps: int
-    gate_constant: bool
-    gate_a: float  # the constant rate, or the sigmoid's midpoint
-    gate_b: float  # the sigmoid's width
+    gate_kind: int  # _SIGMOID, _CONSTANT or _PERFORMANCE
+    gate_a: float  # the constant rate, the sigmoid's midpoint, or the performance's agree_rad
+    gate_b: float  # the sigmoid's width, or the performance's full agreement
+    gate_window: float  # the performance's window (trials)
     gate_per_trial: bool
     vf_fallback_lm: bool
     vf_fallback_sweep: bool
@@ -103,14 +105,34 @@ class LoopState(NamedTuple):
     aims: np.ndarray
     base: np.ndarray
     counters: np.ndarray  # learning time, faces seen, updates, records, trials kept
+    agreement: np.ndarray  # (1,): the performance gate's measure
 
 
 @jit
-def _gate_rate(robot, t):
+def _gate_rate(robot, t, agreement):
     """The gate's rate of choosing the learning module at learning time ``t``."""
-    if robot.gate_constant:
+    if robot.gate_kind == CONSTANT:
         return robot.gate_a
+    if robot.gate_kind == PERFORMANCE:
+        return performance_rate(agreement, robot.gate_a, robot.gate_b)
     return sigmoid_rate(float(t), robot.gate_a, robot.gate_b)
+
+
+@jit
+def _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc, scaled, hid, out):
+    """The learning module's command at a head angle (no step if the memory recalled nothing).
+
+    As :meth:`~jointattention.agent.bootstrap.BootstrapAgent._lm_direction` computes it.
+    """
+    if robot.memory:
+        if not recalled:
+            return 0.0, 0.0
+        return unit_step(aim[0] - pan, aim[1] - tilt, robot.step_rad)
+    acc[:] = face_acc
+    scale_angle_into(pan, tilt, robot.theta_mid_rad, robot.theta_half_rad, scaled, 0)
+    accumulate(scaled, state.w1, len(state.w1[0]) - 2, acc)
+    forward(acc, state.b1, state.w2, state.b2, hid, out)
+    return unit_step(out[0], out[1], robot.step_rad)
 
 
 @jit
@@ -131,7 +153,8 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
     ids, motion = np.empty(n, dtype=np.int64), np.zeros(n)
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, x_full = np.empty(n_hidden), np.empty(2), np.empty(n_pix + 2)
-    scaled, code, aim, sweep = np.empty(2), np.empty(len(robot.projection)), np.empty(2), (0., 0.)
+    scaled, code, sweep = np.empty(2), np.empty(len(robot.projection)), (0.0, 0.0)
+    aim, place = np.empty(2), np.empty(2)  # the place recalled, the place found
     thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
     y = np.empty((robot.max_steps, 2))
     a1, a2, a3 = robot.weights[0], robot.weights[1], robot.weights[2]
@@ -166,9 +189,11 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             sweep = random_step(move_rng, robot.step_rad)
         trial_module = -1
         if robot.gate_per_trial:
-            trial_module = _LM if gate_rng.random() < _gate_rate(robot, c[0]) else _VF
+            rate = _gate_rate(robot, c[0], state.agreement[0])
+            trial_module = _LM if gate_rng.random() < rate else _VF
         # the trial (SceneTrial, run_trial)
         pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
+        pan_start, tilt_start = pan, tilt
         n_steps, n_lm, n_random, end, attended, seen = 0, 0, 0, -1, -1, -1
         limit_hit = False
         while True:
@@ -187,7 +212,8 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             # the agent acts (BootstrapAgent.act)
             module = trial_module
             if module < 0:
-                module = _LM if gate_rng.random() < _gate_rate(robot, c[0]) else _VF
+                rate = _gate_rate(robot, c[0], state.agreement[0])
+                module = _LM if gate_rng.random() < rate else _VF
             i = -1
             if module == _VF:
                 i = interest_argmax(seen_area[:m], seen_edge[:m], motion[:m], a1, a2, a3)
@@ -196,17 +222,11 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             if module == _VF:
                 d_pan, d_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
                                                     robot.gain_rad_per_px)
-            elif module == _LM and robot.memory:
-                if recalled:
-                    d_pan, d_tilt = unit_step(aim[0] - pan, aim[1] - tilt, robot.step_rad)
-                else:
-                    d_pan, d_tilt = random_step(move_rng, robot.step_rad)
+            elif module == _LM and robot.memory and not recalled:
+                d_pan, d_tilt = random_step(move_rng, robot.step_rad)
             elif module == _LM:
-                acc[:] = face_acc
-                scale_angle_into(pan, tilt, robot.theta_mid_rad, robot.theta_half_rad, scaled, 0)
-                accumulate(scaled, state.w1, n_pix, acc)
-                forward(acc, state.b1, state.w2, state.b2, hid, out)
-                d_pan, d_tilt = unit_step(out[0], out[1], robot.step_rad)
+                d_pan, d_tilt = _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc,
+                                         scaled, hid, out)
             elif robot.vf_fallback_sweep:
                 d_pan, d_tilt = sweep
             else:
@@ -224,17 +244,23 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             limit_hit = pan != want_pan or tilt != want_tilt
         # the agent learns (BootstrapAgent.end_trial, MemoryAgent.end_trial)
         if end == END_FIRED and n_steps > 0:
-            aim[0], aim[1] = pan, tilt
+            v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
+                                                robot.gain_rad_per_px)
+            if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
+                u_pan, u_tilt = _lm_step(robot, state, face_acc, pan_start, tilt_start, recalled,
+                                         aim, acc, scaled, hid, out)
+                state.agreement[0] = agreement_update(
+                    state.agreement[0], u_pan, u_tilt, pan + v_pan - pan_start,
+                    tilt + v_tilt - tilt_start, robot.gate_a, robot.gate_window)
+            place[0], place[1] = pan, tilt
             if robot.learning_target == _OBJECT_DIRECTION:
-                v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
-                                                    robot.gain_rad_per_px)
-                aim[0], aim[1] = pan + v_pan, tilt + v_tilt
+                place[0], place[1] = pan + v_pan, tilt + v_tilt
         if end == END_FIRED and n_steps > 0 and robot.memory:
-            memory_store(code, aim[0], aim[1], state.codes, state.aims, state.base, c[4],
+            memory_store(code, place[0], place[1], state.codes, state.aims, state.base, c[4],
                          robot.memory_lo_rad, robot.memory_cell_rad)
             c[4] += 1
         elif end == END_FIRED and n_steps > 0:
-            keep = learning_samples(thetas[:n_steps], steps[:n_steps], aim,
+            keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])
             x_full[:n_pix] = face_x
             for s in range(n_steps):

@@ -10,16 +10,18 @@ the same kernels as the step-by-step path (:mod:`~jointattention.world.kinematic
 order, so both give byte-identical cells (``tests/test_compiled.py``).
 
 It learns in place the arrays of a :class:`~jointattention.agent.bootstrap.BootstrapAgent`,
-so the learned agent is the same object either way. It runs the bootstrap model with the
-sigmoid or constant gate, every reading; anything else is refused (:func:`unsupported`).
+so the learned agent is the same object either way. It runs the bootstrap model with every
+gate, reading and learner; anything else is refused (:func:`unsupported`).
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from ..agent.bootstrap import LEARNING_TARGETS, BootstrapAgent, BootstrapOptions
-from ..agent.gates import ConstantGate, SigmoidGate
+from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from ..agent.models import MODELS, ModelOptions
 from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
@@ -27,7 +29,16 @@ from ..errors import ConfigError
 from ..world.kinematics import HeadKinematics
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
-from ._compiled_loop import COLUMNS, LoopRobot, LoopState, LoopWorld, run_trials
+from ._compiled_loop import (
+    COLUMNS,
+    CONSTANT,
+    PERFORMANCE,
+    SIGMOID,
+    LoopRobot,
+    LoopState,
+    LoopWorld,
+    run_trials,
+)
 from .trial import END_FIRED, RECORD
 
 __all__ = ["CompiledCell", "pack_world", "unsupported"]
@@ -37,12 +48,12 @@ def unsupported(options: ModelOptions) -> str | None:
     """Why the compiled engine cannot run ``options``, as an error message (None if it can)."""
     if type(options) is not BootstrapOptions:
         what = f"model kind {MODELS.name_of(options)!r}"
-    elif type(options.gate) not in (SigmoidGate, ConstantGate):
+    elif type(options.gate) not in (SigmoidGate, ConstantGate, PerformanceGate):
         what = f"gate kind {options.gate.label!r}"
     else:
         return None
     return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap model "
-            "with a sigmoid or constant gate, or experiment.engine = 'python'")
+            "with a sigmoid, constant or performance gate, or experiment.engine = 'python'")
 
 
 def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_objects: int,
@@ -57,6 +68,16 @@ def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_ob
                   kin.height_px, HEAD_RADII_M[2], np.ascontiguousarray(ds.theta_face_rad, float),
                   np.ascontiguousarray(target_m, float), np.ascontiguousarray(face_m, float),
                   ds.face.reshape(len(ds), -1).astype(float), bool(shuffle_faces))
+
+
+def _gate_inputs(gate) -> tuple:
+    """The gate as LoopRobot takes it: its code and up to three parameters."""
+    if isinstance(gate, ConstantGate):
+        return CONSTANT, float(gate.rate), 0.0, 1.0
+    if isinstance(gate, PerformanceGate):
+        return (PERFORMANCE, math.radians(gate.agree_deg), float(gate.full_agreement),
+                float(gate.window_trials))
+    return SIGMOID, float(gate.midpoint_steps), float(gate.width_steps), 1.0
 
 
 def _memory_inputs(memory, n_pix: int) -> tuple:
@@ -90,13 +111,10 @@ class CompiledCell:
         self._trials, self._shuffle = trials, shuffle
         opts, shared = agent.options, agent.agent
         memory = getattr(agent, "memory", None)
-        gate = opts.gate
-        constant = isinstance(gate, ConstantGate)
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),
             float(shared.d_th_px(world.width_px)), float(agent.step_rad), int(shared.max_steps),
-            constant, float(gate.rate if constant else gate.midpoint_steps),
-            0.0 if constant else float(gate.width_steps), opts.gate_per == "trial",
+            *_gate_inputs(opts.gate), opts.gate_per == "trial",
             opts.vf_fallback == "lm", opts.vf_fallback == "sweep",
             LEARNING_TARGETS.index(opts.learning_target),
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
@@ -111,7 +129,8 @@ class CompiledCell:
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
             faces.mean_, faces.m2_, *kept,
             np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0,
-                      0 if memory is None else memory.n_stored_]))
+                      0 if memory is None else memory.n_stored_]),
+            np.array([agent.agreement_]))
         self._records = np.zeros((len(COLUMNS), max_trials), dtype=np.int64)
 
     def run_until(self, learning_time_steps: int) -> None:
@@ -125,6 +144,7 @@ class CompiledCell:
         c = self._state.counters
         self.agent.learning_time_steps = int(c[0])
         self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
+        self.agent.agreement_ = float(self._state.agreement[0])
         if hasattr(self.agent, "memory"):
             self.agent.memory.n_stored_ = int(c[4])
 

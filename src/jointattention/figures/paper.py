@@ -10,7 +10,7 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 
-from ..agent.gates import SigmoidGate
+from ..agent.gates import PerformanceGate, SigmoidGate
 from ..analysis.metrics import mean_interval
 from ..config import ConditionConfig, Config, model_options
 from ._save import new_figure, save_figure
@@ -77,7 +77,7 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
     """Write the paper's figures into ``out``; returns their paths.
 
     fig4a_success.png, fig4b_gate.png, fig5_gates.png, and models.png if the conditions use more
-    than one model.
+    than one model (or learning module, or a performance gate).
     """
     out = Path(out)
     conds = {c.name: c for c in config.experiment.conditions}
@@ -103,7 +103,9 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
     ax.set_title("Fig. 5: 5 objects, sigmoid gate against constant rates\n" + _NOTE, fontsize=8)
     written.append(save_figure(fig, out / "fig5_gates.png"))
 
-    others = {n for n, o in options.items() if type(o) is not type(config.model)}
+    others = {n for n, o in options.items() if type(o) is not type(config.model)
+              or o.label.split(", ")[0] != config.model.label.split(", ")[0]
+              or isinstance(getattr(o, "gate", None), PerformanceGate)}
     if others:
         shown = [n for n, c in conds.items()
                  if n in plain or (n in others and not c.shuffle_faces)]
@@ -113,13 +115,12 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
 
 
 def _models_figure(path: Path, curves, conds, options, shown, ceilings) -> Path:
-    """One panel per object count: the conditions ``shown``, labelled by model and gate."""
+    """One panel per object count: the conditions ``shown``, labelled by name."""
     counts = sorted({conds[n].n_objects for n in shown})
     fig = new_figure(6.4 * len(counts), 4.4)
     axes = np.atleast_1d(fig.subplots(1, len(counts)))
     for ax, n in zip(axes, counts, strict=True):
         names = [m for m in shown if conds[m].n_objects == n]
-        _plot_conditions(ax, curves, names, conds, ceilings,
-                         {m: options[m].label for m in names})
+        _plot_conditions(ax, curves, names, conds, ceilings, {m: m for m in names})
         ax.set_title(f"{n} objects: the models side by side\n" + _NOTE, fontsize=8)
     return save_figure(fig, path)

@@ -1,0 +1,111 @@
+"""Beyond the paper: the episodic learning module and the performance-driven gate."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from jointattention.agent.bootstrap import BootstrapOptions
+from jointattention.agent.gates import PerformanceGate, agreement_update, performance_rate
+from jointattention.agent.memory import EpisodicMemory, MemoryOptions
+from jointattention.agent.protocol import Body
+from jointattention.config import AgentConfig
+from jointattention.errors import ConfigError
+
+LIMITS = ((-1.0, 1.0), (-0.7, 0.6))
+BODY = Body(image_size_px=(320, 240), joint_limits_rad=LIMITS, face_size_px=(4, 3))
+
+
+def _memory(**options) -> EpisodicMemory:
+    return EpisodicMemory(12, MemoryOptions(**options), LIMITS, np.random.default_rng(0))
+
+
+def _scatter(rng, n) -> np.ndarray:
+    """``n`` places spread over the joint ranges, no two within the voting radius."""
+    return np.column_stack([np.linspace(-0.9, 0.9, n), rng.uniform(-0.6, 0.5, n)])
+
+
+def test_recall_finds_the_place_trials_agree_on_not_their_mean():
+    """Three trials at one place beat seven scattered ones; the mean would point elsewhere."""
+    memory, rng = _memory(), np.random.default_rng(1)
+    face = rng.uniform(0, 255, 12)
+    target = np.array([0.5, -0.3])
+    places = np.vstack([np.tile(target, (3, 1)) + rng.normal(0, 0.005, (3, 2)),
+                        _scatter(rng, 7)])
+    memory.partial_fit(np.tile(face, (10, 1)), places)
+    aim, support = memory.recall(memory.code(face))
+    assert np.linalg.norm(aim - target) < 0.01
+    assert np.linalg.norm(places.mean(0) - target) > 0.1
+    assert support == pytest.approx(0)  # one face: no place beyond its own base rate
+
+
+def test_recall_discounts_a_place_every_face_agrees_on():
+    """A place common to all faces (the distractors' base rate) loses to the face's own."""
+    memory, rng = _memory(k_nearest=8), np.random.default_rng(2)
+    face, others = rng.uniform(0, 255, 12), rng.uniform(0, 255, (60, 12))
+    common, own = np.array([-0.4, 0.1]), np.array([0.6, 0.3])
+    memory.partial_fit(others, np.tile(common, (60, 1)))
+    memory.partial_fit(np.tile(face, (8, 1)), np.array([common] * 5 + [own] * 3))
+    aim, support = memory.recall(memory.code(face))
+    assert np.linalg.norm(aim - own) < 1e-9
+    assert support == pytest.approx((3 - 8 * 3 / 68) / 8)  # the excess over the base rate
+
+
+def test_a_full_memory_forgets_its_oldest_trial_and_its_base_rate():
+    """With capacity 2, the third trial replaces the first, in the places and in the base."""
+    memory, rng = _memory(capacity=2), np.random.default_rng(3)
+    faces, places = rng.uniform(0, 255, (3, 12)), _scatter(rng, 3)
+    memory.partial_fit(faces, places)
+    fresh = _memory(capacity=2).partial_fit(faces[1:], places[1:])
+    assert memory.n_stored_ == 3
+    assert np.array_equal(memory.base_, fresh.base_)
+    assert sorted(map(tuple, memory.aims_)) == sorted(map(tuple, fresh.aims_))
+
+
+def test_an_empty_memory_recalls_nothing_and_the_agent_does_not_move():
+    """Before any trial is kept: no place, support -1, a zero command, NaN predictions."""
+    agent = BootstrapOptions(learner="memory").build(AgentConfig(), BODY,
+                                                     np.random.default_rng(0))
+    face = np.zeros((3, 4))
+    assert agent.memory.recall(agent.memory.code(face)) == (None, -1.0)
+    assert np.array_equal(agent.lm_command(face, (0.1, 0.2)), [0.0, 0.0])
+    assert np.isnan(agent.memory.predict(face.reshape(1, -1))).all()
+
+
+def test_the_memory_agent_draws_the_bootstrap_agents_streams_unchanged():
+    """The memory's projection is a stream of its own: the paper's initial weights stay."""
+    plain = BootstrapOptions().build(AgentConfig(), BODY, np.random.default_rng(5))
+    memory = BootstrapOptions(learner="memory").build(AgentConfig(), BODY,
+                                                      np.random.default_rng(5))
+    assert np.array_equal(plain.learner.w1_, memory.learner.w1_)
+    assert plain.move_rng.random() == memory.move_rng.random()
+
+
+def test_options_the_memory_cannot_run_are_refused_with_one_line():
+    """Executed steps are not places; a full agreement at chance would divide by zero."""
+    with pytest.raises(ConfigError, match=r"executed_step.*learner = 'memory'"):
+        BootstrapOptions(learner="memory", learning_target="executed_step")
+    with pytest.raises(ConfigError, match=r"full_agreement = 0\.1: expected more than"):
+        PerformanceGate(agree_deg=20.0, full_agreement=0.1)
+
+
+@given(st.floats(0, 1), st.floats(0, 1), st.floats(1, 89), st.floats(0.6, 1))
+def test_the_performance_rate_is_a_clipped_rising_line_from_chance(a, b, agree_deg, full):
+    """Rate 0 at chance agreement, 1 at full, in [0, 1], never falling as agreement rises."""
+    agree_rad = math.radians(agree_deg)
+    lo, hi = sorted((a, b))
+    assert 0 <= performance_rate(lo, agree_rad, full) <= performance_rate(hi, agree_rad, full) <= 1
+    assert performance_rate(agree_deg / 180, agree_rad, full) == pytest.approx(0, abs=1e-9)
+    assert performance_rate(full, agree_rad, full) == pytest.approx(1)
+
+
+def test_agreement_counts_commands_toward_the_place_found():
+    """A command within agree_deg of the place moves the average up, one away moves it down."""
+    agree = math.radians(20)
+    assert agreement_update(0.5, 1.0, 0.0, 2.0, 0.3, agree, 10.0) == pytest.approx(0.55)
+    assert agreement_update(0.5, 1.0, 0.0, 0.0, 1.0, agree, 10.0) == pytest.approx(0.45)
+    assert agreement_update(0.5, 0.0, 0.0, 1.0, 0.0, agree, 10.0) == pytest.approx(0.45)
