@@ -92,7 +92,8 @@ def add_commands(sub) -> None:
                                    "resumes: finished cells are kept.")
     p.add_argument("--preset", default="quick",
                    help="a shipped preset (`jointattention config --list`): quick (minutes), "
-                        "paper (the paper's scale), ablation, ablation-paper")
+                        "paper (the paper's scale), ablation, ablation-paper, beyond (the models beyond the "
+                        "paper), rendered")
     add_config(p)
     p.add_argument("--out", default="runs/reproduce", help="run folder (default: runs/reproduce)")
     add_backend(p)
