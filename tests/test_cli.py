@@ -102,19 +102,25 @@ def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
 
 
 def test_bench_estimates_every_preset():
-    """The wall-time estimate covers each preset at the rate of its engine or perception.
+    """The wall-time estimate covers each preset at the rate of its engine, perception or learner.
 
-    The rendered preset is scaled by the rendered rate only.
+    The rendered preset is scaled by the rendered rate only; the memory learner's cells (the
+    beyond preset) by the memory rate.
     """
     from jointattention.bench import preset_estimates
     from jointattention.config import preset_names
 
-    rates = {"compiled": 1e5, "python": 1e4, "rendered": 50.0}
-    slow, fast = preset_estimates(rates, 2), preset_estimates({**rates, "compiled": 2e5}, 2)
+    rates = {"compiled": 1e5, "python": 1e4, "rendered": 50.0, "memory": 1e4}
+    fast = preset_estimates({**rates, "compiled": 2e5, "memory": 2e4}, 2)
+    slow = preset_estimates(rates, 2)
     assert [r[0].split(":")[0] for r in slow] == [f"preset {n}" for n in preset_names()]
     for (name, a, unit), (_, b, _) in zip(slow, fast, strict=True):
         expected = 1.0 if name.startswith("preset rendered") else 2.0
         assert unit == "min" and a == pytest.approx(expected * b) and a > 0
+    beyond = dict((r[0].split(":")[0], r[1]) for r in slow)["preset beyond"]
+    faster_memory = dict((r[0].split(":")[0], r[1]) for r in preset_estimates(
+        {**rates, "memory": 2e4}, 2))["preset beyond"]
+    assert faster_memory < beyond
 
 
 def test_gaze_refuses_an_unknown_condition(capsys):

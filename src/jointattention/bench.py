@@ -98,12 +98,14 @@ def _cell_rate(config, condition, **experiment) -> float:
 
 
 def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
-    """Agent-steps per second of learning: compiled engine, python engine, rendered mode.
+    """Agent-steps per second of learning: compiled engine, python engine, rendered mode, memory.
 
     The quick preset's 5-object sigmoid cell (whose gate goes from the visual controller to the
     learning module) in both engines, and its first ``rendered_steps`` steps in rendered mode
-    (MuJoCo render + OpenCV detection each step). Then one compiled step's time against its
-    bound: one forward and backward pass of the learning module alone, in compiled code.
+    (MuJoCo render + OpenCV detection each step); the beyond preset's 5-object memory cell at
+    the paper's scale (its recall grows with the trials kept). Then one compiled step's time
+    against its bound: one forward and backward pass of the learning module alone, in compiled
+    code.
     """
     from .config import load_config
 
@@ -114,10 +116,15 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     python = _cell_rate(config, cond, engine="python")
     rendered = _cell_rate(config, cond, n_steps=rendered_steps, perception="rendered",
                           engine="python")
+    beyond = load_config("beyond")
+    memory = _cell_rate(beyond, next(c for c in beyond.experiment.conditions
+                                     if c.name == "memory-n5"))
     step_us, bound_us = 1e6 / compiled, _update_us()
     return [("agent steps, compiled engine, learning (quick n5-sigmoid)", compiled, "steps/s"),
             ("agent steps, python engine, learning (same cell)", python, "steps/s"),
             ("agent steps, rendered mode + OpenCV, learning (same cell)", rendered, "steps/s"),
+            ("agent steps, compiled engine, memory learner (beyond memory-n5)", memory,
+             "steps/s"),
             ("compiled / python engine", compiled / python, "x"),
             ("compiled / rendered", compiled / rendered, "x"),
             ("one compiled step (mean over the cell)", step_us, "us"),
@@ -174,19 +181,25 @@ def compile_times() -> list[tuple[str, float, str]]:
 def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, float, str]]:
     """Estimated wall time of each shipped preset.
 
-    Its agent-steps over ``workers`` processes at the rate of its engine or perception
-    (``rates``: "compiled", "python", "rendered"); ``reproduce`` records the measured time.
+    Its agent-steps over ``workers`` processes, each cell at the rate of its engine, perception
+    or learner (``rates``: "compiled", "python", "rendered", "memory"); ``reproduce`` records
+    the measured time.
     """
-    from .config import load_config, preset_names
+    from .config import load_config, model_options, preset_names
 
     rows = []
     for name in preset_names():
-        exp = load_config(name).experiment
-        rate = rates["rendered" if exp.perception == "rendered" else exp.engine]
+        config = load_config(name)
+        exp, minutes = config.experiment, 0.0
+        for c in exp.conditions:
+            kind = "rendered" if exp.perception == "rendered" else exp.engine
+            if getattr(model_options(config, c), "learner", "") == "memory":
+                kind = "memory"
+            minutes += exp.n_seeds * exp.n_steps / rates[kind] / 60
         cells = len(exp.conditions) * exp.n_seeds
         rounds = np.ceil(cells / workers)  # cells are the unit of parallel work
         rows.append((f"preset {name}: {cells} cells on {workers} workers (estimate)",
-                     rounds * exp.n_steps / rate / 60, "min"))
+                     minutes / cells * rounds, "min"))
     return rows
 
 

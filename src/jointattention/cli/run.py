@@ -65,7 +65,8 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         load_config(preset)  # an unknown preset is refused before anything runs
     rows = compile_times() + run_world_benchmarks(load_config(args.config).world)
     agent = run_agent_benchmark()
-    rates = dict(zip(("compiled", "python", "rendered"), (r[1] for r in agent[:3]), strict=True))
+    rates = dict(zip(("compiled", "python", "rendered", "memory"), (r[1] for r in agent[:4]),
+                     strict=True))
     rows += run_env_benchmark() + agent + preset_estimates(rates, n_workers)
     for preset in args.run:
         rows += run_preset(preset, n_workers)
@@ -92,8 +93,8 @@ def add_commands(sub) -> None:
                                    "resumes: finished cells are kept.")
     p.add_argument("--preset", default="quick",
                    help="a shipped preset (`jointattention config --list`): quick (minutes), "
-                        "paper (the paper's scale), ablation, ablation-paper, beyond (the models beyond the "
-                        "paper), rendered")
+                        "paper (the paper's scale), ablation, ablation-paper, beyond (the models "
+                        "beyond the paper), rendered")
     add_config(p)
     p.add_argument("--out", default="runs/reproduce", help="run folder (default: runs/reproduce)")
     add_backend(p)
