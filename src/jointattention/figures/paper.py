@@ -53,7 +53,11 @@ def _plot_conditions(ax, curves, names, conditions, ceilings, labels) -> None:
 
 
 def _gates_figure(config: Config, options: dict, path: Path) -> Path:
-    """Fig. 4(b): each gate the conditions' model ``options`` use, against learning time."""
+    """Fig. 4(b): each gate the conditions' model ``options`` use, against learning time.
+
+    Gates whose rate is not a function of learning time (the performance gate) are left out;
+    the diagnostics show the share of steps each module drove.
+    """
     fig = new_figure(6.4, 3.2)
     ax = fig.subplots()
     t = np.linspace(0, config.experiment.n_steps, 400)
@@ -63,7 +67,9 @@ def _gates_figure(config: Config, options: dict, path: Path) -> Path:
         if gate is not None:
             gates.setdefault(gate.label, gate)
     for label, gate in gates.items():
-        ax.plot(t, gate.rate_at(t), label=label)
+        rate = gate.rate_at(t)
+        if not np.isnan(rate).all():  # a performance gate's rate is not a function of time
+            ax.plot(t, rate, label=label)
     ax.set_xlabel("learning time [steps]")
     ax.set_ylabel("rate of choosing LM Δθ")
     ax.set_ylim(-0.02, 1.02)
