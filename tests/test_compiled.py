@@ -35,6 +35,8 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
     ConditionConfig(name="shuffled", n_objects=5, shuffle_faces=True),
     ConditionConfig(name="sweep", n_objects=5, model={"vf_fallback": "sweep"}),
     ConditionConfig(name="memory", n_objects=5, model={"learner": "memory"}),
+    ConditionConfig(name="memory-attended", n_objects=5, model={
+        "learner": "memory", "memory": {"keep": "attended"}}),
     ConditionConfig(name="memory-forgets", n_objects=10, model={
         "learner": "memory", "vf_fallback": "sweep", "memory": {"capacity": 40}}),
     ConditionConfig(name="memory-final", n_objects=3, model={

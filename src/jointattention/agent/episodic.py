@@ -6,7 +6,8 @@ Visual attention, the evaluator, the gate and the readings are the paper's
 the place to look at; its command is one step from the head angle toward that place. A trial
 the evaluator ends is kept as (face code, place): the place is the attended object's
 (``object_direction``: the final head angle plus the visual controller's command that centres
-it) or the final head angle (``final_direction``).
+it) or the final head angle (``final_direction``); with ``memory.keep = "in_view"`` (the
+default) every other object in the last image is kept too, at its place.
 """
 
 from __future__ import annotations
@@ -74,13 +75,23 @@ class MemoryAgent(BootstrapAgent):
         return self._command(self._aim_rad, theta_rad)
 
     def end_trial(self, outcome: Outcome) -> int:
-        """Keep the trial if the evaluator fired; returns the number of trials kept (0 or 1)."""
+        """Keep the trial if the evaluator fired; returns the number of places kept.
+
+        With ``memory.keep = "in_view"`` the places of the other objects in the last image are
+        kept too, after the attended one's.
+        """
         if not outcome.fired or not self._thetas:
             return 0
         self._measure(outcome)
-        aim = np.asarray(outcome.theta_rad, dtype=float)
+        theta, det = np.asarray(outcome.theta_rad, dtype=float), outcome.detections
+        gain = self.agent.vf_gain_rad_per_px
+        aim = theta
         if self.options.learning_target == "object_direction":
-            aim = aim + visual_feedback(outcome.detections, outcome.seen,
-                                        self.agent.vf_gain_rad_per_px)
+            aim = theta + visual_feedback(det, outcome.seen, gain)
         self.memory.store(self._code, aim)
-        return 1
+        if self.options.memory.keep == "attended":
+            return 1
+        others = [i for i in range(len(det)) if i != outcome.seen]
+        for i in others:
+            self.memory.store(self._code, theta + visual_feedback(det, i, gain))
+        return 1 + len(others)

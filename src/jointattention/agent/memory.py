@@ -40,6 +40,10 @@ class MemoryOptions(Section):
     radius_deg: float = param(
         2.0, "places closer than this count as one place when the recalled trials vote",
         lo=0.01, hi=90)
+    keep: str = param(
+        "in_view", "places kept when the evaluator fires: the attended object's, or every "
+        "object's in view then (the target is often in view when a distractor is attended)",
+        choices=("attended", "in_view"))
     capacity: int = param(
         20_000, "trials kept; the oldest is forgotten when it is full", lo=1, hi=10_000_000)
 

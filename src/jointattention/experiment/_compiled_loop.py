@@ -86,6 +86,7 @@ class LoopRobot(NamedTuple):
     memory_cell_rad: float
     memory_k: int
     memory_radius_rad: float
+    memory_in_view: bool  # keep every object in view, not only the attended one
 
 
 class LoopState(NamedTuple):
@@ -259,6 +260,13 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             memory_store(code, place[0], place[1], state.codes, state.aims, state.base, c[4],
                          robot.memory_lo_rad, robot.memory_cell_rad)
             c[4] += 1
+            for i in range(m if robot.memory_in_view else 0):  # MemoryAgent.end_trial
+                if i != seen:
+                    v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
+                                                        robot.gain_rad_per_px)
+                    memory_store(code, pan + v_pan, tilt + v_tilt, state.codes, state.aims,
+                                 state.base, c[4], robot.memory_lo_rad, robot.memory_cell_rad)
+                    c[4] += 1
         elif end == END_FIRED and n_steps > 0:
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])

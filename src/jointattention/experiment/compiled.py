@@ -83,9 +83,9 @@ def _gate_inputs(gate) -> tuple:
 def _memory_inputs(memory, n_pix: int) -> tuple:
     """The episodic memory's face code and grid as LoopRobot takes them (stand-ins if none)."""
     if memory is None:
-        return np.zeros((0, n_pix)), np.zeros(2), 1.0, 1, 0.0
+        return np.zeros((0, n_pix)), np.zeros(2), 1.0, 1, 0.0, False
     return (memory.projection, memory.lo_rad, float(memory.cell_rad),
-            int(memory.options.k_nearest), memory.radius_rad)
+            int(memory.options.k_nearest), memory.radius_rad, memory.options.keep == "in_view")
 
 
 class CompiledCell:
