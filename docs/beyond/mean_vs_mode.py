@@ -33,7 +33,7 @@ def memory_of(n_objects: int):
     """The memory of a visual-controller-only cell: every trial the evaluator ended."""
     config = load_config("paper")
     model = {"learner": "memory", "gate": {"kind": "constant", "rate": 0.0},
-             "memory": {"capacity": 200_000}}
+             "memory": {"capacity": 200_000, "keep": "attended"}}
     condition = dataclasses.replace(config.experiment.conditions[0], n_objects=n_objects,
                                     name=f"n{n_objects}", model=model)
     config = dataclasses.replace(config, experiment=dataclasses.replace(
