@@ -258,10 +258,24 @@ class BootstrapAgent:
         if not isinstance(gate, PerformanceGate):
             return
         u = self._lm_direction(self._theta_start)
-        v = outcome.theta_rad + visual_feedback(outcome.detections, outcome.seen,
-                                                self.agent.vf_gain_rad_per_px) - self._theta_start
+        v = self._place_of(outcome, outcome.seen) - self._theta_start
         self.agreement_ = agreement_update(self.agreement_, u[0], u[1], float(v[0]), float(v[1]),
-                                           math.radians(gate.agree_deg), gate.window_trials)
+                                           gate.agree_rad, gate.window_trials)
+
+    def _place_of(self, outcome: Outcome, i: int) -> np.ndarray:
+        """Where object ``i`` of the last image is: the final head angle plus Eq. 2's command."""
+        return np.asarray(outcome.theta_rad, dtype=float) + visual_feedback(
+            outcome.detections, i, self.agent.vf_gain_rad_per_px)
+
+    def _aim(self, outcome: Outcome) -> np.ndarray:
+        """What a successful trial aims at: the attended object's place, or the final head angle.
+
+        The ``object_direction`` target aims at the attended object itself, not where the head
+        was when the object entered the evaluator's circle.
+        """
+        if self.options.learning_target == "object_direction":
+            return self._place_of(outcome, outcome.seen)
+        return np.asarray(outcome.theta_rad, dtype=float)
 
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
@@ -301,19 +315,13 @@ class BootstrapAgent:
     def end_trial(self, outcome: Outcome) -> int:
         """Learn from the trial if the evaluator fired; returns the number of samples taught.
 
-        The ``object_direction`` target aims at the attended object itself: the final head
-        angle plus the visual controller's command (Eq. 2) that would centre it, not where
-        the head was when the object entered the evaluator's circle.
+        Each step is taught toward :meth:`_aim` (or its own step, ``executed_step``).
         """
         if not outcome.fired or not self._thetas:
             return 0
         self._measure(outcome)
-        thetas, target = np.array(self._thetas), self.options.learning_target
-        aim = np.asarray(outcome.theta_rad, dtype=float)
-        if target == "object_direction":
-            aim = aim + visual_feedback(outcome.detections, outcome.seen,
-                                        self.agent.vf_gain_rad_per_px)
+        thetas, executed = np.array(self._thetas), self.options.learning_target == "executed_step"
         y = np.empty_like(thetas)
-        keep = learning_samples(thetas, np.array(self._steps), aim, target == "executed_step", y)
+        keep = learning_samples(thetas, np.array(self._steps), self._aim(outcome), executed, y)
         self.learner.partial_fit(self._inputs(self._face_x, thetas[keep]), y[keep])
         return int(keep.sum())

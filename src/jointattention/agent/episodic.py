@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from .attention import visual_feedback
 from .bootstrap import BootstrapAgent, BootstrapOptions, random_step, unit_step
 from .memory import EpisodicMemory
 from .protocol import Body, Outcome
@@ -83,15 +82,10 @@ class MemoryAgent(BootstrapAgent):
         if not outcome.fired or not self._thetas:
             return 0
         self._measure(outcome)
-        theta, det = np.asarray(outcome.theta_rad, dtype=float), outcome.detections
-        gain = self.agent.vf_gain_rad_per_px
-        aim = theta
-        if self.options.learning_target == "object_direction":
-            aim = theta + visual_feedback(det, outcome.seen, gain)
-        self.memory.store(self._code, aim)
+        self.memory.store(self._code, self._aim(outcome))
         if self.options.memory.keep == "attended":
             return 1
-        others = [i for i in range(len(det)) if i != outcome.seen]
+        others = [i for i in range(len(outcome.detections)) if i != outcome.seen]
         for i in others:
-            self.memory.store(self._code, theta + visual_feedback(det, i, gain))
+            self.memory.store(self._code, self._place_of(outcome, i))
         return 1 + len(others)

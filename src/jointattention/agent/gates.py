@@ -117,14 +117,18 @@ class PerformanceGate(Gate):
             raise ConfigError(f"full_agreement = {self.full_agreement}: expected more than "
                               f"the chance agreement agree_deg / 180 = {self.agree_deg / 180:.3f}")
 
+    @property
+    def agree_rad(self) -> float:
+        """``agree_deg`` in radians."""
+        return math.radians(self.agree_deg)
+
     def rate_at(self, learning_time_steps):
         """NaN: the rate is not a function of learning time."""
         return np.full(np.shape(learning_time_steps), np.nan)
 
     def rate_of(self, agreement: float) -> float:
         """The rate at a measured agreement (:func:`performance_rate`)."""
-        return performance_rate(float(agreement), math.radians(self.agree_deg),
-                                float(self.full_agreement))
+        return performance_rate(float(agreement), self.agree_rad, float(self.full_agreement))
 
 
 GATES = Registry("gate", {"sigmoid": SigmoidGate, "constant": ConstantGate,

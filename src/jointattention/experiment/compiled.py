@@ -16,8 +16,6 @@ gate, reading and learner; anything else is refused (:func:`unsupported`).
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..agent.bootstrap import LEARNING_TARGETS, BootstrapAgent, BootstrapOptions
@@ -75,16 +73,18 @@ def _gate_inputs(gate) -> tuple:
     if isinstance(gate, ConstantGate):
         return CONSTANT, float(gate.rate), 0.0, 1.0
     if isinstance(gate, PerformanceGate):
-        return (PERFORMANCE, math.radians(gate.agree_deg), float(gate.full_agreement),
-                float(gate.window_trials))
+        return PERFORMANCE, gate.agree_rad, float(gate.full_agreement), float(gate.window_trials)
     return SIGMOID, float(gate.midpoint_steps), float(gate.width_steps), 1.0
 
 
 def _memory_inputs(memory, n_pix: int) -> tuple:
-    """The episodic memory's face code and grid as LoopRobot takes them (stand-ins if none)."""
+    """The episodic memory as LoopRobot takes it (stand-ins if none).
+
+    Whether there is one, its face code, its grid, neighbours, radius and what it keeps.
+    """
     if memory is None:
-        return np.zeros((0, n_pix)), np.zeros(2), 1.0, 1, 0.0, False
-    return (memory.projection, memory.lo_rad, float(memory.cell_rad),
+        return False, np.zeros((0, n_pix)), np.zeros(2), 1.0, 1, 0.0, False
+    return (True, memory.projection, memory.lo_rad, float(memory.cell_rad),
             int(memory.options.k_nearest), memory.radius_rad, memory.options.keep == "in_view")
 
 
@@ -118,7 +118,7 @@ class CompiledCell:
             opts.vf_fallback == "lm", opts.vf_fallback == "sweep",
             LEARNING_TARGETS.index(opts.learning_target),
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
-            float(opts.learning_rate), float(opts.momentum), memory is not None,
+            float(opts.learning_rate), float(opts.momentum),
             *_memory_inputs(memory, world.faces.shape[1]))
         learner, faces = agent.learner, agent.faces
         if faces.n_seen_ == 0:

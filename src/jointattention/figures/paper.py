@@ -109,8 +109,8 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
     ax.set_title("Fig. 5: 5 objects, sigmoid gate against constant rates\n" + _NOTE, fontsize=8)
     written.append(save_figure(fig, out / "fig5_gates.png"))
 
-    others = {n for n, o in options.items() if type(o) is not type(config.model)
-              or o.label.split(", ")[0] != config.model.label.split(", ")[0]
+    model = config.model.label.split(", ")[0]  # the model's name (and learner), not its gate
+    others = {n for n, o in options.items() if o.label.split(", ")[0] != model
               or isinstance(getattr(o, "gate", None), PerformanceGate)}
     if others:
         shown = [n for n, c in conds.items()
