@@ -48,7 +48,7 @@ def test_datasets_make_then_check(tmp_path, needs_gl, capsys):
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["datasets", "check", "missing.npz"], "missing.npz: no such file"),
+        (["datasets", "check", "missing.npz"], "missing.npz: cannot read it (no such file"),
         (["render", "--config", "nonexistent"], "nonexistent: no such preset"),
         (["datasets", "make", "--n", "0", "x.npz"], "--n 0: expected at least 1"),
         (["sweep", "nospec.toml"], "nospec.toml: cannot read the sweep spec"),

@@ -6,6 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from jointattention._fields import from_mapping
 from jointattention.agent.bootstrap import BootstrapOptions
 from jointattention.agent.gates import ConstantGate, SigmoidGate
 from jointattention.config import (
@@ -139,13 +140,14 @@ def test_non_finite_numbers_are_refused():
 
 @settings(max_examples=60, deadline=None)
 @given(
-    names=st.lists(st.text(min_size=1, max_size=12), min_size=1, max_size=3, unique=True),
+    names=st.lists(st.from_regex(r"[A-Za-z0-9][A-Za-z0-9_.,=+-]{0,11}", fullmatch=True),
+                   min_size=1, max_size=3, unique=True),
     rate=st.floats(0, 1),
     lr=st.floats(1e-6, 1.0),
     kind=st.sampled_from(["sigmoid", "constant"]),
 )
 def test_conditions_round_trip_through_toml(names, rate, lr, kind):
-    """Any condition names and model changes written as TOML read back equal."""
+    """Any safe condition names and model changes written as TOML read back equal."""
     gate = {"kind": kind, "rate": rate} if kind == "constant" else {"kind": kind}
     conditions = tuple(ConditionConfig(name=n, model={"gate": gate, "learning_rate": lr})
                        for n in names)
@@ -170,11 +172,18 @@ def test_configurations_of_version_0_1_still_load():
     assert old == new
 
 
-def test_condition_names_survive_the_toml_round_trip():
-    """Quotes, backslashes, newlines and non-ASCII text in a name are written as valid TOML."""
-    cfg = Config(experiment=ExperimentConfig(conditions=(
-        ConditionConfig(name='a "b" \\ c\nd é\x7f'),)))
+def test_strings_survive_the_toml_round_trip():
+    """Quotes, backslashes, newlines and non-ASCII text in a string are written as valid TOML."""
+    cfg = Config(datasets='a "b" \\ c\nd é\x7f')
     assert load_config_text(to_toml(cfg)) == cfg
+
+
+@pytest.mark.parametrize("name", ["../../x", "/abs", "a/b", "a\nb", ".hidden", "", "x" * 81,
+                                  "a b", "nul\x00", "é"])
+def test_condition_names_that_are_not_safe_file_names_are_refused(name):
+    """A condition name that could leave the run folder or break a file name is one error."""
+    with pytest.raises(ConfigError, match=r"conditions\[0\]\.name = .*expected a name"):
+        from_mapping(Config, {"experiment": {"conditions": [{"name": name}]}})
 
 
 def load_config_text(text: str) -> Config:

@@ -91,7 +91,7 @@ def test_shipped_default_is_valid():
         ({"schema_version": None}, "field 'schema_version' is missing"),
         ({"face": None}, "field 'face' is missing"),
         ({"extra": np.zeros(3)}, "field 'extra' is not part of schema version 1"),
-        ({"meta": np.array("{not json")}, "could not be read"),
+        ({"meta": np.array("{not json")}, "field .meta.: expected JSON text"),
     ],
 )
 def test_malformed_sets_are_rejected_naming_the_field(tmp_path, arrays, message):

@@ -10,6 +10,7 @@ from __future__ import annotations
 import dataclasses
 import importlib
 import math
+import re
 import types
 import typing
 from collections.abc import Iterator, Mapping
@@ -17,8 +18,12 @@ from typing import Any
 
 from .errors import ConfigError
 
-__all__ = ["FrozenTable", "Registry", "Section", "from_mapping", "merge", "merge_tagged", "param",
-           "to_mapping"]
+__all__ = ["FrozenTable", "Registry", "Section", "check_name", "from_mapping", "merge",
+           "merge_tagged", "param", "to_mapping"]
+
+# Names become file and folder names: letters, digits and a few marks, never a path.
+_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.,=+-]{0,79}")
+_MAX_INT = 2**63 - 1  # the compiled engine's integers; TOML's own limit too
 
 
 def param(
@@ -123,6 +128,19 @@ class FrozenTable(Mapping):
         return {k: v.to_dict() if isinstance(v, FrozenTable) else v for k, v in self.items()}
 
 
+def check_name(name: str, where: str) -> None:
+    """Refuse a name that is not a safe file name (it names cells, folders and figures)."""
+    if not isinstance(name, str) or not _NAME.fullmatch(name):
+        raise ConfigError(f"{where} = {name!r}: expected a name of 1-80 letters, digits and "
+                          "_ . , = + - that starts with a letter or digit")
+
+
+def _expected_range(lo: float | None, hi: float | None) -> str:
+    if hi is None:
+        return f"a value of at least {lo}"
+    return f"a value of at most {hi}" if lo is None else f"a value in [{lo}, {hi}]"
+
+
 def _check_value(name: str, value: Any, meta: Mapping) -> None:
     lo, hi, choices = meta.get("lo"), meta.get("hi"), meta.get("choices")
     for v in value if isinstance(value, tuple) else (value,):
@@ -136,7 +154,7 @@ def _check_value(name: str, value: Any, meta: Mapping) -> None:
         if isinstance(v, float) and not math.isfinite(v):
             raise ConfigError(f"{name} = {v!r}: expected a finite number")
         if (lo is not None and v < lo) or (hi is not None and v > hi):
-            raise ConfigError(f"{name} = {v!r}: expected a value in [{lo}, {hi}]")
+            raise ConfigError(f"{name} = {v!r}: expected {_expected_range(lo, hi)}")
 
 
 class Section:
@@ -176,6 +194,8 @@ def _coerce(name: str, value: Any, hint: Any) -> Any:
     if hint is float and isinstance(value, (int, float)) and not isinstance(value, bool):
         return float(value)
     if hint is int and isinstance(value, int) and not isinstance(value, bool):
+        if abs(value) > _MAX_INT:
+            raise ConfigError(f"{name} = {value}: expected an integer of at most {_MAX_INT}")
         return value
     if hint is bool and isinstance(value, bool):
         return value

@@ -1,4 +1,8 @@
-"""Writing files whole or not at all: every file the package writes goes through here."""
+"""Writing files whole or not at all: every file the package writes goes through here.
+
+Commands check their output places with :func:`check_writable` before any work, so that a
+place that cannot be written is one error line, not a traceback after the computing.
+"""
 
 from __future__ import annotations
 
@@ -11,7 +15,35 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["atomic_path", "save_json", "save_npz", "write_text"]
+from .errors import FileError
+
+__all__ = ["atomic_path", "check_writable", "save_json", "save_npz", "write_text"]
+
+
+def check_writable(path: str | Path, kind: str = "folder", what: str = "--out") -> Path:
+    """Refuse ``path`` unless a ``kind`` ("folder" or "file") can be made or written there.
+
+    Nothing is created: the nearest existing ancestor must be a writable folder.
+    """
+    path = Path(path)
+    if not str(path).strip():
+        raise FileError(f"{what}: an empty path; expected a {kind}")
+    if path.exists():
+        if kind == "folder" and not path.is_dir():
+            raise FileError(f"{what} {path}: a file; expected a folder")
+        if kind == "file" and path.is_dir():
+            raise FileError(f"{what} {path}: a folder; expected a file name")
+        place = path if path.is_dir() else path.parent
+    else:
+        place = path.parent
+        while not place.exists():
+            place = place.parent
+        if not place.is_dir():
+            raise FileError(f"{what} {path}: {place} is a file; expected a folder on the way")
+    if not os.access(place, os.W_OK | os.X_OK):
+        raise FileError(f"{what} {path}: {place} cannot be written (permission denied); "
+                        f"expected a writable place for a {kind}")
+    return path
 
 
 @contextmanager

@@ -34,7 +34,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from ._files import save_npz
-from .errors import DatasetError
+from ._readers import read_npz
+from .errors import DatasetError, FileError
 
 __all__ = ["SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load", "save"]
 
@@ -120,40 +121,37 @@ def load(path: str | Path) -> CaregiverDatasets:
     path = Path(path)
     where = str(path)
     try:
-        archive = np.load(path, allow_pickle=False)
-    except FileNotFoundError:
-        raise DatasetError(f"{where}: no such file; expected a data-set .npz file") from None
-    except (OSError, ValueError) as err:
-        raise DatasetError(f"{where}: not a readable .npz archive ({err})") from None
-    with archive:
-        keys = set(archive.files)
-        for key in _REQUIRED:
-            if key not in keys:
-                raise DatasetError(
-                    f"{where}: field '{key}' is missing; expected the fields "
-                    f"{', '.join(_REQUIRED)} (and optionally target_m, meta)"
-                )
-        unknown = sorted(keys - set(_REQUIRED) - set(_OPTIONAL))
-        if unknown:
+        archive = read_npz(path, "a data-set .npz file (jointattention datasets make)")
+    except FileError as err:
+        raise DatasetError(str(err)) from None
+    keys = set(archive)
+    for key in _REQUIRED:
+        if key not in keys:
             raise DatasetError(
-                f"{where}: field '{unknown[0]}' is not part of schema version {SCHEMA_VERSION}"
+                f"{where}: field '{key}' is missing; expected the fields "
+                f"{', '.join(_REQUIRED)} (and optionally target_m, meta)"
             )
+    unknown = sorted(keys - set(_REQUIRED) - set(_OPTIONAL))
+    if unknown:
+        raise DatasetError(
+            f"{where}: field '{unknown[0]}' is not part of schema version {SCHEMA_VERSION}"
+        )
+    version = archive["schema_version"]
+    if version.shape != () or version.dtype.kind not in "iu":
+        _fail(where, "schema_version", "an integer", _describe(version))
+    if int(version) != SCHEMA_VERSION:
+        _fail(where, "schema_version", f"{SCHEMA_VERSION}", f"{int(version)}")
+    meta = {}
+    if "meta" in keys:
         try:
-            version = archive["schema_version"]
-            if version.shape != () or version.dtype.kind not in "iu":
-                _fail(where, "schema_version", "an integer", _describe(version))
-            if int(version) != SCHEMA_VERSION:
-                _fail(where, "schema_version", f"{SCHEMA_VERSION}", f"{int(version)}")
-            meta = json.loads(str(archive["meta"])) if "meta" in keys else {}
-            fields = dict(
-                face=archive["face"],
-                theta_face_rad=archive["theta_face_rad"],
-                command_rad=archive["command_rad"],
-                target_m=archive["target_m"] if "target_m" in keys else None,
-                meta=meta,
-            )
-        except (ValueError, OSError) as err:  # corrupt member, bad JSON, pickled object
-            raise DatasetError(f"{where}: a field could not be read ({err})") from None
+            meta = json.loads(str(archive["meta"]))
+        except ValueError:
+            meta = None
+        if not isinstance(meta, dict) or archive["meta"].shape != ():
+            _fail(where, "meta", "JSON text of an object", repr(str(archive["meta"]))[:60])
+    fields = dict(face=archive["face"], theta_face_rad=archive["theta_face_rad"],
+                  command_rad=archive["command_rad"], target_m=archive.get("target_m"),
+                  meta=meta)
     _validate(SimpleNamespace(**fields), where)  # errors name the file, not "data sets"
     return CaregiverDatasets(**fields)
 

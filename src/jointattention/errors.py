@@ -1,6 +1,7 @@
 """User-facing errors: each carries one line naming what was wrong and what was expected."""
 
-__all__ = ["ConfigError", "DatasetError", "JointAttentionError", "RenderingUnavailable"]
+__all__ = ["ConfigError", "DatasetError", "FileError", "JointAttentionError",
+           "RenderingUnavailable"]
 
 
 class JointAttentionError(Exception):
@@ -11,7 +12,11 @@ class ConfigError(JointAttentionError, ValueError):
     """A configuration value or preset is out of range or malformed."""
 
 
-class DatasetError(JointAttentionError, ValueError):
+class FileError(JointAttentionError, ValueError):
+    """A file the program reads is missing, unreadable, too large or not of the expected kind."""
+
+
+class DatasetError(FileError):
     """A caregiver data-set file is missing, malformed or of an unknown schema version."""
 
 

@@ -11,10 +11,19 @@ from pathlib import Path
 
 import numpy as np
 
-from .._fields import FrozenTable, Section, from_mapping, merge_tagged, param, to_mapping
+from .._fields import (
+    FrozenTable,
+    Section,
+    check_name,
+    from_mapping,
+    merge_tagged,
+    param,
+    to_mapping,
+)
+from .._readers import read_toml
 from .._toml import dumps
 from ..agent.models import MODELS, ModelOptions
-from ..errors import ConfigError
+from ..errors import ConfigError, FileError
 from ._legacy import upgrade
 from .agent import AgentConfig, DetectorConfig
 from .world import WorldConfig
@@ -40,7 +49,8 @@ def _default_model() -> ModelOptions:
 class ConditionConfig(Section):
     """One experimental condition: an object count, and changes to the run's model."""
 
-    name: str = param("n5-sigmoid", "name of the condition (figure labels, file names)")
+    name: str = param("n5-sigmoid", "name of the condition (figure labels, file names): 1-80 "
+                      "letters, digits and _ . , = + -")
     n_objects: int = param(5, "objects in each trial, the caregiver's target among them",
                            lo=1, hi=20)
     model: FrozenTable = param(
@@ -50,6 +60,7 @@ class ConditionConfig(Section):
         False, "control: pair each trial with the face window of another data set")
 
     def __post_init__(self) -> None:
+        check_name(self.name, "name")
         if not isinstance(self.model, FrozenTable):  # a plain dict is welcome
             if not isinstance(self.model, Mapping):
                 raise ConfigError(f"model = {self.model!r}: expected a table of settings")
@@ -61,9 +72,11 @@ class ConditionConfig(Section):
 class ExperimentConfig(Section):
     """How long to learn, how many seeds, how the robot sees, and the conditions."""
 
-    n_steps: int = param(300_000, "learning time of a run, in steps (paper: 3e5)", lo=1)
+    n_steps: int = param(300_000, "learning time of a run, in steps (paper: 3e5; at most 1e9, "
+                         "about an hour per cell compiled)", lo=1, hi=10**9)
     n_seeds: int = param(10, "independent runs of each condition", lo=1, hi=10_000)
-    bin_steps: int = param(10_000, "width of a learning-time bin of the success curves", lo=1)
+    bin_steps: int = param(10_000, "width of a learning-time bin of the success curves", lo=1,
+                           hi=10**9)
     perception: str = param(
         "fast", "how the robot sees during learning: fast (objects projected, no rendering) or "
         "rendered (each step rendered with MuJoCo and detected with OpenCV; about 30x slower)",
@@ -74,9 +87,15 @@ class ExperimentConfig(Section):
         "Agent and Scene seams: any model, rendered perception, step observers); both give the "
         "same records", choices=("compiled", "python"))
     n_ceiling_trials: int = param(
-        4000, "trials of the oracle that measure each object count's ceiling", lo=1)
+        4000, "trials of the oracle that measure each object count's ceiling", lo=1,
+        hi=10**7)
     conditions: tuple[ConditionConfig, ...] = param(
-        (ConditionConfig(),), "the conditions to run")
+        (ConditionConfig(),), "the conditions to run (at least one)")
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not self.conditions:
+            raise ConfigError("conditions = []: expected at least one condition")
 
     def bin_ends_steps(self) -> np.ndarray:
         """The learning time at which each learning-time bin ends (the last one at n_steps)."""
@@ -88,7 +107,8 @@ class ExperimentConfig(Section):
 class Config(Section):
     """The whole configuration of a run."""
 
-    seed: int = param(0, "the seed every random stream of the run is born from", lo=0)
+    seed: int = param(0, "the seed every random stream of the run is born from", lo=0,
+                      hi=2**63 - 1)
     world: WorldConfig = WorldConfig()
     agent: AgentConfig = AgentConfig()
     model: ModelOptions = param(
@@ -167,16 +187,11 @@ def load_config(source: str | Path | None = None) -> Config:
                 f"{', '.join(preset_names())}"
             )
         text = resources.files("jointattention.presets").joinpath(f"{source}.toml").read_text()
-    else:
-        try:
-            text = path.read_text(encoding="utf-8")
-        except (OSError, UnicodeDecodeError) as err:
-            reason = getattr(err, "strerror", None) or "not UTF-8 text"
-            raise ConfigError(f"{path}: cannot read the configuration ({reason})") from None
+        return from_mapping(Config, upgrade(tomllib.loads(text)))
     try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as err:
-        raise ConfigError(f"{source}: not valid TOML ({err})") from None
+        data = read_toml(path, "a configuration (TOML)")
+    except FileError as err:
+        raise ConfigError(str(err)) from None
     return from_mapping(Config, upgrade(data))
 
 

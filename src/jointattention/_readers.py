@@ -1,0 +1,161 @@
+"""Reading files guardedly: every file the package reads goes through here.
+
+Each reader names the file and what was expected in one :class:`~.errors.FileError` line,
+whatever is wrong with it: missing, a folder, unreadable, too large, not UTF-8, not TOML or
+JSON, a truncated or corrupt archive, a header claiming more data than the file holds.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import tomllib
+import warnings
+import zipfile
+from pathlib import Path
+import numpy as np
+
+from .errors import FileError
+
+__all__ = ["MAX_IMAGE_PIXELS", "MAX_TEXT_BYTES", "read_bytes", "read_image", "read_json",
+           "read_npz", "read_text", "read_toml", "sha256_of"]
+
+MAX_TEXT_BYTES = 16 * 2**20  # configurations, specs and run files are kilobytes
+MAX_IMAGE_PIXELS = 100_000_000  # a 100-megapixel photograph; larger headers are refused
+
+
+def _open_error(path: Path, err: OSError, what: str) -> FileError:
+    reason = "is a folder" if path.is_dir() else (err.strerror or str(err)).lower()
+    return FileError(f"{path}: cannot read it ({reason}); expected {what}")
+
+
+def read_bytes(path: str | Path, what: str, max_bytes: int) -> bytes:
+    """The bytes of ``path`` (a regular file of at most ``max_bytes``); ``what`` it should be."""
+    path = Path(path)
+    try:
+        size = path.stat().st_size
+        if path.is_dir():
+            raise IsADirectoryError(21, "is a folder")
+        if size > max_bytes:
+            raise FileError(f"{path}: {size:,} bytes; expected {what} of at most "
+                            f"{max_bytes:,} bytes")
+        with open(path, "rb") as f:
+            return f.read(max_bytes + 1)
+    except OSError as err:
+        raise _open_error(path, err, what) from None
+
+
+def read_text(path: str | Path, what: str, max_bytes: int = MAX_TEXT_BYTES) -> str:
+    """The UTF-8 text of ``path``."""
+    data = read_bytes(path, what, max_bytes)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as err:
+        raise FileError(f"{path}: not UTF-8 text (byte {err.start}); expected {what}") from None
+
+
+def read_toml(path: str | Path, what: str) -> dict:
+    """The TOML mapping in ``path``."""
+    try:
+        return tomllib.loads(read_text(path, what))
+    except tomllib.TOMLDecodeError as err:
+        raise FileError(f"{path}: not valid TOML ({err}); expected {what}") from None
+
+
+def read_json(path: str | Path, what: str) -> dict:
+    """The JSON object in ``path``."""
+    try:
+        data = json.loads(read_text(path, what))
+    except ValueError as err:  # JSONDecodeError; also numbers too long to convert
+        raise FileError(f"{path}: not valid JSON ({err}); expected {what}") from None
+    if not isinstance(data, dict):
+        raise FileError(f"{path}: JSON {type(data).__name__}, not an object; expected {what}")
+    return data
+
+
+def _read_member(z: zipfile.ZipFile, info: zipfile.ZipInfo, max_bytes: int) -> np.ndarray:
+    fmt = np.lib.format
+    with z.open(info) as f:
+        version = fmt.read_magic(f)
+        header = {(1, 0): fmt.read_array_header_1_0, (2, 0): fmt.read_array_header_2_0}
+        if version not in header:
+            raise ValueError(f".npy format version {version}; expected 1.0 or 2.0")
+        shape, fortran, dtype = header[version](f)
+        if dtype.hasobject:
+            raise ValueError("holds Python objects (a pickle), which are never loaded")
+        n_bytes = int(np.prod(shape, dtype=object)) * dtype.itemsize
+        if n_bytes > min(info.file_size, max_bytes):
+            raise ValueError(f"its header claims {n_bytes:,} bytes of data, the file holds "
+                             f"{info.file_size:,}")
+        data = f.read(n_bytes)
+    if len(data) != n_bytes:
+        raise ValueError(f"{len(data):,} bytes of data, its header claims {n_bytes:,}")
+    order = "F" if fortran else "C"
+    return np.frombuffer(data, dtype=dtype).reshape(shape, order=order).copy(order="K")
+
+
+def read_npz(path: str | Path, what: str, max_bytes: int = 2**31) -> dict[str, np.ndarray]:
+    """The arrays of the NumPy ``.npz`` archive ``path``, each fully read and checked.
+
+    A member whose header claims more bytes than it holds, or than ``max_bytes``, is refused
+    before anything is allocated; object arrays (pickles) are never loaded.
+    """
+    path = Path(path)
+    arrays, member = {}, ""
+    try:
+        with zipfile.ZipFile(path) as z:
+            for info in z.infolist():
+                member = info.filename
+                if not member.endswith(".npy"):
+                    raise ValueError("not a NumPy array")
+                arrays[member.removesuffix(".npy")] = _read_member(z, info, max_bytes)
+    except zipfile.BadZipFile as err:
+        raise FileError(f"{path}: not a readable .npz archive ({err}); expected {what}") from None
+    except OSError as err:
+        raise _open_error(path, err, what) from None
+    except (ValueError, EOFError, zipfile.LargeZipFile, NotImplementedError) as err:
+        raise FileError(f"{path}: member {member!r} cannot be read ({err}); "
+                        f"expected {what}") from None
+    return arrays
+
+
+def read_image(path: str | Path) -> np.ndarray:
+    """An image file as RGB uint8 (H, W, 3); its size is read from the header first."""
+    import cv2
+    from PIL import Image
+
+    path = Path(path)
+    what = "a PNG, JPEG, BMP or TIFF image"
+    data = read_bytes(path, what, 2**30)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            with Image.open(path) as im:  # reads the header only
+                w, h = im.size
+    except Image.DecompressionBombError:
+        w, h = MAX_IMAGE_PIXELS, 2  # Pillow refused it as too large: so do we
+    except Exception:  # noqa: BLE001 - Pillow raises many kinds; OpenCV may still read it
+        w, h = 0, 0
+    if w * h > MAX_IMAGE_PIXELS:
+        raise FileError(f"{path}: its header claims {w}x{h} pixels; expected {what} of at "
+                        f"most {MAX_IMAGE_PIXELS:,} pixels")
+    try:
+        image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR) if data else None
+    except cv2.error:
+        image = None
+    if image is None:
+        raise FileError(f"{path}: not an image OpenCV can read; expected {what}")
+    return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
+
+
+def sha256_of(path: str | Path) -> str:
+    """The SHA-256 of a file's content, in hex."""
+    digest = hashlib.sha256()
+    try:
+        with open(path, "rb") as f:
+            for block in iter(lambda: f.read(2**20), b""):
+                digest.update(block)
+    except OSError as err:
+        raise _open_error(Path(path), err, "a readable file") from None
+    return digest.hexdigest()
+
