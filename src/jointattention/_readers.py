@@ -13,6 +13,7 @@ import tomllib
 import warnings
 import zipfile
 from pathlib import Path
+
 import numpy as np
 
 from .errors import FileError
@@ -134,7 +135,7 @@ def read_image(path: str | Path) -> np.ndarray:
                 w, h = im.size
     except Image.DecompressionBombError:
         w, h = MAX_IMAGE_PIXELS, 2  # Pillow refused it as too large: so do we
-    except Exception:  # noqa: BLE001 - Pillow raises many kinds; OpenCV may still read it
+    except Exception:  # Pillow raises many kinds; OpenCV may still read it
         w, h = 0, 0
     if w * h > MAX_IMAGE_PIXELS:
         raise FileError(f"{path}: its header claims {w}x{h} pixels; expected {what} of at "

@@ -14,6 +14,8 @@ from pathlib import Path
 from typing import Any
 
 from .._files import write_text
+from .._readers import read_text
+from ..errors import FileError
 
 __all__ = ["Table", "read_csv"]
 
@@ -76,8 +78,10 @@ class Table:
 
 def read_csv(path: Path) -> Table:
     """A table written by :meth:`Table.write` (values come back as text, bools as bools)."""
-    with open(path, newline="", encoding="utf-8") as f:
-        rows = list(csv.reader(f))
+    try:
+        rows = list(csv.reader(io.StringIO(read_text(path, "a CSV table", 2**28), newline="")))
+    except csv.Error as err:
+        raise FileError(f"{path}: not a CSV table ({err}); expected a CSV table") from None
     if not rows:
         return Table((), ())
     flags = {"True": True, "False": False}

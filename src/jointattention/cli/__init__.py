@@ -8,7 +8,10 @@ and :mod:`.world` (render, datasets).
 from __future__ import annotations
 
 import argparse
+import logging
+import signal
 import sys
+import threading
 
 from .. import __version__
 from ..errors import JointAttentionError
@@ -17,9 +20,16 @@ from . import run, vision, world
 __all__ = ["build_parser", "main"]
 
 
+class _Parser(argparse.ArgumentParser):
+    """A parser whose errors are one line, as the commands' own errors are."""
+
+    def error(self, message: str):
+        self.exit(2, f"{self.prog}: error: {message}; see {self.prog} --help\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The parser of every command."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="jointattention",
         description="The bootstrap learning model for joint attention: simulated world, "
                     "data sets and experiments.")
@@ -31,15 +41,46 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class _Terminated(KeyboardInterrupt):
+    """SIGTERM (kill, timeout, Slurm, docker stop), handled as an interrupt is."""
+
+
+def _terminate(signum, frame) -> None:
+    raise _Terminated
+
+
+def _warnings_to_stderr() -> None:
+    """The library's warnings (e.g. a corrupt cell recomputed) as ``jointattention: warning:``."""
+    log = logging.getLogger("jointattention")
+    if not log.handlers:
+        handler = logging.StreamHandler()
+        handler.setFormatter(logging.Formatter("jointattention: warning: %(message)s"))
+        log.addHandler(handler)
+        log.propagate = False
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; user errors print one line and exit with status 2."""
+    """Run the command line; user errors print one line and exit with status 2.
+
+    SIGINT and SIGTERM end the command and its worker processes; finished cells are kept
+    (exit status 130 and 143).
+    """
     args = build_parser().parse_args(argv)
+    _warnings_to_stderr()
+    previous = signal.getsignal(signal.SIGTERM)
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGTERM, _terminate)
     try:
         args.func(args)
     except JointAttentionError as err:
         print(f"jointattention: error: {err}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("jointattention: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as err:
+        terminated = isinstance(err, _Terminated)
+        print(f"jointattention: {'terminated' if terminated else 'interrupted'}; finished "
+              "cells are kept, re-run the command to resume", file=sys.stderr)
+        return 143 if terminated else 130
+    finally:
+        if threading.current_thread() is threading.main_thread():
+            signal.signal(signal.SIGTERM, previous)
     return 0

@@ -5,7 +5,22 @@ from __future__ import annotations
 import argparse
 import os
 
-__all__ = ["CellBar", "add_backend", "add_config", "workers"]
+__all__ = ["CellBar", "add_backend", "add_config", "add_max_cells", "int_in", "workers"]
+
+
+def int_in(lo: int, hi: int):
+    """An argparse type: an integer in [lo, hi], else argparse's one error line."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r}: expected an integer") from None
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"{value}: expected an integer in [{lo}, {hi}]")
+        return value
+
+    parse.__name__ = "integer"
+    return parse
 
 
 def add_config(p: argparse.ArgumentParser) -> None:
@@ -16,13 +31,20 @@ def add_config(p: argparse.ArgumentParser) -> None:
 
 def add_backend(p: argparse.ArgumentParser) -> None:
     """The ``--workers``, ``--backend`` and ``--address`` options."""
-    p.add_argument("--workers", type=int, default=0,
-                   help="worker processes or Ray CPUs (default: one per core); results do not "
-                        "depend on it")
+    p.add_argument("--workers", type=int_in(0, 1024), default=0,
+                   help="worker processes or Ray CPUs (default: one per core, never more than "
+                        "cells); results do not depend on it")
     p.add_argument("--backend", choices=("local", "ray"), default="local",
                    help="where cells run: local processes (default) or Ray (the ray extra)")
     p.add_argument("--address", help="with --backend ray: the address of a Ray cluster to join "
                                      "(default: start a local Ray instance)")
+
+
+def add_max_cells(p: argparse.ArgumentParser) -> None:
+    """The ``--max-cells`` bound on work."""
+    p.add_argument("--max-cells", type=int_in(1, 10**9), default=100_000,
+                   help="refuse runs of more cells than this, before anything runs "
+                        "(default: 100,000)")
 
 
 def workers(args: argparse.Namespace) -> int:
@@ -34,12 +56,14 @@ class CellBar:
     """A progress bar over cells, fed by the runners' progress messages."""
 
     def __init__(self, total: int):
-        from tqdm import tqdm
-
-        self.bar = tqdm(total=total, desc="cells", unit="cell")
+        self.total, self.bar = total, None
 
     def __call__(self, message: str) -> None:
         """Count a finished cell, or show a message of the runner."""
+        if self.bar is None:  # shown from the first message: a refused run shows none
+            from tqdm import tqdm
+
+            self.bar = tqdm(total=self.total, desc="cells", unit="cell")
         if message.endswith("already done"):  # "K of N cells already done"
             self.bar.update(int(message.split()[0]))
             self.bar.write(message)
@@ -53,4 +77,5 @@ class CellBar:
         return self
 
     def __exit__(self, *exc) -> None:
-        self.bar.close()
+        if self.bar is not None:
+            self.bar.close()

@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ._common import CellBar, add_backend, add_config, workers
+from ._common import CellBar, add_backend, add_config, add_max_cells, int_in, workers
 
 __all__ = ["add_commands"]
 
@@ -22,7 +22,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
     exp = config.experiment
     with CellBar(len(exp.conditions) * exp.n_seeds) as bar:
         result = reproduce(config, Path(args.out), workers=n_workers, backend=args.backend,
-                           address=args.address, progress=bar)
+                           address=args.address, progress=bar, max_cells=args.max_cells)
     for path in result.files:
         print(path)
     print((result.out / "claims.md").read_text(), end="")
@@ -32,20 +32,23 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
 def _cmd_sweep(args: argparse.Namespace) -> None:
     from ..experiment.sweep import load_sweep, run_sweep
 
-    sweep = load_sweep(args.spec)
+    sweep = load_sweep(args.spec, max_cells=args.max_cells)
     out = Path(args.out or Path("runs") / Path(args.spec).stem)
     total = sum(len(c.experiment.conditions) * c.experiment.n_seeds
                 for c in sweep.points.values())
     with CellBar(total) as bar:
         run_sweep(sweep, out, workers=workers(args), backend=args.backend,
-                  address=args.address, progress=bar)
+                  address=args.address, progress=bar, max_cells=args.max_cells)
     print((out / "summary.md").read_text(), end="")
     print(out / "summary.csv")
 
 
 def _cmd_report(args: argparse.Namespace) -> None:
+    from .._files import check_writable
     from ..figures.report import write_report
 
+    if args.out:
+        check_writable(args.out, "file")
     print(write_report(args.run, args.out))
 
 
@@ -98,6 +101,7 @@ def add_commands(sub) -> None:
     add_config(p)
     p.add_argument("--out", default="runs/reproduce", help="run folder (default: runs/reproduce)")
     add_backend(p)
+    add_max_cells(p)
     p.set_defaults(func=_cmd_reproduce)
 
     p = sub.add_parser(
@@ -109,6 +113,7 @@ def add_commands(sub) -> None:
     p.add_argument("spec", metavar="SPEC.toml", help="the sweep spec")
     p.add_argument("--out", help="output folder (default: runs/<SPEC's name>)")
     add_backend(p)
+    add_max_cells(p)
     p.set_defaults(func=_cmd_sweep)
 
     p = sub.add_parser(
@@ -126,7 +131,7 @@ def add_commands(sub) -> None:
                     "configured image size, agent-steps/s of a learning run, and estimate each "
                     "preset's wall time from it (--run PRESET measures it).")
     add_config(p)
-    p.add_argument("--workers", type=int, default=0,
+    p.add_argument("--workers", type=int_in(0, 1024), default=0,
                    help="worker processes for the preset times (default: all cores)")
     p.add_argument("--run", action="append", default=[], metavar="PRESET",
                    help="also run this preset from scratch and print its wall time "

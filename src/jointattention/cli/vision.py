@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ._common import add_config
+from .._files import check_writable, write_text
+from ._common import add_config, int_in
 
 __all__ = ["add_commands"]
 
@@ -13,11 +14,12 @@ __all__ = ["add_commands"]
 def _cmd_parity(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
-    from .._files import write_text
     from ..analysis.parity import CAUSES, measure_parity, parity_table
     from ..config import load_config, with_n_objects
 
     config = load_config(args.config)
+    if args.out:
+        check_writable(args.out, "file")
     results = {}
     for n in args.objects:
         with tqdm(total=args.cases, desc=f"{n} objects", unit="case") as bar:
@@ -35,6 +37,7 @@ def _cmd_detect(args: argparse.Namespace) -> None:
     from ..figures.detect import detect_files
 
     config = load_config(args.config)
+    check_writable(args.out, "folder")
     for path, found in detect_files(args.images, Path(args.out), config, args.face):
         print(f"{path}: {len(found.area_px)} bright-colour regions, {len(found.faces)} faces, "
               f"{len(found.edge_regions)} edge-rich regions")
@@ -48,6 +51,7 @@ def _cmd_gaze(args: argparse.Namespace) -> None:
 
     config = load_config(args.config or args.preset)
     condition_named(config, args.condition)  # before the progress bar
+    check_writable(args.out, "folder")
     with tqdm(total=config.experiment.n_steps, desc="learning", unit="step") as bar:
         numbers = write_gaze_figures(config, args.condition, args.seed_index, Path(args.out),
                                      progress=lambda t: bar.update(t - bar.n))
@@ -69,11 +73,12 @@ def add_commands(sub) -> None:
                     "(Eq. 1) and centres within 2 px; print a Markdown table with the causes "
                     "of disagreements.")
     add_config(p)
-    p.add_argument("--cases", type=int, default=1000, help="scenes per object count "
-                                                           "(default: 1000)")
-    p.add_argument("--objects", type=int, nargs="+", default=[5, 10],
+    p.add_argument("--cases", type=int_in(1, 10**6), default=1000,
+                   help="scenes per object count (default: 1000)")
+    p.add_argument("--objects", type=int_in(1, 20), nargs="+", default=[5, 10],
                    help="object counts (default: 5 10)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the scenes (default: 0)")
+    p.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
+                   help="seed of the scenes (default: 0)")
     p.add_argument("--out", help="also write the table to this Markdown file")
     p.set_defaults(func=_cmd_parity)
 
@@ -100,7 +105,7 @@ def add_commands(sub) -> None:
     add_config(p)
     p.add_argument("--condition", default="n5-sigmoid",
                    help="the condition to learn (default: n5-sigmoid)")
-    p.add_argument("--seed-index", type=int, default=0, help="the cell's seed index "
-                                                             "(default: 0)")
+    p.add_argument("--seed-index", type=int_in(0, 10**6), default=0,
+                   help="the cell's seed index (default: 0)")
     p.add_argument("--out", default="runs/gaze", help="output folder (default: runs/gaze)")
     p.set_defaults(func=_cmd_gaze)

@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
+from .._files import check_writable
 from ..errors import JointAttentionError
-from ._common import add_config
+from ._common import add_config, int_in
 
 __all__ = ["add_commands"]
 
@@ -18,7 +18,7 @@ def _cmd_render(args: argparse.Namespace) -> None:
 
     config = load_config(args.config)
     seed = config.seed if args.seed is None else args.seed
-    out = Path(args.out)
+    out = check_writable(args.out, "folder")
     d_th_px = config.agent.d_th_px(config.world.camera.width_px)
     with World(config.world, seed=seed) as world:
         print(robot_view(world, out / "robot_view.png", d_th_px))
@@ -33,8 +33,9 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
     from ..world.recording import make_datasets
 
     config = load_config(args.config)
-    if args.n < 1:
-        raise JointAttentionError(f"--n {args.n}: expected at least 1 data set")
+    if not args.out.endswith(".npz"):
+        raise JointAttentionError(f"{args.out}: expected a file name ending in .npz")
+    check_writable(args.out, "file", "OUT")
     with tqdm(total=args.n, desc="data sets", unit="set", disable=args.quiet) as bar:
         ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1))
     print(save(ds, args.out))
@@ -64,7 +65,8 @@ def add_commands(sub) -> None:
                     "its target) and face_windows.png (face windows across gaze directions) "
                     "into --out.")
     add_config(p)
-    p.add_argument("--seed", type=int, help="world seed (default: the configuration's)")
+    p.add_argument("--seed", type=int_in(0, 2**63 - 1),
+                   help="world seed (default: the configuration's)")
     p.add_argument("--out", default="runs/render", help="output folder (default: runs/render)")
     p.set_defaults(func=_cmd_render)
 
@@ -76,8 +78,10 @@ def add_commands(sub) -> None:
         description="Record N data sets (face window, head angle, command to the target, "
                     "target position) into OUT (.npz).")
     add_config(q)
-    q.add_argument("--n", type=int, default=125, help="number of data sets (default: 125)")
-    q.add_argument("--seed", type=int, default=0, help="world seed (default: 0)")
+    q.add_argument("--n", type=int_in(1, 100_000), default=125,
+                   help="number of data sets (default: 125)")
+    q.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
+                   help="world seed (default: 0)")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
     q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
     q.set_defaults(func=_cmd_datasets_make)

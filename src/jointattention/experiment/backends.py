@@ -7,6 +7,12 @@ process as soon as it arrives: an interrupted run loses only the cells in progre
 
 from __future__ import annotations
 
+import ctypes
+import logging
+import os
+import shutil
+import signal
+import sys
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from contextlib import closing
@@ -16,16 +22,19 @@ from pathlib import Path
 import numpy as np
 
 from ..config import ConditionConfig, Config
-from ..errors import ConfigError
-from .results import save_cell
+from ..errors import ConfigError, JointAttentionError
+from .results import load_cell, save_cell
 
-__all__ = ["BACKENDS", "CellFunction", "CellJob", "check_backend", "run_jobs"]
+__all__ = ["BACKENDS", "MAX_WORKERS", "CellFunction", "CellJob", "check_backend", "run_jobs"]
 
 # What runs one cell: (config, condition, seed index) -> records (e.g. cells.run_cell). It
 # must be importable by name (a module-level function) for worker processes and Ray.
 CellFunction = Callable[[Config, ConditionConfig, int], dict[str, np.ndarray]]
 
 BACKENDS = ("local", "ray")
+MAX_WORKERS = 1024
+_PR_SET_PDEATHSIG = 1  # Linux prctl: the signal a process gets when its parent ends
+_log = logging.getLogger("jointattention")
 
 
 @dataclass(frozen=True)
@@ -42,18 +51,44 @@ def _run(run: CellFunction, job: CellJob) -> tuple[CellJob, dict[str, np.ndarray
     return job, run(job.config, job.condition, job.seed_index)
 
 
+def _end_with_parent() -> None:
+    """In a worker: end when the parent process ends, however it ends; leave signals to it."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the parent
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # decides, and ends the workers itself
+    if sys.platform.startswith("linux"):  # even after SIGKILL of the parent
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
+        if os.getppid() == 1:  # the parent died before prctl took hold
+            os._exit(1)
+
+
+def _stop_workers(pool: ProcessPoolExecutor) -> None:
+    """End ``pool``'s workers now: their cells in progress are lost, finished ones are saved."""
+    if hasattr(pool, "terminate_workers"):  # Python 3.14+
+        pool.terminate_workers()
+        return
+    pool.shutdown(wait=False, cancel_futures=True)
+    processes = getattr(pool, "_processes", None) or {}
+    for p in list(processes.values()):
+        p.terminate()
+    for p in list(processes.values()):
+        p.join(5)
+
+
 def _local(run: CellFunction, jobs: Sequence[CellJob], workers: int) -> Iterator[tuple]:
+    workers = min(workers, len(jobs))  # no idle processes
     if workers <= 1:
         yield from (_run(run, j) for j in jobs)
         return
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(_run, run, j) for j in jobs]
-        try:
-            for f in as_completed(futures):
-                yield f.result()
-        finally:  # on an interrupt, do not start the cells still waiting
-            for f in futures:
-                f.cancel()
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_end_with_parent)
+    futures = [pool.submit(_run, run, j) for j in jobs]
+    try:
+        for f in as_completed(futures):
+            yield f.result()
+    except BaseException:  # an interrupt, SIGTERM, or a failed cell: stop the rest at once
+        _stop_workers(pool)
+        raise
+    pool.shutdown()
 
 
 def _ray(run: CellFunction, jobs: Sequence[CellJob], workers: int,
@@ -82,8 +117,10 @@ def _ray(run: CellFunction, jobs: Sequence[CellJob], workers: int,
             ray.shutdown()
 
 
-def check_backend(backend: str, address: str | None) -> None:
+def check_backend(backend: str, address: str | None, workers: int = 1) -> None:
     """Refuse an unknown backend, or an address without Ray, before anything is written."""
+    if not 0 <= workers <= MAX_WORKERS:
+        raise ConfigError(f"--workers {workers}: expected 0 (one per core) to {MAX_WORKERS}")
     if backend not in BACKENDS:
         raise ConfigError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
     if address and backend != "ray":
@@ -94,21 +131,39 @@ def _label(job: CellJob) -> str:
     return f"{job.condition.name} seed {job.seed_index}"
 
 
+def _done(path: Path) -> bool:
+    """Whether ``path`` holds a finished cell; a broken one is moved aside with a warning."""
+    if not path.exists() and not path.is_symlink():
+        return False
+    try:
+        load_cell(path)
+        return True
+    except JointAttentionError as err:
+        aside = path.with_name(path.name + ".corrupt")
+        _log.warning("%s; moved to %s and its cell run again", err, aside.name)
+        if aside.is_dir():
+            shutil.rmtree(aside)
+        os.replace(path, aside)
+        return False
+
+
 def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
              backend: str = "local",
              address: str | None = None, progress: Callable[[str], None] | None = None,
              label: Callable[[CellJob], str] = _label) -> int:
     """Run ``run`` for each job not done yet, saving each cell as it finishes.
 
-    A job is done when its ``path`` exists; each cell's records go to its ``path``.
+    A job is done when its ``path`` holds whole records; each cell's records go to its
+    ``path``. A file there that is not whole is named in a warning, moved aside (to
+    ``<path>.corrupt``) and its cell run again.
 
     ``backend`` is ``"local"`` (``workers`` processes; 1 runs in this process) or ``"ray"``
     (a local Ray instance with ``workers`` CPUs, or the cluster at ``address``).
     ``progress`` hears "K of N cells already done", then ``label(job)`` of each finished cell.
     Returns the number of cells run.
     """
-    check_backend(backend, address)
-    todo = [j for j in jobs if not j.path.exists()]
+    check_backend(backend, address, workers)
+    todo = [j for j in jobs if not _done(j.path)]
     if progress is not None:
         progress(f"{len(jobs) - len(todo)} of {len(jobs)} cells already done")
     if not todo:

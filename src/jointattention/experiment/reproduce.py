@@ -6,7 +6,7 @@ run folder.
 
 from __future__ import annotations
 
-import json
+import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -15,34 +15,42 @@ from pathlib import Path
 import numpy as np
 
 from .._files import save_json
+from .._readers import read_json
 from ..analysis.claims import Claim, check_claims, claims_table
 from ..analysis.curves import condition_curves, final_table
 from ..analysis.diagnostics import condition_diagnostics, diagnostics_table
 from ..config import Config
+from ..errors import JointAttentionError
 from .backends import CellJob, check_backend, run_jobs
 from .cells import measure_ceiling, run_cell
+from .preflight import MAX_CELLS, check_runs
 from .results import cell_path, load_cell, prepare_run_dir, write_trials_csv
 
 __all__ = ["RunResult", "reproduce", "run_experiment"]
 
+_log = logging.getLogger("jointattention")
+
 
 def run_experiment(config: Config, out: str | Path, workers: int = 1,
                    progress: Callable[[str], None] | None = None, *, backend: str = "local",
-                   address: str | None = None) -> dict[tuple[str, int], dict[str, np.ndarray]]:
+                   address: str | None = None,
+                   max_cells: int = MAX_CELLS) -> dict[tuple[str, int], dict[str, np.ndarray]]:
     """Run every condition x seed into ``out``; cells already there are kept, not re-run.
 
     Returns {(condition, seed): records}. Each cell is saved as it finishes, so an
     interrupted run loses only the cells in progress. ``backend`` and ``address``: see
-    :func:`jointattention.experiment.backends.run_jobs`.
+    :func:`jointattention.experiment.backends.run_jobs`; ``max_cells``: see
+    :func:`~.preflight.check_runs`.
     """
-    jobs, _ = _run_cells(config, Path(out), workers, progress, backend, address)
+    jobs, _ = _run_cells(config, Path(out), workers, progress, backend, address, max_cells)
     return {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
 
 
 def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
-               address: str | None) -> tuple[list[CellJob], int]:
+               address: str | None, max_cells: int) -> tuple[list[CellJob], int]:
     """Every cell's job, after running those not in ``out`` yet; and how many ran."""
-    check_backend(backend, address)
+    check_backend(backend, address, workers)
+    check_runs({out: config}, max_cells=max_cells)  # before anything is written
     prepare_run_dir(out, config)
     exp = config.experiment
     jobs = [CellJob(config, c, i, cell_path(out, c.name, i))
@@ -50,6 +58,28 @@ def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
     ran = run_jobs(run_cell, jobs, workers=workers, backend=backend, address=address,
                    progress=progress)
     return jobs, ran
+
+
+def _ceilings(config: Config, path: Path, progress) -> dict[str, float]:
+    """The oracle ceilings of the run's object counts: read from ``path``, or measured there.
+
+    A file that is not whole (unreadable, or without every count) is measured again.
+    """
+    counts = sorted({c.n_objects for c in config.experiment.conditions})
+    if path.exists():
+        try:
+            ceilings = read_json(path, "the oracle ceilings of a run folder")
+            if all(type(ceilings.get(str(n))) in (int, float) and 0 <= ceilings[str(n)] <= 1
+                   for n in counts):
+                return ceilings
+            _log.warning("%s: no ceiling for some object count; measured again", path)
+        except JointAttentionError as err:
+            _log.warning("%s; measured again", err)
+    if progress is not None:
+        progress("ceilings")
+    ceilings = {str(n): measure_ceiling(config, n) for n in counts}
+    save_json(ceilings, path)
+    return ceilings
 
 
 @dataclass(frozen=True)
@@ -65,8 +95,8 @@ class RunResult:
 
 
 def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str = "local",
-              address: str | None = None,
-              progress: Callable[[str], None] | None = None) -> RunResult:
+              address: str | None = None, progress: Callable[[str], None] | None = None,
+              max_cells: int = MAX_CELLS) -> RunResult:
     """Run ``config``'s experiment into the run folder ``out`` and write what it shows.
 
     Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json``, the oracle
@@ -75,25 +105,20 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     ``claims.csv``/``.md``, and the diagnostics per learning-time bin
     (``diagnostics.csv``/``.md``/``.png``, :mod:`jointattention.analysis.diagnostics`).
     ``progress`` hears the runner's messages (see
-    :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``.
+    :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``. Nothing is
+    written unless the run passes :func:`~.preflight.check_runs` (at most ``max_cells``).
     """
     from ..figures.diagnostics import diagnostics_figure  # matplotlib only when drawn
     from ..figures.paper import write_figures
 
     out = Path(out)
     start = time.perf_counter()
-    jobs, cells_run = _run_cells(config, out, workers, progress, backend, address)
+    jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells)
     wall_min = (time.perf_counter() - start) / 60
     cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
     save_json({"wall_min": round(wall_min, 2), "workers": workers, "cells_run": cells_run,
                "cells_total": len(cells)}, out / "timing.json")
-    ceiling_file = out / "ceilings.json"
-    if not ceiling_file.exists():
-        if progress is not None:
-            progress("ceilings")
-        counts = sorted({c.n_objects for c in config.experiment.conditions})
-        save_json({str(n): measure_ceiling(config, n) for n in counts}, ceiling_file)
-    ceilings = json.loads(ceiling_file.read_text())
+    ceilings = _ceilings(config, out / "ceilings.json", progress)
     curves = condition_curves(out, config)
     claims = check_claims(config, curves, ceilings)
     diagnostics = condition_diagnostics(out, config)

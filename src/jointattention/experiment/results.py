@@ -1,7 +1,7 @@
 """Run folders: the configuration a run was made with, its cells, and the tidy trial table.
 
-A run folder holds ``config.toml`` and ``versions.json`` (written first), one
-``cells/<condition>__seed<k>.npz`` per finished cell (the columns of
+A run folder holds ``versions.json`` and ``config.toml`` (written first, after every check),
+one ``cells/<condition>__seed<k>.npz`` per finished cell (the columns of
 :data:`~jointattention.experiment.trial.RECORD`), and what :func:`~.reproduce.reproduce`
 writes from them.
 """
@@ -9,21 +9,21 @@ writes from them.
 from __future__ import annotations
 
 import csv
-import json
 import platform
-from importlib import metadata
+from importlib import metadata, resources
 from pathlib import Path
 
 import numpy as np
 
 from .. import __version__
-from .._files import atomic_path, save_json, save_npz, write_text
+from .._files import atomic_path, check_writable, save_json, save_npz, write_text
+from .._readers import read_json, read_npz, sha256_of
 from ..config import Config, load_config, to_toml
-from ..errors import JointAttentionError
+from ..errors import FileError, JointAttentionError
 from .trial import RECORD
 
-__all__ = ["cell_path", "load_cell", "prepare_run_dir", "save_cell", "versions",
-           "write_trials_csv"]
+__all__ = ["cell_path", "check_run_dir", "datasets_sha256", "load_cell", "prepare_run_dir",
+           "save_cell", "versions", "write_trials_csv"]
 
 
 def versions() -> dict:
@@ -39,39 +39,57 @@ def versions() -> dict:
             "matplotlib": version("matplotlib"), "platform": platform.platform()}
 
 
-def prepare_run_dir(out: Path, config: Config) -> None:
-    """Create the run folder, or check that it holds this configuration.
+def datasets_sha256(config: Config) -> str:
+    """The SHA-256 of the content of the run's data-set file (the shipped one if not set)."""
+    if config.datasets:
+        return sha256_of(config.datasets)
+    with resources.as_file(resources.files("jointattention.data") / "caregiver_125.npz") as p:
+        return sha256_of(p)
 
-    An existing folder must have been made with the same configuration, so that a resumed run adds
-    to matching results.
+
+def check_run_dir(out: Path, config: Config) -> None:
+    """Refuse ``out`` unless ``config``'s run can be written there (writes nothing).
+
+    ``out`` must be a new or empty folder that can be made, or a run folder made with the same
+    configuration, the same data sets (by content, not path) and a compatible version.
     """
     out = Path(out)
+    check_writable(out, "folder")
     cfg_file = out / "config.toml"
-    if cfg_file.exists():
-        if load_config(cfg_file) != config:
-            raise JointAttentionError(
-                f"{out}: holds results of another configuration; expected a new --out folder "
-                "(or the same configuration, to resume)")
-        made_by = _made_by(out)
-        if made_by.split(".")[:2] != __version__.split(".")[:2]:
-            raise JointAttentionError(
-                f"{out}: made by jointattention {made_by}, whose cells differ from version "
-                f"{__version__}'s; expected a new --out folder")
+    if not cfg_file.exists():
+        if out.exists() and any(out.iterdir()):
+            raise JointAttentionError(f"{out}: not empty and not a run folder; expected a new "
+                                      "or empty folder")
         return
-    if out.exists() and any(out.iterdir()):
-        raise JointAttentionError(f"{out}: not empty and not a run folder; expected a new or "
-                                  "empty folder")
-    write_text(cfg_file, to_toml(config))
-    save_json(versions(), out / "versions.json")
+    if load_config(cfg_file) != config:
+        raise JointAttentionError(
+            f"{out}: holds results of another configuration; expected a new --out folder "
+            "(or the same configuration, to resume)")
+    made = read_json(out / "versions.json", "the versions a run folder was made with")
+    made_by = str(made.get("jointattention", "unknown"))
+    if made_by.split(".")[:2] != __version__.split(".")[:2]:
+        raise JointAttentionError(
+            f"{out}: made by jointattention {made_by}, whose cells differ from version "
+            f"{__version__}'s; expected a new --out folder")
+    made_with = made.get("datasets_sha256")
+    if made_with is not None and made_with != datasets_sha256(config):
+        raise JointAttentionError(
+            f"{out}: made with data sets of other content (sha256 {str(made_with)[:12]}..., "
+            f"now {datasets_sha256(config)[:12]}... at {config.datasets or 'the shipped path'})"
+            "; expected the same data sets, or a new --out folder")
 
 
-def _made_by(out: Path) -> str:
-    """The version of jointattention that made run folder ``out`` ("unknown" if not told)."""
-    try:
-        made = json.loads((out / "versions.json").read_text(encoding="utf-8"))
-        return str(made["jointattention"])
-    except (OSError, ValueError, KeyError, TypeError):
-        return "unknown"
+def prepare_run_dir(out: Path, config: Config) -> None:
+    """Create the run folder, or check that it holds this configuration (:func:`check_run_dir`).
+
+    A new folder gets ``config.toml`` and ``versions.json`` (with the data sets' SHA-256).
+    """
+    out = Path(out)
+    check_run_dir(out, config)
+    if not (out / "config.toml").exists():
+        save_json({**versions(), "datasets_sha256": datasets_sha256(config)},
+                  out / "versions.json")
+        write_text(out / "config.toml", to_toml(config))
 
 
 def cell_path(out: Path, condition: str, seed_index: int) -> Path:
@@ -85,9 +103,24 @@ def save_cell(path: Path, records: dict[str, np.ndarray]) -> None:
 
 
 def load_cell(path: Path) -> dict[str, np.ndarray]:
-    """A saved cell's records."""
-    with np.load(path, allow_pickle=False) as z:
-        return {k: z[k] for k in z.files}
+    """A saved cell's records; a :class:`~..errors.FileError` if they are not whole.
+
+    Whole: the columns of :data:`~.trial.RECORD`, one row per trial each and of its type, and
+    ``lm_error_deg`` (one value per learning-time bin).
+    """
+    records = read_npz(path, "a cell's records (cells/*.npz)")
+    expected = {**{k: np.dtype(t) for k, (t, _) in RECORD.items()},
+                "lm_error_deg": np.dtype(np.float64)}
+    odd = sorted(set(expected) ^ set(records))
+    if odd:
+        raise FileError(f"{path}: column {odd[0]!r} missing or unknown; expected the columns "
+                        f"{', '.join(expected)}")
+    shapes = {r.shape for k, r in records.items() if k in RECORD}
+    typed = all(r.dtype == expected[k] and r.ndim == 1 for k, r in records.items())
+    if len(shapes) != 1 or not typed:
+        raise FileError(f"{path}: columns of other shapes or types; expected one row per trial "
+                        "in each column of its type")
+    return records
 
 
 def write_trials_csv(out: Path, cells: dict[tuple[str, int], dict[str, np.ndarray]]) -> Path:

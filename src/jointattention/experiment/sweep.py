@@ -20,7 +20,7 @@ the final success per point and condition.
 from __future__ import annotations
 
 import itertools
-import tomllib
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,13 +28,16 @@ from pathlib import Path
 import numpy as np
 
 from .._fields import from_mapping, to_mapping
+from .._files import check_writable
+from .._readers import read_toml
 from ..analysis.curves import condition_curves
 from ..analysis.metrics import final_success, mean_interval
 from ..analysis.tables import Table
 from ..config import Config, load_config
-from ..errors import ConfigError
+from ..errors import ConfigError, FileError
 from .backends import CellJob, check_backend, run_jobs
 from .cells import run_cell
+from .preflight import MAX_CELLS, check_runs
 from .results import cell_path, prepare_run_dir
 
 __all__ = ["Sweep", "load_sweep", "run_sweep", "summarise"]
@@ -66,38 +69,71 @@ def _apply(config: Config, changes: dict, where: str) -> Config:
 
 
 def _point_name(keys, values) -> str:
+    """The point's folder name: ``key=value,...``, any character unsafe in a file name as _."""
     short = [k.rsplit(".", 1)[-1] for k in keys]
     names = short if len(set(short)) == len(short) else list(keys)
     parts = [f"{n}={v}" for n, v in zip(names, values, strict=True)]
-    return ",".join(parts).replace("/", "_") or "base"
+    return re.sub(r"[^A-Za-z0-9_.,=+-]", "_", ",".join(parts))[:200] or "base"
 
 
-def load_sweep(path: str | Path) -> Sweep:
-    """Read and check a sweep spec (see the module's docstring)."""
+def _read_grid(grid: object, where: str, max_cells: int) -> dict[str, list]:
+    """The grid table, checked: non-empty lists of distinct values, at most ``max_cells`` points."""
+    if not isinstance(grid, dict):
+        raise ConfigError(f"{where}: grid = {grid!r}: expected a table of settings -> lists")
+    n_points = 1
+    for key, values in grid.items():
+        if not isinstance(values, list) or not values:
+            raise ConfigError(f"{where} [grid]: {key} = {values!r}: expected a non-empty list")
+        seen = []  # 1e-3 and 0.001 are one value; true and 1 are two
+        for v in values:
+            same = repr(v) if isinstance(v, (dict, list)) else (type(v) is bool, v)
+            if same in seen:
+                raise ConfigError(f"{where} [grid]: {key} = {values!r}: {v!r} repeats; "
+                                  "expected distinct values")
+            seen.append(same)
+        n_points *= len(values)
+        if n_points > max_cells:
+            raise ConfigError(f"{where} [grid]: more than {max_cells:,} points; expected at "
+                              "most that many (--max-cells raises the bound)")
+    return grid
+
+
+def load_sweep(path: str | Path, *, max_cells: int = MAX_CELLS) -> Sweep:
+    """Read and check a sweep spec (see the module's docstring).
+
+    A spec with none of its keys is refused (it would run the whole default experiment), and so
+    is a grid of more than ``max_cells`` points.
+    """
     path = Path(path)
     try:
-        spec = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as err:
-        raise ConfigError(f"{path}: cannot read the sweep spec ({err.strerror})") from None
-    except tomllib.TOMLDecodeError as err:
-        raise ConfigError(f"{path}: not valid TOML ({err})") from None
+        spec = read_toml(path, "a sweep spec (TOML; see examples/sweep.toml)")
+    except FileError as err:
+        raise ConfigError(str(err)) from None
     unknown = sorted(set(spec) - set(_SPEC_KEYS))
     if unknown:
         raise ConfigError(f"{path}: {unknown[0]}: unknown key; expected {', '.join(_SPEC_KEYS)}")
+    if not spec:
+        raise ConfigError(f"{path}: an empty spec; expected at least one of "
+                          f"{', '.join(_SPEC_KEYS)}")
     base = spec.get("base")
-    if base is not None and str(base).endswith(".toml"):
+    if base is not None and not isinstance(base, str):
+        raise ConfigError(f"{path}: base = {base!r}: expected a preset name or a .toml file")
+    if base is not None and base.endswith(".toml"):
         base = path.parent / base
-    config = _apply(load_config(base), spec.get("set", {}), f"{path} [set]")
+    changes = spec.get("set", {})
+    if not isinstance(changes, dict):
+        raise ConfigError(f"{path}: set = {changes!r}: expected a table of dotted settings")
+    config = _apply(load_config(base), changes, f"{path} [set]")
     if "conditions" in spec:
         config = _apply(config, {"experiment.conditions": spec["conditions"]}, str(path))
-    grid = spec.get("grid", {})
-    for key, values in grid.items():
-        if not isinstance(values, list) or not values:
-            raise ConfigError(f"{path} [grid]: {key} = {values!r}: expected a non-empty list")
+    grid = _read_grid(spec.get("grid", {}), str(path), max_cells)
     keys = tuple(grid)
     points, values = {}, {}
     for combo in itertools.product(*grid.values()):
         name = _point_name(keys, combo)
+        if name in points:
+            raise ConfigError(f"{path} [grid]: points {values[name]!r} and {combo!r} share the "
+                              f"folder name {name!r}; expected values that differ as text")
         points[name] = _apply(config, dict(zip(keys, combo, strict=True)), f"{path} [grid]")
         values[name] = combo
     return Sweep(keys, points, values)
@@ -111,11 +147,17 @@ def _jobs(sweep: Sweep, out: Path) -> list[CellJob]:
 
 
 def run_sweep(sweep: Sweep, out: str | Path, *, workers: int = 1, backend: str = "local",
-              address: str | None = None,
-              progress: Callable[[str], None] | None = None) -> list[dict]:
-    """Run the missing cells of ``sweep`` into ``out``; returns the summary rows."""
-    check_backend(backend, address)
+              address: str | None = None, progress: Callable[[str], None] | None = None,
+              max_cells: int = MAX_CELLS) -> list[dict]:
+    """Run the missing cells of ``sweep`` into ``out``; returns the summary rows.
+
+    Every point's folder is checked (:func:`~.preflight.check_runs`) before any is written.
+    """
+    check_backend(backend, address, workers)
     out = Path(out)
+    check_writable(out, "folder")
+    check_runs({out / name: config for name, config in sweep.points.items()},
+               max_cells=max_cells)
     for name, config in sweep.points.items():
         prepare_run_dir(out / name, config)
     run_jobs(run_cell, _jobs(sweep, out), workers=workers, backend=backend, address=address,

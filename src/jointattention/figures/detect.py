@@ -18,12 +18,12 @@ import cv2
 import numpy as np
 
 from .._files import atomic_path
+from .._readers import read_image
 from ..agent.attention import most_interesting
 from ..agent.detections import equal_area_radius
 from ..agent.faces import Face, FaceFinder, face_template
 from ..agent.vision import ImageDetector
 from ..config import Config
-from ..errors import JointAttentionError
 
 __all__ = ["EDGE_DENSITY", "Found", "detect_files", "find_all"]
 
@@ -40,19 +40,6 @@ class Found:
     most_interesting: int | None
     faces: list[Face]
     edge_regions: list[np.ndarray]  # contours (m, 1, 2) of the edge-rich regions
-
-
-def _read(path: Path) -> np.ndarray:
-    try:
-        data = np.fromfile(path, np.uint8)
-    except OSError as err:
-        raise JointAttentionError(f"{path}: cannot read it ({err.strerror}); expected an "
-                                  "image file") from None
-    image = cv2.imdecode(data, cv2.IMREAD_COLOR) if len(data) else None
-    if image is None:
-        raise JointAttentionError(f"{path}: not an image OpenCV can read; expected a PNG, "
-                                  "JPEG, BMP or TIFF image")
-    return cv2.cvtColor(image, cv2.COLOR_BGR2RGB)
 
 
 def find_all(image_rgb: np.ndarray, config: Config, finder: FaceFinder) -> Found:
@@ -107,7 +94,7 @@ def detect_files(paths: list[Path], out_dir: Path, config: Config,
 
     Every image is read before anything is written, so a bad one leaves nothing behind.
     """
-    images = [(Path(p), _read(Path(p))) for p in paths]
+    images = [(Path(p), read_image(p)) for p in paths]
     if face_method == "template":
         from ..datasets import default_datasets
 

@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import base64
 import html
-import json
 import time
 from pathlib import Path
 
 from .. import __version__
 from .._files import write_text
+from .._readers import read_bytes, read_json, read_text
 from ..analysis.tables import read_csv
 from ..errors import JointAttentionError
 
@@ -28,6 +28,7 @@ _FIGURES = {
                        "the caregiver's target, the learning module's error, who moved the head, "
                        "how trials ended (diagnostics.csv).",
 }
+_CONFIG = "a run's configuration (TOML)"
 _TABLES = {"claims": "The paper's claims, checked", "table": "Final success per condition",
            "summary": "Sweep summary"}
 _STYLE = """
@@ -51,7 +52,7 @@ def _table(run: Path, stem: str) -> str | None:
     if (run / f"{stem}.csv").is_file():
         return read_csv(run / f"{stem}.csv").to_html()
     if (run / f"{stem}.md").is_file():
-        return f"<pre>{html.escape((run / f'{stem}.md').read_text())}</pre>"
+        return f"<pre>{html.escape(read_text(run / f'{stem}.md', 'a Markdown table'))}</pre>"
     return None
 
 
@@ -62,7 +63,7 @@ def _kv_table(data: dict) -> str:
 
 
 def _figure(path: Path, caption: str) -> str:
-    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    data = base64.b64encode(read_bytes(path, "a PNG figure", 2**26)).decode("ascii")
     return (f'<figure><img alt="{html.escape(path.name)}" src="data:image/png;base64,{data}">'
             f"<figcaption>{html.escape(caption)} ({html.escape(path.name)})</figcaption>"
             "</figure>")
@@ -80,7 +81,7 @@ def write_report(run: str | Path, out: str | Path | None = None) -> Path:
              f"<p>Report made {time.strftime('%Y-%m-%d %H:%M')} by jointattention "
              f"{__version__} from <code>{html.escape(str(run))}</code>.</p>"]
     if (run / "timing.json").is_file():
-        parts += ["<h2>Run</h2>", _kv_table(json.loads((run / "timing.json").read_text()))]
+        parts += ["<h2>Run</h2>", _kv_table(read_json(run / "timing.json", "a run's timing"))]
     for stem, title in _TABLES.items():
         table = _table(run, stem)
         if table is not None:
@@ -93,18 +94,19 @@ def write_report(run: str | Path, out: str | Path | None = None) -> Path:
     if missing and not points:
         parts.append(f"<p>Not in this folder (yet): {html.escape(', '.join(missing))}.</p>")
     if (run / "ceilings.json").is_file():
-        ceilings = json.loads((run / "ceilings.json").read_text())
+        ceilings = read_json(run / "ceilings.json", "a run's oracle ceilings")
         parts += ["<h2>Oracle ceilings (objects: success)</h2>", _kv_table(ceilings)]
     parts.append("<h2>Configuration</h2>")
     if (run / "config.toml").is_file():
-        parts.append(f"<pre>{html.escape((run / 'config.toml').read_text())}</pre>")
+        parts.append(f"<pre>{html.escape(read_text(run / 'config.toml', _CONFIG))}</pre>")
     parts += [f"<details><summary>{html.escape(p.name)}</summary>"
-              f"<pre>{html.escape((p / 'config.toml').read_text())}</pre></details>"
+              f"<pre>{html.escape(read_text(p / 'config.toml', _CONFIG))}</pre></details>"
               for p in points]
     versions = next((d / "versions.json" for d in (run, *points)
                      if (d / "versions.json").is_file()), None)
     if versions is not None:
-        parts += ["<h2>Versions it ran with</h2>", _kv_table(json.loads(versions.read_text()))]
+        parts += ["<h2>Versions it ran with</h2>",
+                  _kv_table(read_json(versions, "a run's versions"))]
     page = ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
             f"<title>jointattention: {html.escape(run.resolve().name)}</title>"
             f"<style>{_STYLE}</style></head><body>\n" + "\n".join(parts) + "\n</body></html>\n")
