@@ -1,6 +1,6 @@
 """User-facing errors: each carries one line naming what was wrong and what was expected."""
 
-__all__ = ["ConfigError", "DatasetError", "FileError", "JointAttentionError",
+__all__ = ["ArgumentError", "ConfigError", "DatasetError", "FileError", "JointAttentionError",
            "RenderingUnavailable"]
 
 
@@ -10,6 +10,10 @@ class JointAttentionError(Exception):
 
 class ConfigError(JointAttentionError, ValueError):
     """A configuration value or preset is out of range or malformed."""
+
+
+class ArgumentError(JointAttentionError, ValueError):
+    """An argument of a call (an environment's action, a reset's options) is malformed."""
 
 
 class FileError(JointAttentionError, ValueError):

@@ -13,7 +13,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ..config import Config, load_config, with_n_objects
-from ..errors import ConfigError
+from ..errors import ArgumentError, ConfigError
 from ..experiment.cells import evaluator
 from ..experiment.trial import END_STEPS, SceneTrial
 from ..world.recording import capture_face_window
@@ -24,6 +24,26 @@ __all__ = ["JointAttentionEnv"]
 
 REWARDS = ("external", "intrinsic")
 DETECTION_FIELDS = ("centre_px", "colour_area_px", "edge", "motion")
+
+
+def _count(name: str, value, lo: int, hi: int, error: type = ConfigError) -> int:
+    """``value`` as an int in [lo, hi], else one error naming the argument."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) \
+            or not lo <= value <= hi:
+        raise error(f"{name}={value!r}: expected an integer in [{lo}, {hi}]")
+    return int(value)
+
+
+def _action(action) -> np.ndarray:
+    """``action`` as 2 finite floats (pan, tilt), else one error naming it."""
+    try:
+        a = np.asarray(action, dtype=float)
+    except (TypeError, ValueError):
+        a = None
+    if a is None or a.shape != (2,) or not np.all(np.isfinite(a)):
+        raise ArgumentError(f"action={action!r}: expected 2 finite numbers (pan, tilt) in "
+                            "radians")
+    return a
 
 
 class JointAttentionEnv(gym.Env):
@@ -78,7 +98,11 @@ class JointAttentionEnv(gym.Env):
         n_poses: size of the pool of caregiver poses and targets (default: None, a new pose
             every episode).
         reward: ``"external"`` (default) or ``"intrinsic"``.
-        max_steps: steps before truncation (default: ``agent.max_steps``).
+        max_steps: steps before truncation, 1 to 100,000 (default: ``agent.max_steps``).
+
+    Arguments of the wrong type or out of range raise
+    :class:`~jointattention.errors.ConfigError` naming the argument; a malformed action
+    (not 2 finite numbers) or reset options raise :class:`~jointattention.errors.ArgumentError`.
         render_mode: ``None`` or ``"rgb_array"`` (an overview of the room).
 
     Version 0: first release.
@@ -89,21 +113,19 @@ class JointAttentionEnv(gym.Env):
     def __init__(self, config: Config | str | Path | None = None, *, n_objects: int | None = None,
                  n_poses: int | None = None, reward: str = "external",
                  max_steps: int | None = None, render_mode: str | None = None):
+        if not isinstance(config, (Config, str, Path, type(None))):
+            raise ConfigError(f"config={config!r}: expected a Config, a preset name, a TOML "
+                              "file or None")
         cfg = config if isinstance(config, Config) else load_config(config)
-        if reward not in REWARDS:
+        if not isinstance(reward, str) or reward not in REWARDS:
             raise ConfigError(f"reward={reward!r}: expected one of {', '.join(REWARDS)}")
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ConfigError(f"render_mode={render_mode!r}: expected None or 'rgb_array'")
         if n_objects is not None:
-            if not 1 <= n_objects <= 20:
-                raise ConfigError(f"n_objects={n_objects}: expected 1 to 20")
-            cfg = with_n_objects(cfg, n_objects)
-        if n_poses is not None and n_poses < 1:
-            raise ConfigError(f"n_poses={n_poses}: expected at least 1, or None")
-        self.n_poses = n_poses
-        self.max_steps = cfg.agent.max_steps if max_steps is None else max_steps
-        if self.max_steps < 1:
-            raise ConfigError(f"max_steps={max_steps}: expected at least 1")
+            cfg = with_n_objects(cfg, _count("n_objects", n_objects, 1, 20))
+        self.n_poses = None if n_poses is None else _count("n_poses", n_poses, 1, 100_000)
+        self.max_steps = (cfg.agent.max_steps if max_steps is None
+                          else _count("max_steps", max_steps, 1, 100_000))
         self.config, self.reward, self.render_mode = cfg, reward, render_mode
         self._world = World(cfg.world)
         kin = self._world.kinematics
@@ -126,7 +148,15 @@ class JointAttentionEnv(gym.Env):
         return self.config.agent.vf_gain_rad_per_px * np.array([kin.width_px, kin.height_px]) / 2
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
-        """Start an episode: a new scene, the head looking at the caregiver's face."""
+        """Start an episode: a new scene, the head looking at the caregiver's face.
+
+        ``seed``: None or an integer >= 0. ``options``: none are taken (None or {}).
+        """
+        if seed is not None:
+            _count("seed", seed, 0, 2**63 - 1, ArgumentError)
+        if options:
+            raise ArgumentError(f"options={options!r}: expected None; this environment takes "
+                                "no reset options")
         super().reset(seed=seed)
         world, rng = self.config.world, self.np_random
         if seed is not None or self._caregiver is None:
@@ -151,7 +181,7 @@ class JointAttentionEnv(gym.Env):
         if trial is None or trial.end is not None:
             raise gym.error.ResetNeeded("no episode is running; expected reset() before step()")
         high = self.max_step_rad
-        trial.step(np.clip(np.asarray(action, dtype=float), -high, high))
+        trial.step(np.clip(_action(action), -high, high))
         obs, info = self._look()
         terminated = trial.end is not None and trial.end != END_STEPS
         truncated = trial.end == END_STEPS
