@@ -132,7 +132,13 @@ def _label(job: CellJob) -> str:
 
 
 def _done(path: Path) -> bool:
-    """Whether ``path`` holds a finished cell; a broken one is moved aside with a warning."""
+    """Whether ``path`` holds a finished cell; a broken one is moved aside with a warning.
+
+    Temporary files of the cell that a killed run left (see :func:`~.._files.atomic_path`) are
+    removed.
+    """
+    for stale in path.parent.glob(f".{path.name}.*.tmp"):
+        stale.unlink(missing_ok=True)
     if not path.exists() and not path.is_symlink():
         return False
     try:

@@ -1,0 +1,110 @@
+"""Signals during a 2-worker run: no process is left behind, finished cells are kept."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+CONFIG = """
+[experiment]
+n_steps = 200000
+n_seeds = 3
+bin_steps = 50000
+n_ceiling_trials = 50
+[[experiment.conditions]]
+name = "n1"
+n_objects = 1
+[[experiment.conditions]]
+name = "n3"
+n_objects = 3
+"""
+
+
+def _children(pid: int) -> set[int]:
+    """The processes whose parent is ``pid`` (from /proc)."""
+    kids = set()
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            kids.add(int(stat.parent.name))
+    return kids
+
+
+def _alive(pid: int) -> bool:
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+def _reproduce(tmp: Path, out: str) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "jointattention", "reproduce", "--config",
+                             str(tmp / "c.toml"), "--out", str(tmp / out), "--workers", "2"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory) -> Path:
+    """An uninterrupted run of the configuration."""
+    tmp = tmp_path_factory.mktemp("signals")
+    (tmp / "c.toml").write_text(CONFIG)
+    proc = _reproduce(tmp, "whole")
+    assert proc.wait(600) == 0, proc.stderr.read()
+    return tmp
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize(("signum", "status"), [(signal.SIGTERM, 143), (signal.SIGINT, 130),
+                                                (signal.SIGKILL, -9)])
+def test_a_signal_leaves_no_worker_and_a_rerun_is_identical(reference, signum, status):
+    """After the signal no worker is left; re-running ends with cells equal byte for byte."""
+    tmp, out = reference, f"cut-{signum}"
+    proc = _reproduce(tmp, out)
+    workers: set[int] = set()
+    deadline = time.monotonic() + 300
+    while not any((tmp / out / "cells").glob("*.npz")) and time.monotonic() < deadline:
+        workers |= _children(proc.pid)
+        time.sleep(0.05)
+    workers |= _children(proc.pid)
+    assert workers, "the run started no worker processes"
+    proc.send_signal(signum)
+    assert proc.wait(60) == status, proc.stderr.read()
+    if signum != signal.SIGKILL:
+        assert "Traceback" not in proc.stderr.read()
+    deadline = time.monotonic() + 10  # the kernel ends orphans of SIGKILL promptly
+    while any(_alive(w) for w in workers) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not any(_alive(w) for w in workers), "a worker outlived its parent"
+    kept = sorted(p.name for p in (tmp / out / "cells").glob("*.npz"))
+    assert 1 <= len(kept) < 6
+    assert _reproduce(tmp, out).wait(600) == 0
+    whole = sorted((tmp / "whole" / "cells").glob("*.npz"))
+    assert [p.name for p in whole] == sorted(p.name for p in (tmp / out / "cells").glob("*"))
+    for p in whole:
+        assert (tmp / out / "cells" / p.name).read_bytes() == p.read_bytes(), p.name
+    for name in ("table.csv", "claims.csv", "trials.csv"):
+        assert (tmp / out / name).read_bytes() == (tmp / "whole" / name).read_bytes(), name
+
+
+def test_the_fast_world_imports_nothing_of_opengl(tmp_path):
+    """A fast-mode run with an OpenGL backend that cannot start imports neither MuJoCo nor GL."""
+    (tmp_path / "c.toml").write_text(CONFIG.replace("200000", "2000").replace("n_seeds = 3",
+                                                                              "n_seeds = 1"))
+    code = ("import sys\nfrom jointattention.cli import main\n"
+            "assert main(['reproduce', '--config', 'c.toml', '--out', 'r', '--workers', '1']) "
+            "== 0\nprint([m for m in sys.modules if m.split('.')[0] in ('mujoco', 'OpenGL')])")
+    env = {**os.environ, "MUJOCO_GL": "osmesa", "PYOPENGL_PLATFORM": "osmesa"}
+    proc = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip().splitlines()[-1] == "[]"
