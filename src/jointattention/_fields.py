@@ -240,7 +240,8 @@ def merge(section: Any, changes: Mapping, prefix: str = "") -> Any:
     fields = {f.name: f for f in dataclasses.fields(cls)}
     unknown = sorted(set(changes) - set(fields))
     if unknown:
-        raise ConfigError(f"{prefix}{unknown[0]}: unknown setting; expected one of "
+        key = unknown[0] if _NAME.fullmatch(str(unknown[0])) else repr(unknown[0])
+        raise ConfigError(f"{prefix}{key}: unknown setting; expected one of "
                           f"{', '.join(sorted(fields))}")
     hints = typing.get_type_hints(cls)
     kwargs = {}

@@ -73,7 +73,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args.func(args)
     except JointAttentionError as err:
-        print(f"jointattention: error: {err}", file=sys.stderr)
+        message = str(err).replace("\n", "\\n")  # one line, whatever a name held
+        print(f"jointattention: error: {message}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as err:
         terminated = isinstance(err, _Terminated)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import tomllib
 from collections.abc import Mapping
@@ -175,10 +176,16 @@ def preset_names() -> list[str]:
     return sorted(p.name.removesuffix(".toml") for p in files if p.name.endswith(".toml"))
 
 
-def load_config(source: str | Path | None = None) -> Config:
-    """A configuration from a preset name, a TOML file path, or the defaults if ``None``."""
+def load_config(source: str | Path | Mapping | None = None) -> Config:
+    """A configuration from a preset name, a TOML file path, a mapping as TOML gives, or the
+    defaults if ``None``.
+
+    Anything wrong is one :class:`~jointattention.errors.ConfigError` naming the setting.
+    """
     if source is None:
         return Config()
+    if isinstance(source, Mapping):
+        return from_mapping(Config, upgrade(copy.deepcopy(dict(source))))
     path = Path(source)
     if path.suffix != ".toml":
         if str(source) not in preset_names():
