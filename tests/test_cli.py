@@ -51,7 +51,7 @@ def test_datasets_make_then_check(tmp_path, needs_gl, capsys):
         (["datasets", "check", "missing.npz"], "missing.npz: cannot read it (no such file"),
         (["render", "--config", "nonexistent"], "nonexistent: no such preset"),
         (["datasets", "make", "--n", "0", "x.npz"], "--n: 0: expected an integer in [1, 100000]"),
-        (["sweep", "nospec.toml"], "nospec.toml: cannot read it (no such file or directory); expected a sweep spec"),
+        (["sweep", "nospec.toml"], "nospec.toml: cannot read it (no such file or directory)"),
         (["report", "norun"], "norun: not a run folder"),
     ],
 )

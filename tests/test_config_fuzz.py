@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from jointattention.agent.bootstrap import BootstrapOptions
 from jointattention.agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from jointattention.agent.memory import MemoryOptions
-from jointattention.config import Config, ConditionConfig, load_config, to_toml
+from jointattention.config import ConditionConfig, Config, load_config, to_toml
 from jointattention.errors import ConfigError
 
 

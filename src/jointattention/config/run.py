@@ -177,10 +177,10 @@ def preset_names() -> list[str]:
 
 
 def load_config(source: str | Path | Mapping | None = None) -> Config:
-    """A configuration from a preset name, a TOML file path, a mapping as TOML gives, or the
-    defaults if ``None``.
+    """A configuration from a preset, a TOML file, a mapping as TOML gives, or the defaults.
 
-    Anything wrong is one :class:`~jointattention.errors.ConfigError` naming the setting.
+    ``None`` gives the defaults. Anything wrong is one
+    :class:`~jointattention.errors.ConfigError` naming the setting.
     """
     if source is None:
         return Config()
