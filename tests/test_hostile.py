@@ -11,8 +11,10 @@ from __future__ import annotations
 
 import contextlib
 import io
+import logging
 import os
 import signal
+import sys
 import traceback
 from collections.abc import Iterator
 from pathlib import Path
@@ -22,7 +24,7 @@ import pytest
 from hostile import cases
 from hostile.cases import CASES, Case, classify_api, classify_cli, run_api, snapshot
 
-TIMEOUT_S = float(os.environ.get("HOSTILE_TIMEOUT", "60"))  # per in-process case
+TIMEOUT_S = float(os.environ.get("HOSTILE_TIMEOUT", "30"))  # per in-process case
 REPO_SRC = Path(__file__).resolve().parents[1] / "src"
 
 
@@ -76,6 +78,11 @@ def _run_cli(argv: list[str]) -> tuple[int, bool]:
     """Run the CLI in-process; (exit status, timed out). Output goes to the captured fds."""
     from jointattention.cli import main
 
+    # The CLI's warning handler keeps the stderr of the first main() in this process, as a
+    # fresh process's would keep its own: point it at this case's captured stderr.
+    for handler in logging.getLogger("jointattention").handlers:
+        if type(handler) is logging.StreamHandler:
+            handler.stream = sys.stderr  # not setStream: it flushes the old, closed stream
     try:
         with time_limit(TIMEOUT_S):
             return main(argv), False

@@ -51,14 +51,14 @@ def _run(run: CellFunction, job: CellJob) -> tuple[CellJob, dict[str, np.ndarray
     return job, run(job.config, job.condition, job.seed_index)
 
 
-def _end_with_parent() -> None:
+def _end_with_parent(parent_pid: int) -> None:
     """In a worker: end when the parent process ends, however it ends; leave signals to it."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the parent
     signal.signal(signal.SIGTERM, signal.SIG_DFL)  # decides, and ends the workers itself
     if sys.platform.startswith("linux"):  # even after SIGKILL of the parent
         libc = ctypes.CDLL(None, use_errno=True)
         libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL)
-        if os.getppid() == 1:  # the parent died before prctl took hold
+        if os.getppid() != parent_pid:  # the parent died before prctl took hold
             os._exit(1)
 
 
@@ -80,7 +80,8 @@ def _local(run: CellFunction, jobs: Sequence[CellJob], workers: int) -> Iterator
     if workers <= 1:
         yield from (_run(run, j) for j in jobs)
         return
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_end_with_parent)
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_end_with_parent,
+                               initargs=(os.getpid(),))
     futures = [pool.submit(_run, run, j) for j in jobs]
     try:
         for f in as_completed(futures):
