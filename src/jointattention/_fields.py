@@ -8,8 +8,10 @@ in a :class:`Registry`; in TOML it is a table whose ``kind`` names the kind.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 import math
+import numbers
 import re
 import types
 import typing
@@ -18,8 +20,8 @@ from typing import Any
 
 from .errors import ConfigError
 
-__all__ = ["FrozenTable", "Registry", "Section", "check_name", "from_mapping", "merge",
-           "merge_tagged", "param", "to_mapping"]
+__all__ = ["FrozenTable", "Registry", "Section", "check_int", "check_name", "from_mapping",
+           "merge", "merge_tagged", "param", "short_repr", "to_mapping"]
 
 # Names become file and folder names: letters, digits and a few marks, never a path.
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.,=+-]{0,79}")
@@ -157,12 +159,55 @@ def _check_value(name: str, value: Any, meta: Mapping) -> None:
             raise ConfigError(f"{name} = {v!r}: expected {_expected_range(lo, hi)}")
 
 
+def check_int(name: str, value: Any, lo: int, hi: int, error: type = ConfigError) -> int:
+    """``value`` as an int in [lo, hi], else one ``error`` naming the argument ``name``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) \
+            or not lo <= value <= hi:
+        raise error(f"{name}={short_repr(value)}: expected an integer in [{lo}, {hi}]")
+    return int(value)
+
+
+def short_repr(value: Any) -> str:
+    """``repr(value)`` on one line, cut to 80 characters."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+_SCALARS = {int: numbers.Integral, float: numbers.Real, str: str, bool: bool}
+
+
+@functools.cache
+def _scalar_types(cls: type) -> dict[str, type]:
+    """Field name -> the Python type of its values, for the scalar fields of section ``cls``."""
+    out = {}
+    for name, hint in typing.get_type_hints(cls).items():
+        if typing.get_origin(hint) in (typing.Union, types.UnionType):
+            hint = next(a for a in typing.get_args(hint) if a is not type(None))
+        args = typing.get_args(hint)
+        if typing.get_origin(hint) is tuple and args and args[-1] is not Ellipsis:
+            hint = args[0]
+        if hint in _SCALARS:
+            out[name] = hint
+    return out
+
+
+def _check_type(name: str, value: Any, hint: type) -> None:
+    for v in value if isinstance(value, tuple) else (value,):
+        wrong = v is not None and (not isinstance(v, _SCALARS[hint])
+                                   or (hint is not bool and isinstance(v, bool)))
+        if wrong:
+            raise ConfigError(f"{name} = {short_repr(v)}: expected {hint.__name__}")
+
+
 class Section:
     """Base of configuration sections: every field is checked when a section is built."""
 
     def __post_init__(self) -> None:
+        scalar_types = _scalar_types(type(self))
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
+            if f.name in scalar_types:
+                _check_type(f.name, value, scalar_types[f.name])
             if not dataclasses.is_dataclass(value) and not (
                     isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0])):
                 _check_value(f.name, value, f.metadata)

@@ -28,17 +28,20 @@ def check_writable(path: str | Path, kind: str = "folder", what: str = "--out") 
     path = Path(path)
     if not str(path).strip():
         raise FileError(f"{what}: an empty path; expected a {kind}")
-    if path.exists():
-        if kind == "folder" and not path.is_dir():
+    if len(path.name.encode()) > 255 or "\0" in str(path):
+        raise FileError(f"{what} {str(path)[:60]}...: not a possible file name; expected a "
+                        f"{kind} name of at most 255 bytes without NUL")
+    if os.path.lexists(path):
+        if kind == "folder" and not os.path.isdir(path):
             raise FileError(f"{what} {path}: a file; expected a folder")
-        if kind == "file" and path.is_dir():
+        if kind == "file" and os.path.isdir(path):
             raise FileError(f"{what} {path}: a folder; expected a file name")
-        place = path if path.is_dir() else path.parent
+        place = path if os.path.isdir(path) else path.parent
     else:
         place = path.parent
-        while not place.exists():
+        while not os.path.lexists(place):
             place = place.parent
-        if not place.is_dir():
+        if not os.path.isdir(place):
             raise FileError(f"{what} {path}: {place} is a file; expected a folder on the way")
     if not os.access(place, os.W_OK | os.X_OK):
         raise FileError(f"{what} {path}: {place} cannot be written (permission denied); "

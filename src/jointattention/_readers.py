@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import json
+import os
 import tomllib
 import warnings
 import zipfile
@@ -16,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._fields import short_repr
 from .errors import FileError
 
 __all__ = ["MAX_IMAGE_PIXELS", "MAX_TEXT_BYTES", "read_bytes", "read_image", "read_json",
@@ -26,7 +28,7 @@ MAX_IMAGE_PIXELS = 100_000_000  # a 100-megapixel photograph; larger headers are
 
 
 def _open_error(path: Path, err: OSError, what: str) -> FileError:
-    reason = "is a folder" if path.is_dir() else (err.strerror or str(err)).lower()
+    reason = "is a folder" if os.path.isdir(path) else (err.strerror or str(err)).lower()
     return FileError(f"{path}: cannot read it ({reason}); expected {what}")
 
 
@@ -35,7 +37,7 @@ def read_bytes(path: str | Path, what: str, max_bytes: int) -> bytes:
     path = Path(path)
     try:
         size = path.stat().st_size
-        if path.is_dir():
+        if os.path.isdir(path):
             raise IsADirectoryError(21, "is a folder")
         if size > max_bytes:
             raise FileError(f"{path}: {size:,} bytes; expected {what} of at most "
@@ -128,15 +130,25 @@ def read_image(path: str | Path) -> np.ndarray:
     path = Path(path)
     what = "a PNG, JPEG, BMP or TIFF image"
     data = read_bytes(path, what, 2**30)
-    try:
+    try:  # Pillow reads the header, and checks the file whole (CRCs, length) without decoding
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-            with Image.open(path) as im:  # reads the header only
+            with Image.open(path) as im:
                 w, h = im.size
+                if w * h == 0:
+                    raise ValueError(f"its header claims {w}x{h} pixels")
+                if w * h <= MAX_IMAGE_PIXELS:
+                    im.verify()
     except Image.DecompressionBombError:
         w, h = MAX_IMAGE_PIXELS, 2  # Pillow refused it as too large: so do we
-    except Exception:  # Pillow raises many kinds; OpenCV may still read it
-        w, h = 0, 0
+    except Image.UnidentifiedImageError:
+        if data.startswith((b"\x89PNG\r\n\x1a\n", b"\xff\xd8\xff")):  # PNG or JPEG, broken
+            raise FileError(f"{path}: a corrupt image (its header is broken); expected {what}"
+                            ) from None
+        w, h = 0, 0  # a format Pillow does not know: OpenCV may still read it
+    except Exception as err:  # Pillow raises many kinds for a corrupt file
+        raise FileError(f"{path}: a corrupt image ({short_repr(str(err))}); expected {what}"
+                        ) from None
     if w * h > MAX_IMAGE_PIXELS:
         raise FileError(f"{path}: its header claims {w}x{h} pixels; expected {what} of at "
                         f"most {MAX_IMAGE_PIXELS:,} pixels")

@@ -17,7 +17,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
     from ..config import load_config
     from ..experiment.reproduce import reproduce
 
-    config = load_config(args.config or args.preset)
+    config = load_config(args.preset if args.config is None else args.config)
     n_workers = workers(args)
     exp = config.experiment
     with CellBar(len(exp.conditions) * exp.n_seeds) as bar:

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from .._files import check_writable, write_text
+from ..world import _gl
 from ._common import add_config, int_in
 
 __all__ = ["add_commands"]
@@ -20,6 +21,7 @@ def _cmd_parity(args: argparse.Namespace) -> None:
     config = load_config(args.config)
     if args.out:
         check_writable(args.out, "file")
+    _gl.mujoco()  # rendering: refused before the progress bar if OpenGL cannot start
     results = {}
     for n in args.objects:
         with tqdm(total=args.cases, desc=f"{n} objects", unit="case") as bar:
@@ -47,11 +49,14 @@ def _cmd_gaze(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
     from ..config import condition_named, load_config
+    from ..experiment.cells import datasets_of
     from ..figures.learned import write_gaze_figures
 
-    config = load_config(args.config or args.preset)
-    condition_named(config, args.condition)  # before the progress bar
+    config = load_config(args.preset if args.config is None else args.config)
+    condition_named(config, args.condition)  # all checked before the progress bar
     check_writable(args.out, "folder")
+    datasets_of(config)
+    _gl.mujoco()  # Fig. 7 is rendered: refused before learning if OpenGL cannot start
     with tqdm(total=config.experiment.n_steps, desc="learning", unit="step") as bar:
         numbers = write_gaze_figures(config, args.condition, args.seed_index, Path(args.out),
                                      progress=lambda t: bar.update(t - bar.n))

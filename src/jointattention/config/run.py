@@ -186,6 +186,9 @@ def load_config(source: str | Path | Mapping | None = None) -> Config:
         return Config()
     if isinstance(source, Mapping):
         return from_mapping(Config, upgrade(copy.deepcopy(dict(source))))
+    if not isinstance(source, (str, Path)):
+        raise ConfigError(f"config source {source!r}: expected a preset name, a .toml file, a "
+                          "mapping or None")
     path = Path(source)
     if path.suffix != ".toml":
         if str(source) not in preset_names():

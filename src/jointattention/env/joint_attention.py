@@ -12,6 +12,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from .._fields import check_int, short_repr
 from ..config import Config, load_config, with_n_objects
 from ..errors import ArgumentError, ConfigError
 from ..experiment.cells import evaluator
@@ -26,23 +27,15 @@ REWARDS = ("external", "intrinsic")
 DETECTION_FIELDS = ("centre_px", "colour_area_px", "edge", "motion")
 
 
-def _count(name: str, value, lo: int, hi: int, error: type = ConfigError) -> int:
-    """``value`` as an int in [lo, hi], else one error naming the argument."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) \
-            or not lo <= value <= hi:
-        raise error(f"{name}={value!r}: expected an integer in [{lo}, {hi}]")
-    return int(value)
-
-
 def _action(action) -> np.ndarray:
     """``action`` as 2 finite floats (pan, tilt), else one error naming it."""
     try:
-        a = np.asarray(action, dtype=float)
+        a = None if np.iscomplexobj(action) else np.asarray(action, dtype=float)
     except (TypeError, ValueError):
         a = None
     if a is None or a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise ArgumentError(f"action={action!r}: expected 2 finite numbers (pan, tilt) in "
-                            "radians")
+        raise ArgumentError(f"action={short_repr(action)}: expected 2 finite numbers (pan, tilt) "
+                            "in radians")
     return a
 
 
@@ -112,7 +105,10 @@ class JointAttentionEnv(gym.Env):
 
     def __init__(self, config: Config | str | Path | None = None, *, n_objects: int | None = None,
                  n_poses: int | None = None, reward: str = "external",
-                 max_steps: int | None = None, render_mode: str | None = None):
+                 max_steps: int | None = None, render_mode: str | None = None, **unknown):
+        if unknown:
+            raise ConfigError(f"{sorted(unknown)[0]}=...: unknown argument; expected config, "
+                              "n_objects, n_poses, reward, max_steps, render_mode")
         if not isinstance(config, (Config, str, Path, type(None))):
             raise ConfigError(f"config={config!r}: expected a Config, a preset name, a TOML "
                               "file or None")
@@ -122,10 +118,10 @@ class JointAttentionEnv(gym.Env):
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ConfigError(f"render_mode={render_mode!r}: expected None or 'rgb_array'")
         if n_objects is not None:
-            cfg = with_n_objects(cfg, _count("n_objects", n_objects, 1, 20))
-        self.n_poses = None if n_poses is None else _count("n_poses", n_poses, 1, 100_000)
+            cfg = with_n_objects(cfg, check_int("n_objects", n_objects, 1, 20))
+        self.n_poses = None if n_poses is None else check_int("n_poses", n_poses, 1, 100_000)
         self.max_steps = (cfg.agent.max_steps if max_steps is None
-                          else _count("max_steps", max_steps, 1, 100_000))
+                          else check_int("max_steps", max_steps, 1, 100_000))
         self.config, self.reward, self.render_mode = cfg, reward, render_mode
         self._world = World(cfg.world)
         kin = self._world.kinematics
@@ -153,7 +149,7 @@ class JointAttentionEnv(gym.Env):
         ``seed``: None or an integer >= 0. ``options``: none are taken (None or {}).
         """
         if seed is not None:
-            _count("seed", seed, 0, 2**63 - 1, ArgumentError)
+            check_int("seed", seed, 0, 2**63 - 1, ArgumentError)
         if options:
             raise ArgumentError(f"options={options!r}: expected None; this environment takes "
                                 "no reset options")

@@ -12,6 +12,7 @@ from functools import partial
 
 import numpy as np
 
+from .._fields import check_int
 from ..agent.attention import attended_object
 from ..agent.protocol import Agent, Body
 from ..config import ConditionConfig, Config, model_options
@@ -95,6 +96,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     only). ``experiment.engine`` chooses the compiled engine or the step-by-step loop; both
     give the same records.
     """
+    check_int("seed_index", seed_index, 0, 2**31 - 1)
     ds = datasets_of(config)
     agent = make_agent(config, condition, seed_index, ds)
     rngs = stream(config.seed, "trials", seed_index), stream(config.seed, "shuffle", seed_index)
@@ -177,7 +179,13 @@ def _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached
 
 
 def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None) -> float:
-    """Success of the oracle gaze-line follower over ``n_trials`` trials in the same world."""
+    """Success of the oracle gaze-line follower over ``n_trials`` trials in the same world.
+
+    ``n_trials``: 1 to 10^7 (default: ``experiment.n_ceiling_trials``).
+    """
+    check_int("n_objects", n_objects, 1, 20)
+    if n_trials is not None:
+        check_int("n_trials", n_trials, 1, 10**7)
     ds = datasets_of(config)
     kin = HeadKinematics.from_config(config.world)
     rng = stream(config.seed, "ceiling", n_objects)

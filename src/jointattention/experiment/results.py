@@ -61,6 +61,7 @@ def check_run_dir(out: Path, config: Config) -> None:
             raise JointAttentionError(f"{out}: not empty and not a run folder; expected a new "
                                       "or empty folder")
         return
+    check_writable(out / "cells", "folder", "the cells' folder")
     if load_config(cfg_file) != config:
         raise JointAttentionError(
             f"{out}: holds results of another configuration; expected a new --out folder "

@@ -12,7 +12,7 @@ import time
 from pathlib import Path
 
 from .. import __version__
-from .._files import write_text
+from .._files import check_writable, write_text
 from .._readers import read_bytes, read_json, read_text
 from ..analysis.tables import read_csv
 from ..errors import JointAttentionError
@@ -76,7 +76,7 @@ def write_report(run: str | Path, out: str | Path | None = None) -> Path:
     if not (run / "config.toml").is_file() and not points:
         raise JointAttentionError(f"{run}: not a run folder (no config.toml); expected a folder "
                                   "written by `jointattention reproduce` or `sweep`")
-    out = run / "report.html" if out is None else Path(out)
+    out = check_writable(run / "report.html" if out is None else Path(out), "file", "report")
     parts = [f"<h1>jointattention run: {html.escape(run.resolve().name)}</h1>",
              f"<p>Report made {time.strftime('%Y-%m-%d %H:%M')} by jointattention "
              f"{__version__} from <code>{html.escape(str(run))}</code>.</p>"]

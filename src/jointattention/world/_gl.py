@@ -13,6 +13,8 @@ import os
 import sys
 from types import ModuleType
 
+from ..errors import RenderingUnavailable
+
 __all__ = ["choose_backend", "mujoco"]
 
 
@@ -30,9 +32,20 @@ def choose_backend() -> str:
 
 
 def mujoco() -> ModuleType:
-    """The ``mujoco`` module, imported after choosing its backend if nobody imported it yet."""
+    """The ``mujoco`` module, imported after choosing its backend if nobody imported it yet.
+
+    MuJoCo starts its OpenGL backend when imported: a backend that cannot start (OSMesa not
+    installed, an unknown ``MUJOCO_GL``) is one :class:`~..errors.RenderingUnavailable` line.
+    """
     if "mujoco" not in sys.modules:
         choose_backend()
-    import mujoco as module
-
+    try:
+        import mujoco as module
+    except Exception as err:  # the GL stack raises many kinds (AttributeError, RuntimeError...)
+        for name in [m for m in sys.modules if m.split(".")[0] in ("mujoco", "OpenGL")]:
+            del sys.modules[name]  # half-imported: the next attempt starts again
+        raise RenderingUnavailable(
+            f"cannot import MuJoCo with MUJOCO_GL={os.environ.get('MUJOCO_GL')!r} "
+            f"({type(err).__name__}: {' '.join(str(err).split())}); expected egl (libegl1) or "
+            "osmesa (libosmesa6) installed; the fast world needs no OpenGL") from None
     return module
