@@ -8,24 +8,18 @@ in a :class:`Registry`; in TOML it is a table whose ``kind`` names the kind.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import importlib
-import math
-import numbers
-import re
 import types
 import typing
 from collections.abc import Iterator, Mapping
 from typing import Any
 
+from ._checks import MAX_INT, NAME, check_type, check_value, scalar_types
 from .errors import ConfigError
 
-__all__ = ["FrozenTable", "Registry", "Section", "check_int", "check_name", "from_mapping",
-           "merge", "merge_tagged", "param", "short_repr", "to_mapping"]
+__all__ = ["FrozenTable", "Registry", "Section", "from_mapping", "merge", "merge_tagged", "param",
+           "to_mapping"]
 
-# Names become file and folder names: letters, digits and a few marks, never a path.
-_NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.,=+-]{0,79}")
-_MAX_INT = 2**63 - 1  # the compiled engine's integers; TOML's own limit too
 
 
 def param(
@@ -130,87 +124,18 @@ class FrozenTable(Mapping):
         return {k: v.to_dict() if isinstance(v, FrozenTable) else v for k, v in self.items()}
 
 
-def check_name(name: str, where: str) -> None:
-    """Refuse a name that is not a safe file name (it names cells, folders and figures)."""
-    if not isinstance(name, str) or not _NAME.fullmatch(name):
-        raise ConfigError(f"{where} = {name!r}: expected a name of 1-80 letters, digits and "
-                          "_ . , = + - that starts with a letter or digit")
-
-
-def _expected_range(lo: float | None, hi: float | None) -> str:
-    if hi is None:
-        return f"a value of at least {lo}"
-    return f"a value of at most {hi}" if lo is None else f"a value in [{lo}, {hi}]"
-
-
-def _check_value(name: str, value: Any, meta: Mapping) -> None:
-    lo, hi, choices = meta.get("lo"), meta.get("hi"), meta.get("choices")
-    for v in value if isinstance(value, tuple) else (value,):
-        if v is None or (isinstance(v, str) and choices is None):
-            continue
-        if choices is not None:
-            if v not in choices:
-                raise ConfigError(f"{name} = {v!r}: expected one of "
-                                  f"{', '.join(map(repr, choices))}")
-            continue
-        if isinstance(v, float) and not math.isfinite(v):
-            raise ConfigError(f"{name} = {v!r}: expected a finite number")
-        if (lo is not None and v < lo) or (hi is not None and v > hi):
-            raise ConfigError(f"{name} = {v!r}: expected {_expected_range(lo, hi)}")
-
-
-def check_int(name: str, value: Any, lo: int, hi: int, error: type = ConfigError) -> int:
-    """``value`` as an int in [lo, hi], else one ``error`` naming the argument ``name``."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) \
-            or not lo <= value <= hi:
-        raise error(f"{name}={short_repr(value)}: expected an integer in [{lo}, {hi}]")
-    return int(value)
-
-
-def short_repr(value: Any) -> str:
-    """``repr(value)`` on one line, cut to 80 characters."""
-    text = " ".join(repr(value).split())
-    return text if len(text) <= 80 else text[:77] + "..."
-
-
-_SCALARS = {int: numbers.Integral, float: numbers.Real, str: str, bool: bool}
-
-
-@functools.cache
-def _scalar_types(cls: type) -> dict[str, type]:
-    """Field name -> the Python type of its values, for the scalar fields of section ``cls``."""
-    out = {}
-    for name, hint in typing.get_type_hints(cls).items():
-        if typing.get_origin(hint) in (typing.Union, types.UnionType):
-            hint = next(a for a in typing.get_args(hint) if a is not type(None))
-        args = typing.get_args(hint)
-        if typing.get_origin(hint) is tuple and args and args[-1] is not Ellipsis:
-            hint = args[0]
-        if hint in _SCALARS:
-            out[name] = hint
-    return out
-
-
-def _check_type(name: str, value: Any, hint: type) -> None:
-    for v in value if isinstance(value, tuple) else (value,):
-        wrong = v is not None and (not isinstance(v, _SCALARS[hint])
-                                   or (hint is not bool and isinstance(v, bool)))
-        if wrong:
-            raise ConfigError(f"{name} = {short_repr(v)}: expected {hint.__name__}")
-
-
 class Section:
     """Base of configuration sections: every field is checked when a section is built."""
 
     def __post_init__(self) -> None:
-        scalar_types = _scalar_types(type(self))
+        types_of = scalar_types(type(self))
         for f in dataclasses.fields(self):
             value = getattr(self, f.name)
-            if f.name in scalar_types:
-                _check_type(f.name, value, scalar_types[f.name])
+            if f.name in types_of:
+                check_type(f.name, value, types_of[f.name])
             if not dataclasses.is_dataclass(value) and not (
                     isinstance(value, tuple) and value and dataclasses.is_dataclass(value[0])):
-                _check_value(f.name, value, f.metadata)
+                check_value(f.name, value, f.metadata)
 
 
 def _coerce(name: str, value: Any, hint: Any) -> Any:
@@ -239,8 +164,8 @@ def _coerce(name: str, value: Any, hint: Any) -> Any:
     if hint is float and isinstance(value, (int, float)) and not isinstance(value, bool):
         return float(value)
     if hint is int and isinstance(value, int) and not isinstance(value, bool):
-        if abs(value) > _MAX_INT:
-            raise ConfigError(f"{name} = {value}: expected an integer of at most {_MAX_INT}")
+        if abs(value) > MAX_INT:
+            raise ConfigError(f"{name} = {value}: expected an integer of at most {MAX_INT}")
         return value
     if hint is bool and isinstance(value, bool):
         return value
@@ -285,7 +210,7 @@ def merge(section: Any, changes: Mapping, prefix: str = "") -> Any:
     fields = {f.name: f for f in dataclasses.fields(cls)}
     unknown = sorted(set(changes) - set(fields))
     if unknown:
-        key = unknown[0] if _NAME.fullmatch(str(unknown[0])) else repr(unknown[0])
+        key = unknown[0] if NAME.fullmatch(str(unknown[0])) else repr(unknown[0])
         raise ConfigError(f"{prefix}{key}: unknown setting; expected one of "
                           f"{', '.join(sorted(fields))}")
     hints = typing.get_type_hints(cls)

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ._fields import short_repr
+from ._checks import short_repr
 from .errors import FileError
 
 __all__ = ["MAX_IMAGE_PIXELS", "MAX_TEXT_BYTES", "read_bytes", "read_image", "read_json",

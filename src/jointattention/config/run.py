@@ -12,15 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .._fields import (
-    FrozenTable,
-    Section,
-    check_name,
-    from_mapping,
-    merge_tagged,
-    param,
-    to_mapping,
-)
+from .._checks import check_name
+from .._fields import FrozenTable, Section, from_mapping, merge_tagged, param, to_mapping
 from .._readers import read_toml
 from .._toml import dumps
 from ..agent.models import MODELS, ModelOptions

@@ -12,7 +12,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from .._fields import check_int, short_repr
+from .._checks import check_int, short_repr
 from ..config import Config, load_config, with_n_objects
 from ..errors import ArgumentError, ConfigError
 from ..experiment.cells import evaluator

@@ -12,7 +12,7 @@ from functools import partial
 
 import numpy as np
 
-from .._fields import check_int
+from .._checks import check_int
 from ..agent.attention import attended_object
 from ..agent.protocol import Agent, Body
 from ..config import ConditionConfig, Config, model_options
