@@ -1,4 +1,4 @@
-"""The bootstrap learning agent run through the Gymnasium environment ``JointAttention-v0``.
+"""The bootstrap learning agent run through the Gymnasium environment ``JointAttention-v1``.
 
 The agent knows only what the environment gives it: the spaces (image size, joint limits,
 face-window size), the face window, the head angle and the detector's report in ``info``.
@@ -30,7 +30,7 @@ from jointattention.rng import stream
 def run_through_env(config, n_objects: int, seed: int,
                     n_poses: int | None) -> tuple[np.ndarray, np.ndarray]:
     """Learn for ``experiment.n_steps`` steps; returns (learning time, success) per trial."""
-    env = FaceWindowObservation(gym.make("JointAttention-v0", config=config,
+    env = FaceWindowObservation(gym.make("JointAttention-v1", config=config,
                                          n_objects=n_objects, n_poses=n_poses))
     spaces = env.observation_space
     h, w, _ = spaces["image"].shape

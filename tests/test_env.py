@@ -108,9 +108,9 @@ def test_face_window_is_kept_for_the_episode():
 
 
 @pytest.mark.parametrize(("kwargs", "match"), [
-    ({"reward": "extrinsic"}, "expected one of external, intrinsic"),
+    ({"reward": "extrinsic"}, "expected one of 'external', 'intrinsic'"),
     ({"n_objects": 0}, r"expected an integer in \[1, 20\]"),
-    ({"render_mode": "human"}, "expected None or 'rgb_array'"),
+    ({"render_mode": "human"}, "expected one of None, 'rgb_array'"),
     ({"config": "no-such-preset"}, "no such preset"),
 ])
 def test_bad_arguments_are_refused(kwargs, match):

@@ -64,7 +64,7 @@ def run_world_benchmarks(
 
 
 def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
-    """Steps per second of ``JointAttention-v0`` under random actions, resets included.
+    """Steps per second of ``JointAttention-v1`` under random actions, resets included.
 
     Each step renders, detects and evaluates; empty if Gymnasium is not installed.
     """
@@ -82,7 +82,7 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
             env.reset()
     rate = n_steps / (time.perf_counter() - start)
     env.close()
-    return [("JointAttention-v0 steps, random actions (rendered)", rate, "steps/s")]
+    return [("JointAttention-v1 steps, random actions (rendered)", rate, "steps/s")]
 
 
 def _cell_rate(config, condition, **experiment) -> float:

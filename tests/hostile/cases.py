@@ -1261,7 +1261,7 @@ for _tag, _kwargs, _name in (
     ("gym-make-n-objects-string", "n_objects='five'", "n_objects"),
 ):
     add(api_case(f"env-{_tag}", "env-args",
-                 f"{GYM}gymnasium.make('JointAttention-v0', {_kwargs})", names=_name))
+                 f"{GYM}gymnasium.make('JointAttention-v1', {_kwargs})", names=_name))
 for _tag, _action in (
     ("shape-3", "np.zeros(3)"),
     ("shape-2x2", "np.zeros((2, 2))"),
@@ -1279,7 +1279,7 @@ for _tag, _action in (
                  f"{ENV}env = JointAttentionEnv()\nenv.reset(seed=0)\nenv.step({_action})",
                  names="action"))
 add(api_case("env-gym-step-action-nan", "env-args",
-             f"{GYM}import numpy as np\nenv = gymnasium.make('JointAttention-v0')\n"
+             f"{GYM}import numpy as np\nenv = gymnasium.make('JointAttention-v1')\n"
              "env.reset(seed=0)\nenv.step(np.array([np.nan, 0.0], dtype=np.float32))",
              names="action"))
 add(api_case("env-reset-options-bogus", "env-args",

@@ -1,9 +1,19 @@
-"""The Gymnasium adapter: ``JointAttention-v0``, registered when this package is imported.
+"""The Gymnasium adapter: ``JointAttention-v1`` and its variants, registered on import.
 
 Needs the ``gym`` extra (``pip install "jointattention[gym]"``). The environment's manual is
 :class:`JointAttentionEnv`'s docstring; :class:`FaceWindowObservation` adds the caregiver's
-face window to the observation, and :class:`EnvTrial` runs an agent of the trial loop
-through the environment.
+face window to the ``"image"`` observation, and :class:`EnvTrial` runs an agent of the trial
+loop through the environment.
+
+Registered ids (:data:`ENV_IDS`), each with ``max_episode_steps=40`` and actions in [-1, 1]
+(``normalize_actions=True``; :class:`EnvTrial` converts an agent's radians):
+
+- ``JointAttention-v1``: ``obs_mode="image"`` (rendered);
+- ``JointAttentionFace-v1`` and ``JointAttentionDetections-v1``: the modes without rendering;
+- ``JointAttention{Mode}-N{n}-v1`` for n = 1, 3, 5, 10 objects (``Mode`` empty, ``Face`` or
+  ``Detections``), and ``JointAttentionFace-N{n}-Intrinsic-v1`` with the intrinsic reward.
+
+Other arguments go to :func:`gymnasium.make` as keywords, as usual.
 """
 
 try:
@@ -12,13 +22,34 @@ except ImportError:  # pragma: no cover - depends on the installed extras
     raise ImportError('jointattention.env needs Gymnasium; expected it installed: '
                       'pip install "jointattention[gym]"') from None
 
+from ._looks import DETECTION_COLUMNS, MAX_DETECTIONS, detections_of
 from .joint_attention import JointAttentionEnv
 from .trial import EnvTrial
 from .wrappers import FaceWindowObservation
 
-__all__ = ["ENV_ID", "EnvTrial", "FaceWindowObservation", "JointAttentionEnv"]
+__all__ = ["DETECTION_COLUMNS", "ENV_ID", "ENV_IDS", "MAX_DETECTIONS", "EnvTrial",
+           "FaceWindowObservation", "JointAttentionEnv", "detections_of"]
 
-ENV_ID = "JointAttention-v0"
+ENV_ID = "JointAttention-v1"
+_MODES = {"": "image", "Face": "face", "Detections": "detections"}
 
-if ENV_ID not in gym.registry:
-    gym.register(id=ENV_ID, entry_point="jointattention.env:JointAttentionEnv")
+
+def _variants() -> dict[str, dict]:
+    """Every registered id and its keyword arguments."""
+    ids = {}
+    for name, mode in _MODES.items():
+        ids[f"JointAttention{name}-v1"] = {"obs_mode": mode}
+        for n in (1, 3, 5, 10):
+            ids[f"JointAttention{name}-N{n}-v1"] = {"obs_mode": mode, "n_objects": n}
+    for n in (1, 3, 5, 10):
+        ids[f"JointAttentionFace-N{n}-Intrinsic-v1"] = {"obs_mode": "face", "n_objects": n,
+                                                       "reward": "intrinsic"}
+    return {i: {**kwargs, "normalize_actions": True} for i, kwargs in ids.items()}
+
+
+ENV_IDS = tuple(_variants())
+
+for _id, _kwargs in _variants().items():
+    if _id not in gym.registry:
+        gym.register(id=_id, entry_point="jointattention.env:JointAttentionEnv",
+                     max_episode_steps=40, kwargs=_kwargs)

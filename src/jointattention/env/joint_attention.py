@@ -1,30 +1,32 @@
-"""The Gymnasium environment ``JointAttention-v0``: one trial per episode.
+"""The Gymnasium environment ``JointAttention-v1``: one trial per episode.
 
 Its docstring is its manual. Needs the ``gym`` extra (``pip install "jointattention[gym]"``).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import ClassVar
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
+from gymnasium.utils import EzPickle
 
 from .._checks import check_int, short_repr
 from ..config import Config, load_config, with_n_objects
 from ..errors import ArgumentError, ConfigError
-from ..experiment.cells import evaluator
+from ..experiment.cells import datasets_of, evaluator, random_scene
 from ..experiment.trial import END_STEPS, SceneTrial
-from ..world.recording import capture_face_window
-from ..world.scene import sample_caregiver, sample_scene, with_new_distractors
-from ..world.simulator import World
+from ..world.kinematics import HeadKinematics
+from ._looks import OBS_MODES, detection_rows, info_of, observation_space
 
 __all__ = ["JointAttentionEnv"]
 
 REWARDS = ("external", "intrinsic")
-DETECTION_FIELDS = ("centre_px", "colour_area_px", "edge", "motion")
+_ARGS = ("config", "obs_mode", "n_objects", "n_poses", "reward", "max_steps", "width",
+         "height", "normalize_actions", "render_mode")
 
 
 def _action(action) -> np.ndarray:
@@ -34,37 +36,45 @@ def _action(action) -> np.ndarray:
     except (TypeError, ValueError):
         a = None
     if a is None or a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise ArgumentError(f"action={short_repr(action)}: expected 2 finite numbers (pan, tilt) "
-                            "in radians")
+        raise ArgumentError(f"action={short_repr(action)}: expected 2 finite numbers (pan, "
+                            "tilt)")
     return a
 
 
-class JointAttentionEnv(gym.Env):
-    """One trial of the joint-attention task per episode, seen through the robot's camera.
+class JointAttentionEnv(gym.Env, EzPickle):
+    """One trial of the joint-attention task per episode, seen by the robot.
 
     A caregiver sits in front of the robot and looks at one of ``n_objects`` bright objects
     (its target). Each episode is a new scene; the robot's head starts looking at the
-    caregiver's face and the agent turns the head step by step. The scene is rendered with
-    MuJoCo; the caregiver's identity (head size, colours) is drawn at each seeded reset and
-    kept until the next one. With ``n_poses``, the caregiver's pose and target come from a
-    pool of that many drawn at the seeded reset (the paper's robot learned from 125 recorded
-    data sets); the other objects are drawn anew each episode.
+    caregiver's face and the agent turns the head step by step.
 
-    **Observation** (``Dict``):
-      - ``"image"``: the robot's camera image, ``Box(0, 255, (H, W, 3), uint8)`` (H, W from
-        ``world.camera``; 240 x 320 by default).
-      - ``"head_angle"``: (pan, tilt) in radians, ``Box(joint limits, (2,), float32)``.
+    **Observation modes** (``obs_mode``), each a ``Dict`` with ``"head_angle"``, (pan, tilt)
+    in radians, ``Box(joint limits, (2,), float32)``:
+      - ``"image"``: ``"image"``, the robot's camera image rendered with MuJoCo,
+        ``Box(0, 255, (height, width, 3), uint8)`` (240 x 320 by default). The room's
+        caregiver identity is drawn at each seeded reset; with ``n_poses`` the poses and
+        targets come from a pool of that many drawn then, else a new one every episode.
+      - ``"face"``: ``"face"``, the caregiver's grayscale face window,
+        ``Box(0, 255, (25, 30), uint8)``; nothing is rendered. Each episode is one of the
+        caregiver data sets (``config.datasets``, by default the 125 shipped) with random
+        distractors: the fast world in which ``jointattention reproduce`` learns.
+      - ``"detections"``: as ``"face"``, plus ``"detections"``, what the salient feature
+        detector reports: ``Box(-inf, inf, (20, 6), float32)``, a row per object in view
+        (columns ``present, centre_x_px, centre_y_px, colour_area_px, edge, motion``; image
+        pixels, x right, y down; areas clipped at 4 images), zero rows after them.
 
     **Action**: the head angle change (pan, tilt) in radians,
-    ``Box(-max_step_rad, max_step_rad, (2,), float32)``, where ``max_step_rad`` = the visual
-    controller's largest command (paper Eq. 2: gain x half the image width / height). Actions
-    outside the box are clipped to it; the head stops at its joint limits.
+    ``Box(-max_step_rad, max_step_rad, (2,), float32)``, where ``max_step_rad`` is the visual
+    controller's largest command (paper Eq. 2: gain x half the image width / height); with
+    ``normalize_actions=True``, ``Box(-1, 1)`` in units of ``max_step_rad``. Actions outside
+    the box are clipped to it; the head stops at its joint limits.
 
     **Episode end**:
       - terminated when the internal evaluator fires (paper Eq. 3: an object within
         ``d_th = W x d_th_fraction`` of the image centre) or when a step hits a joint limit;
-      - truncated after ``max_steps`` steps (``agent.max_steps``, 40 by default).
-      Objects are kept clear of the face, so the evaluator never fires at reset.
+      - truncated after ``max_steps`` steps (40 by default, the registration's
+        ``max_episode_steps``). Objects are kept clear of the face, so the evaluator never
+        fires at reset.
 
     **Reward** (``reward=``), given at the step that ends the episode, else 0:
       - ``"external"``: 1 if joint attention was achieved, i.e. the object at the image centre
@@ -72,13 +82,13 @@ class JointAttentionEnv(gym.Env):
       - ``"intrinsic"``: 1 if the internal evaluator fired, whichever object it was.
       The other one is in ``info["external_reward"]`` / ``info["intrinsic_reward"]``.
 
-    **Info**: ``"detections"``: what the salient feature detector reports for the current
-    image (computed by projection), as a dict of the arrays of
-    :class:`~jointattention.agent.detections.Detections` (``Detections(**d, image_size_px=(W,
-    H))`` rebuilds it); ``"seen"``, the index in them of the detection the evaluator fired
-    on (-1 if none); ``"limit_hit"``, ``"fired"``, ``"attended"`` (object id at the centre,
-    -1 if none), ``"target"`` (the caregiver's target; experimenter's knowledge, not the
-    robot's), and both rewards.
+    **Info**, the same keys and shapes at every step: ``"detections"``, the detector's report
+    as a dict of the arrays of :class:`~jointattention.agent.detections.Detections` padded to
+    20 rows, and ``"n_detections"``, how many rows are objects
+    (:func:`jointattention.env.detections_of` rebuilds it); ``"seen"``, the row the evaluator
+    fired on (-1 if none); ``"limit_hit"``, ``"fired"``, ``"attended"`` (object id at the
+    centre, -1 if none), ``"target"`` (the caregiver's target: the experimenter's knowledge,
+    not the robot's), and both rewards.
 
     The episode's step is the trial loop's step function
     (:class:`~jointattention.experiment.trial.SceneTrial`); an agent written for the trial
@@ -86,61 +96,106 @@ class JointAttentionEnv(gym.Env):
 
     Args:
         config: a :class:`~jointattention.config.Config`, a preset name or a TOML file
-            (default: the built-in defaults); its ``world`` and ``agent`` sections are used.
-        n_objects: objects in each scene (default: ``world.objects.n_objects``).
-        n_poses: size of the pool of caregiver poses and targets (default: None, a new pose
-            every episode).
+            (default: the built-in defaults); its ``world``, ``agent`` and ``datasets``.
+        obs_mode: ``"image"`` (default), ``"face"`` or ``"detections"``.
+        n_objects: objects in each scene, 1 to 20 (default: ``world.objects.n_objects``).
+        n_poses: ``"image"`` mode: the size of the pool of caregiver poses (default: None, a
+            new pose every episode).
         reward: ``"external"`` (default) or ``"intrinsic"``.
-        max_steps: steps before truncation, 1 to 100,000 (default: ``agent.max_steps``).
+        max_steps: steps before truncation, 1 to 100,000 (default: ``agent.max_steps``, 40).
+        width, height: ``"image"`` mode: the image size in pixels, 16 to 4096 (default:
+            ``world.camera``, 320 x 240).
+        normalize_actions: actions in [-1, 1] (default: False, radians).
+        render_mode: ``None`` or ``"rgb_array"`` (``"image"`` mode: an overview of the room;
+            the other modes: the face window, as RGB).
 
     Arguments of the wrong type or out of range raise
-    :class:`~jointattention.errors.ConfigError` naming the argument; a malformed action
-    (not 2 finite numbers) or reset options raise :class:`~jointattention.errors.ArgumentError`.
-        render_mode: ``None`` or ``"rgb_array"`` (an overview of the room).
+    :class:`~jointattention.errors.ConfigError` naming the argument; a malformed action (not 2
+    finite numbers), seed or reset options raise
+    :class:`~jointattention.errors.ArgumentError`. The environment pickles and deep-copies at
+    any time (as Gymnasium's MuJoCo environments: a copy is made anew from the arguments).
 
-    Version 0: first release.
+    Versions: v0, first release (``info["detections"]`` had one row per object in view, so
+    vector environments could not stack it). v1: observation modes, ``info`` of fixed shape,
+    ``width``/``height``, ``normalize_actions``, ``max_episode_steps`` registered, variants,
+    argument errors, reset options refused, pickling.
     """
 
     metadata: ClassVar[dict] = {"render_modes": ["rgb_array"], "render_fps": 5}
 
-    def __init__(self, config: Config | str | Path | None = None, *, n_objects: int | None = None,
-                 n_poses: int | None = None, reward: str = "external",
-                 max_steps: int | None = None, render_mode: str | None = None, **unknown):
+    def __init__(self, config: Config | str | Path | None = None, *, obs_mode: str = "image",
+                 n_objects: int | None = None, n_poses: int | None = None,
+                 reward: str = "external", max_steps: int | None = None,
+                 width: int | None = None, height: int | None = None,
+                 normalize_actions: bool = False, render_mode: str | None = None, **unknown):
         if unknown:
-            raise ConfigError(f"{sorted(unknown)[0]}=...: unknown argument; expected config, "
-                              "n_objects, n_poses, reward, max_steps, render_mode")
-        if not isinstance(config, (Config, str, Path, type(None))):
-            raise ConfigError(f"config={config!r}: expected a Config, a preset name, a TOML "
-                              "file or None")
-        cfg = config if isinstance(config, Config) else load_config(config)
-        if not isinstance(reward, str) or reward not in REWARDS:
-            raise ConfigError(f"reward={reward!r}: expected one of {', '.join(REWARDS)}")
-        if render_mode not in (None, *self.metadata["render_modes"]):
-            raise ConfigError(f"render_mode={render_mode!r}: expected None or 'rgb_array'")
-        if n_objects is not None:
-            cfg = with_n_objects(cfg, check_int("n_objects", n_objects, 1, 20))
+            raise ConfigError(f"{sorted(unknown)[0]}=...: unknown argument; expected one of "
+                              f"{', '.join(_ARGS)}")
+        EzPickle.__init__(self, config, obs_mode=obs_mode, n_objects=n_objects, n_poses=n_poses,
+                          reward=reward, max_steps=max_steps, width=width, height=height,
+                          normalize_actions=normalize_actions, render_mode=render_mode)
+        cfg = self._config(config, obs_mode, n_objects, width, height)
+        for name, value, choices in (("obs_mode", obs_mode, OBS_MODES),
+                                     ("reward", reward, REWARDS),
+                                     ("render_mode", render_mode, (None, "rgb_array"))):
+            if not isinstance(value, (str, type(None))) or value not in choices:
+                raise ConfigError(f"{name}={value!r}: expected one of "
+                                  f"{', '.join(map(repr, choices))}")
+        if not isinstance(normalize_actions, bool):
+            raise ConfigError(f"normalize_actions={normalize_actions!r}: expected True or False")
+        if obs_mode != "image" and n_poses is not None:
+            raise ConfigError(f"obs_mode={obs_mode!r}: draws its poses from the data sets; "
+                              "expected n_poses=None")
         self.n_poses = None if n_poses is None else check_int("n_poses", n_poses, 1, 100_000)
         self.max_steps = (cfg.agent.max_steps if max_steps is None
                           else check_int("max_steps", max_steps, 1, 100_000))
-        self.config, self.reward, self.render_mode = cfg, reward, render_mode
-        self._world = World(cfg.world)
-        kin = self._world.kinematics
-        limits = np.array([kin.pan_limits_rad, kin.tilt_limits_rad], dtype=np.float32)
-        self.observation_space = spaces.Dict({
-            "image": spaces.Box(0, 255, (kin.height_px, kin.width_px, 3), np.uint8),
-            "head_angle": spaces.Box(limits[:, 0], limits[:, 1], (2,), np.float32),
-        })
-        high = self.max_step_rad.astype(np.float32)
-        self.action_space = spaces.Box(-high, high, (2,), np.float32)
-        self._caregiver = None
-        self._poses: list = []
+        self.config, self.obs_mode, self.reward = cfg, obs_mode, reward
+        self.render_mode, self.normalize_actions = render_mode, normalize_actions
+        self.kinematics = HeadKinematics.from_config(cfg.world)
+        kin = self.kinematics
+        self._world = self._datasets = None
+        if obs_mode == "image":
+            from ..world.simulator import World  # MuJoCo only where it renders
+
+            self._world = World(cfg.world)
+        else:
+            self._datasets = datasets_of(cfg)
+        face_hw = (cfg.world.face_window.height_px, cfg.world.face_window.width_px)
+        if self._datasets is not None:
+            face_hw = self._datasets.face.shape[1:]
+        limits = np.array([kin.pan_limits_rad, kin.tilt_limits_rad])
+        self.observation_space = observation_space(obs_mode, (kin.height_px, kin.width_px),
+                                                   face_hw, limits)
+        high = np.ones(2) if normalize_actions else self.max_step_rad
+        self.action_space = spaces.Box(-high.astype(np.float32), high.astype(np.float32), (2,),
+                                       np.float32)
+        self._caregiver, self._poses, self._face = None, [], None
         self._trial: SceneTrial | None = None
         self._evaluate = evaluator(cfg)
+
+    @staticmethod
+    def _config(config, obs_mode, n_objects, width, height) -> Config:
+        if not isinstance(config, (Config, str, Path, type(None))):
+            raise ConfigError(f"config={short_repr(config)}: expected a Config, a preset name, "
+                              "a TOML file or None")
+        cfg = config if isinstance(config, Config) else load_config(config)
+        if n_objects is not None:
+            cfg = with_n_objects(cfg, check_int("n_objects", n_objects, 1, 20))
+        if (width is not None or height is not None) and obs_mode != "image":
+            raise ConfigError(f"width/height: the image size of obs_mode='image'; expected None "
+                              f"with obs_mode={obs_mode!r}")
+        camera = cfg.world.camera
+        camera = dataclasses.replace(
+            camera, width_px=camera.width_px if width is None else check_int("width", width, 16,
+                                                                            4096),
+            height_px=camera.height_px if height is None else check_int("height", height, 16,
+                                                                       4096))
+        return dataclasses.replace(cfg, world=dataclasses.replace(cfg.world, camera=camera))
 
     @property
     def max_step_rad(self) -> np.ndarray:
         """The visual controller's largest (pan, tilt) command: Eq. 2 at the image border."""
-        kin = self._world.kinematics
+        kin = self.kinematics
         return self.config.agent.vf_gain_rad_per_px * np.array([kin.width_px, kin.height_px]) / 2
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
@@ -151,65 +206,85 @@ class JointAttentionEnv(gym.Env):
         if seed is not None:
             check_int("seed", seed, 0, 2**63 - 1, ArgumentError)
         if options:
-            raise ArgumentError(f"options={options!r}: expected None; this environment takes "
-                                "no reset options")
+            raise ArgumentError(f"options={short_repr(options)}: expected None; this "
+                                "environment takes no reset options")
         super().reset(seed=seed)
+        if self._world is None:  # the fast world: a data set and random distractors
+            ds = self._datasets
+            k, scene, _ = random_scene(self.config, ds, self.kinematics,
+                                       self.config.world.objects.n_objects, self.np_random)
+            self._face, start = ds.face[k], ds.theta_face_rad[k]
+        else:
+            start = self._new_scene(seeded=seed is not None)
+            scene = self._world.fast_scene()
+        self._trial = SceneTrial(scene, self.kinematics.clip(start), kinematics=self.kinematics,
+                                 max_steps=self.max_steps, evaluate=self._evaluate)
+        return self._look()
+
+    def _new_scene(self, seeded: bool) -> np.ndarray:
+        """``"image"`` mode: show a new scene in the room; returns the start head angle."""
+        from ..world.scene import sample_caregiver, sample_scene, with_new_distractors
+
         world, rng = self.config.world, self.np_random
-        if seed is not None or self._caregiver is None:
+        if seeded or self._caregiver is None:
             self._caregiver = sample_caregiver(world, rng)
             self._poses = [sample_scene(world, rng, self._caregiver)
                            for _ in range(self.n_poses or 0)]
         if self._poses:
-            pose = self._poses[rng.integers(len(self._poses))]
-            state = with_new_distractors(pose, world, rng)
+            state = with_new_distractors(self._poses[rng.integers(len(self._poses))], world, rng)
         else:
             state = sample_scene(world, rng, self._caregiver)
         self._world.set_scene(state)
-        kin = self._world.kinematics
-        self._trial = SceneTrial(self._world.fast_scene(), kin.clip(self._world.face_angle_rad),
-                                 kinematics=kin, max_steps=self.max_steps,
-                                 evaluate=self._evaluate)
-        return self._look()
+        return self._world.face_angle_rad
 
     def step(self, action):
         """Turn the head by ``action`` (clipped to the action space), look, evaluate."""
         trial = self._trial
         if trial is None or trial.end is not None:
             raise gym.error.ResetNeeded("no episode is running; expected reset() before step()")
-        high = self.max_step_rad
-        trial.step(np.clip(_action(action), -high, high))
+        a = np.clip(_action(action), self.action_space.low, self.action_space.high)
+        trial.step(a * self.max_step_rad if self.normalize_actions else a)
         obs, info = self._look()
         terminated = trial.end is not None and trial.end != END_STEPS
         truncated = trial.end == END_STEPS
         return obs, info[f"{self.reward}_reward"], terminated, truncated, info
 
     def _look(self):
-        """The observation and info at the trial's current head angle (rendered)."""
+        """The observation and info at the trial's current head angle."""
         trial = self._trial
-        self._world.set_head_angle(trial.theta_rad)
-        det, fired = trial.detections, trial.seen is not None
-        obs = {"image": self._world.render(),
-               "head_angle": trial.theta_rad.astype(np.float32)}
-        info = {"detections": {f: getattr(det, f) for f in DETECTION_FIELDS}, "fired": fired,
-                "seen": -1 if trial.seen is None else trial.seen,
-                "attended": trial.attended, "target": trial.target, "limit_hit": trial.limit_hit,
-                "intrinsic_reward": float(fired),
-                "external_reward": float(fired and trial.attended == trial.target)}
-        return obs, info
+        obs = {"head_angle": trial.theta_rad.astype(np.float32)}
+        if self._world is not None:
+            self._world.set_head_angle(trial.theta_rad)
+            obs["image"] = self._world.render()
+        else:
+            obs["face"] = self._face.copy()
+        if self.obs_mode == "detections":
+            obs["detections"] = detection_rows(trial.detections)
+        return obs, info_of(trial)
 
     def face_window(self, image: np.ndarray) -> np.ndarray:
-        """The grayscale face window (``world.face_window`` size) cut from ``image``.
+        """``"image"`` mode: the grayscale face window cut from ``image``.
 
         ``image`` must be taken at the current head angle.
         """
+        from ..world.recording import capture_face_window
+
         return capture_face_window(self._world, image)
 
     def render(self):
-        """With ``render_mode="rgb_array"``, the room from the experimenter's camera."""
-        if self.render_mode == "rgb_array":
+        """With ``render_mode="rgb_array"``: the room, or the face window (modes without images).
+
+        The room is seen from the experimenter's camera; the face window is shown as RGB.
+        """
+        if self.render_mode != "rgb_array":
+            return None
+        if self._world is not None:
             return self._world.render("overview")
-        return None
+        face = self._face if self._face is not None else np.zeros(
+            self.observation_space["face"].shape, np.uint8)
+        return np.repeat(face[..., None], 3, axis=2)
 
     def close(self):
         """Free the renderer."""
-        self._world.close()
+        if self._world is not None:
+            self._world.close()

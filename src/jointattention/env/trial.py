@@ -8,12 +8,13 @@ import numpy as np
 from ..agent.detections import Detections
 from ..agent.protocol import Outcome
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
+from ._looks import detections_of
 
 __all__ = ["EnvTrial"]
 
 
 class EnvTrial:
-    """One episode of a ``JointAttention-v0`` environment seen as a trial.
+    """One episode of a ``JointAttention-v1`` environment (any observation mode) as a trial.
 
     So that :func:`~jointattention.experiment.trial.run_trial` drives an
     :class:`~jointattention.agent.protocol.Agent` through it.
@@ -35,7 +36,8 @@ class EnvTrial:
         self.env = env
         self.observation, self.info = env.reset(seed=seed)
         self.reward, self.n_steps, self.end = 0.0, 0, None
-        self._image_size_px = env.unwrapped.observation_space["image"].shape[1::-1]
+        kin = env.unwrapped.kinematics
+        self._image_size_px = (kin.width_px, kin.height_px)
 
     @property
     def theta_rad(self) -> np.ndarray:
@@ -45,7 +47,7 @@ class EnvTrial:
     @property
     def detections(self) -> Detections:
         """The detector's report in the last ``info``."""
-        return Detections(**self.info["detections"], image_size_px=self._image_size_px)
+        return detections_of(self.info, self._image_size_px)
 
     @property
     def attended(self) -> int:
@@ -58,9 +60,16 @@ class EnvTrial:
         return int(self.info["target"])
 
     def step(self, dtheta_rad) -> None:
-        """``env.step(dtheta_rad)``; the episode's end decides the trial's."""
+        """``env.step(dtheta_rad)``, scaled if its actions are normalised.
+
+        The episode's end decides the trial's.
+        """
+        env = self.env.unwrapped
+        action = np.asarray(dtheta_rad, dtype=float)
+        if env.normalize_actions:
+            action = action / env.max_step_rad
         self.observation, self.reward, terminated, truncated, self.info = self.env.step(
-            np.asarray(dtheta_rad, dtype=np.float32))
+            action.astype(np.float32))
         self.n_steps += 1
         if self.info["fired"]:
             self.end = END_FIRED

@@ -15,7 +15,9 @@ from types import ModuleType
 
 from ..errors import RenderingUnavailable
 
-__all__ = ["choose_backend", "mujoco"]
+__all__ = ["choose_backend", "mujoco", "renderer"]
+
+_started_in_pid: int | None = None  # the process that started an OpenGL context
 
 
 def choose_backend() -> str:
@@ -49,3 +51,21 @@ def mujoco() -> ModuleType:
             f"({type(err).__name__}: {' '.join(str(err).split())}); expected egl (libegl1) or "
             "osmesa (libosmesa6) installed; the fast world needs no OpenGL") from None
     return module
+
+
+def renderer(model, height_px: int, width_px: int):
+    """A MuJoCo renderer; refused in a process forked after its parent started OpenGL.
+
+    EGL and OSMesa do not survive ``fork``: the child's first context hangs (e.g. Gymnasium's
+    async vector environment under the default start method).
+    """
+    global _started_in_pid
+    if _started_in_pid is not None and _started_in_pid != os.getpid():
+        raise RenderingUnavailable(
+            "cannot render in a process forked after its parent rendered (OpenGL does not "
+            "survive fork); expected processes started with spawn or forkserver, e.g. "
+            "gymnasium.make_vec(..., vectorization_mode='async', "
+            "vector_kwargs={'context': 'spawn'})")
+    made = mujoco().Renderer(model, height_px, width_px)
+    _started_in_pid = os.getpid()
+    return made

@@ -160,7 +160,9 @@ class World:
         if self._renderer is None:
             kin = self.kinematics
             try:
-                self._renderer = _gl.mujoco().Renderer(self.model, kin.height_px, kin.width_px)
+                self._renderer = _gl.renderer(self.model, kin.height_px, kin.width_px)
+            except RenderingUnavailable:
+                raise
             except Exception as err:  # the GL stack raises many kinds
                 raise RenderingUnavailable(
                     f"cannot start off-screen OpenGL (MUJOCO_GL={_gl.choose_backend()}): {err}; "

@@ -1,0 +1,83 @@
+"""What an episode's step shows the agent: observations and ``info`` of fixed shape.
+
+Every array has the same shape at every step of every episode, whatever the number of objects
+in view, so that vector environments can stack them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from gymnasium import spaces
+
+from ..agent.detections import Detections
+from ..experiment.trial import SceneTrial
+
+__all__ = ["DETECTION_COLUMNS", "MAX_DETECTIONS", "OBS_MODES", "detection_rows",
+           "detections_of", "info_of", "observation_space"]
+
+OBS_MODES = ("image", "face", "detections")
+MAX_DETECTIONS = 20  # a scene has at most 20 objects (world.objects.n_objects)
+# The columns of the "detections" observation: a row per object in view, zero rows after them.
+DETECTION_COLUMNS = ("present", "centre_x_px", "centre_y_px", "colour_area_px", "edge", "motion")
+
+
+def observation_space(mode: str, image_hw: tuple[int, int], face_hw: tuple[int, int],
+                      joint_limits_rad: np.ndarray) -> spaces.Dict:
+    """The observation space of ``mode`` (see :class:`~.joint_attention.JointAttentionEnv`)."""
+    head = spaces.Box(joint_limits_rad[:, 0].astype(np.float32),
+                      joint_limits_rad[:, 1].astype(np.float32), (2,), np.float32)
+    if mode == "image":
+        return spaces.Dict({"image": spaces.Box(0, 255, (*image_hw, 3), np.uint8),
+                            "head_angle": head})
+    looks = {"face": spaces.Box(0, 255, face_hw, np.uint8), "head_angle": head}
+    if mode == "detections":
+        low, high = _row_bounds(image_hw)
+        looks["detections"] = spaces.Box(np.tile(low, (MAX_DETECTIONS, 1)),
+                                         np.tile(high, (MAX_DETECTIONS, 1)), dtype=np.float32)
+    return spaces.Dict(looks)
+
+
+def _row_bounds(image_hw: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of a detection row: centres in the image, areas up to 4 images, fractions."""
+    h, w = image_hw
+    return (np.array([0, -0.5, -0.5, 0, 0, 0], np.float32),
+            np.array([1, w - 0.5, h - 0.5, 4 * w * h, 1, 1], np.float32))
+
+
+def detection_rows(det: Detections) -> np.ndarray:
+    """The detections as (MAX_DETECTIONS, 6) float32 rows of DETECTION_COLUMNS, zero-padded."""
+    rows = np.zeros((MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
+    n = len(det)
+    rows[:n, 0] = 1
+    rows[:n, 1:3] = det.centre_px
+    rows[:n, 3], rows[:n, 4], rows[:n, 5] = det.colour_area_px, det.edge, det.motion
+    low, high = _row_bounds(det.image_size_px[::-1])
+    return np.clip(rows, low, high)
+
+
+def detections_of(info: dict, image_size_px: tuple[int, int]) -> Detections:
+    """The :class:`~jointattention.agent.detections.Detections` in a step's ``info``."""
+    n, d = int(info["n_detections"]), info["detections"]
+    return Detections(d["centre_px"][:n], d["colour_area_px"][:n], d["edge"][:n],
+                      d["motion"][:n], image_size_px=image_size_px)
+
+
+def _padded(a: np.ndarray) -> np.ndarray:
+    """``a`` (float64, exactly) with zero rows after it up to MAX_DETECTIONS."""
+    out = np.zeros((MAX_DETECTIONS, *np.shape(a)[1:]))
+    out[:len(a)] = a
+    return out
+
+
+def info_of(trial: SceneTrial) -> dict:
+    """The step's ``info``: the detector's report (padded) and how the trial stands."""
+    det, fired = trial.detections, trial.seen is not None
+    return {
+        "detections": {f: _padded(getattr(det, f))
+                       for f in ("centre_px", "colour_area_px", "edge", "motion")},
+        "n_detections": len(det), "fired": fired,
+        "seen": -1 if trial.seen is None else int(trial.seen),
+        "attended": int(trial.attended), "target": int(trial.target),
+        "limit_hit": bool(trial.limit_hit), "intrinsic_reward": float(fired),
+        "external_reward": float(fired and trial.attended == trial.target),
+    }

@@ -1,0 +1,195 @@
+"""The environment's observation modes, registered variants, vector forms and copies."""
+
+from __future__ import annotations
+
+import copy
+import pickle
+import subprocess
+import sys
+import textwrap
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+from jointattention.env import (
+    ENV_ID,
+    ENV_IDS,
+    MAX_DETECTIONS,
+    EnvTrial,
+    FaceWindowObservation,
+    JointAttentionEnv,
+)
+from jointattention.errors import ArgumentError
+
+
+@pytest.mark.usefixtures("needs_gl")
+def test_check_env_passes_on_every_registered_id_and_the_readme_pattern():
+    """Gymnasium's check_env passes on each registered id, wrapped as made and unwrapped."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # check_env warns about what it checks on purpose
+        for env_id in ENV_IDS:
+            env = gym.make(env_id)
+            check_env(env)
+            check_env(env.unwrapped)
+            assert env.spec.max_episode_steps == 40
+            env.close()
+        readme = FaceWindowObservation(gym.make(ENV_ID, n_objects=3))  # the README's own code
+        check_env(readme)
+        readme.close()
+
+
+def test_fast_modes_give_the_data_sets_faces_and_random_initial_states():
+    """Face mode: each episode is a data set's face and head angle; seeds give other ones."""
+    env = JointAttentionEnv(obs_mode="face", n_objects=3)
+    ds = env.unwrapped._datasets
+    starts = set()
+    for seed in range(8):
+        obs, info = env.reset(seed=seed)
+        k = int(np.flatnonzero((ds.face == obs["face"]).all(axis=(1, 2)))[0])
+        assert np.allclose(obs["head_angle"], ds.theta_face_rad[k], atol=1e-6)
+        assert info["n_detections"] <= MAX_DETECTIONS and not info["fired"]
+        starts.add(k)
+    assert len(starts) >= 6
+    again, _ = env.reset(seed=3)
+    assert np.array_equal(again["face"], env.reset(seed=3)[0]["face"])
+
+
+def test_detections_observation_rows_match_the_info():
+    """Detections mode: one present row per detection, zero rows after, equal to info's."""
+    env = JointAttentionEnv(obs_mode="detections", n_objects=10)
+    obs, info = env.reset(seed=1)
+    env.action_space.seed(1)
+    for _ in range(30):
+        n = info["n_detections"]
+        rows = obs["detections"]
+        assert rows.shape == (MAX_DETECTIONS, 6) and obs in env.observation_space
+        assert rows[:n, 0].all() and not rows[n:].any()
+        assert np.allclose(rows[:n, 1:3], info["detections"]["centre_px"][:n], atol=1e-3)
+        obs, _, terminated, truncated, info = env.step(env.action_space.sample())
+        if terminated or truncated:
+            obs, info = env.reset()
+
+
+def test_normalized_actions_move_by_the_largest_step():
+    """With normalize_actions, action (1, -1) turns the head by (+max_step_rad, -max_step_rad)."""
+    env = JointAttentionEnv(obs_mode="face", n_objects=1, normalize_actions=True)
+    obs, _ = env.reset(seed=0)
+    assert np.array_equal(env.action_space.high, [1, 1])
+    after, *_ = env.step(np.array([1.0, -1.0], np.float32))
+    moved = after["head_angle"].astype(float) - obs["head_angle"]
+    assert np.allclose(moved, env.max_step_rad * np.array([1, -1]), atol=1e-6)
+
+
+def test_reset_options_are_refused_and_seeds_checked():
+    """reset(options=...) with any option, or a seed that is not an integer, is an error."""
+    env = JointAttentionEnv(obs_mode="face")
+    with pytest.raises(ArgumentError, match="options"):
+        env.reset(options={"n_objects": 3})
+    with pytest.raises(ArgumentError, match="seed"):
+        env.reset(seed=1.5)
+    env.reset(options={})  # nothing asked: accepted
+
+
+@pytest.mark.parametrize("mode", ["face", "detections"])
+def test_vector_envs_stack_fixed_shape_infos(mode):
+    """make_vec (sync and async) steps the modes without images; info stacks at any step."""
+    for vectorization in ("sync", "async"):
+        envs = gym.make_vec(f"JointAttention{mode.title()}-N10-v1", num_envs=3,
+                            vectorization_mode=vectorization)
+        envs.reset(seed=0)
+        envs.action_space.seed(0)
+        for _ in range(60):
+            _, _, _, _, info = envs.step(envs.action_space.sample())
+        assert info["detections"]["centre_px"].shape == (3, MAX_DETECTIONS, 2)
+        assert info["n_detections"].shape == (3,)
+        envs.close()
+
+
+@pytest.mark.usefixtures("needs_gl")
+@pytest.mark.parametrize("mode", ["image", "face"])
+def test_the_env_pickles_and_deep_copies_after_reset(mode):
+    """Pickle and deepcopy work after reset (a copy is made anew from the arguments)."""
+    env = JointAttentionEnv(obs_mode=mode, n_objects=3)
+    env.reset(seed=0)
+    env.step(env.action_space.sample())
+    for other in (pickle.loads(pickle.dumps(env)), copy.deepcopy(env)):
+        assert other.observation_space == env.observation_space
+        a, _ = other.reset(seed=5)
+        b, _ = JointAttentionEnv(obs_mode=mode, n_objects=3).reset(seed=5)
+        assert all(np.array_equal(a[k], b[k]) for k in a)
+        other.close()
+    env.close()
+
+
+def test_an_agent_runs_the_runners_trial_through_the_face_mode():
+    """A trial through the face mode equals the runner's trial of the same data set and scene."""
+    from jointattention.experiment.cells import random_scene
+    from jointattention.experiment.oracle import OracleAgent
+    from jointattention.experiment.trial import SceneTrial, run_trial
+
+    env = gym.make("JointAttentionFace-N5-v1", max_steps=15)
+    inner = env.unwrapped
+    ds, kin, step = inner._datasets, inner.kinematics, np.deg2rad(4.0)
+    for seed in range(6):
+        k, scene, _ = random_scene(inner.config, ds, kin, 5, np.random.default_rng(seed))
+        aim = ds.theta_face_rad[k] + ds.command_rad[k]
+        direct = run_trial(SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                                      max_steps=15, evaluate=inner._evaluate),
+                           OracleAgent(aim, step), ds.face[k])
+        trial = EnvTrial(env, seed=seed)
+        through = run_trial(trial, OracleAgent(aim, step), trial.observation["face"])
+        assert (through.n_steps, through.attended, through.target, through.end) == (
+            direct.n_steps, direct.attended, direct.target, direct.end)
+
+
+SCRIPT = """
+import sys
+import gymnasium as gym
+import jointattention.env
+
+def main(context):
+    parent = gym.make("JointAttentionFace-N3-v1")
+    parent.reset(seed=0)
+    print("mujoco" in sys.modules)
+    if context is None:
+        return
+    image = gym.make("JointAttention-N3-v1")
+    image.reset(seed=0)
+    image.step(image.action_space.sample())  # the parent renders before the workers start
+    envs = gym.make_vec("JointAttention-N3-v1", num_envs=2, vectorization_mode="async",
+                        vector_kwargs={} if context == "fork" else {"context": context})
+    try:
+        envs.reset(seed=0)
+        for _ in range(5):
+            obs, *_ = envs.step(envs.action_space.sample())
+        print(obs["image"].shape)
+    finally:
+        envs.close()
+
+if __name__ == "__main__":
+    main(None if sys.argv[1] == "none" else sys.argv[1])
+"""
+
+
+@pytest.mark.usefixtures("needs_gl")
+def test_async_images_run_under_spawn_and_fork_fails_at_once(tmp_path):
+    """Async image envs work with spawn; under fork after rendering, one error, no hang.
+
+    The modes without images import no MuJoCo at all.
+    """
+    script = tmp_path / "vec.py"
+    script.write_text(textwrap.dedent(SCRIPT))
+
+    def run(context: str) -> subprocess.CompletedProcess:
+        return subprocess.run([sys.executable, str(script), context], capture_output=True,
+                              text=True, timeout=300)
+
+    assert run("none").stdout.split() == ["False"]
+    spawned = run("spawn")
+    assert spawned.returncode == 0, spawned.stderr
+    assert "(2, 240, 320, 3)" in spawned.stdout
+    forked = run("fork")
+    assert forked.returncode != 0 and "spawn or forkserver" in forked.stderr
