@@ -63,26 +63,48 @@ def run_world_benchmarks(
     return rows
 
 
-def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
-    """Steps per second of ``JointAttention-v1`` under random actions, resets included.
+def _env_rate(envs, n_steps: int) -> float:
+    """Environment steps per second of ``envs`` (one or a vector) under random actions."""
+    envs.reset(seed=0)
+    envs.action_space.seed(0)
+    single = not hasattr(envs, "num_envs")
+    start = time.perf_counter()
+    for _ in range(n_steps):
+        *_, terminated, truncated, _ = envs.step(envs.action_space.sample())
+        if single and (terminated or truncated):
+            envs.reset()
+    rate = n_steps * getattr(envs, "num_envs", 1) / (time.perf_counter() - start)
+    envs.close()
+    return rate
 
-    Each step renders, detects and evaluates; empty if Gymnasium is not installed.
+
+def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
+    """Steps per second of the environment in each observation mode, single and vectorised.
+
+    Random actions, resets included; vector environments count the steps of all their
+    sub-environments (async: 2 processes, started with spawn). Empty if Gymnasium is not
+    installed.
     """
     try:
+        import gymnasium as gym
+
         from .env import JointAttentionEnv
     except ImportError:
         return []
-    env = JointAttentionEnv()
-    env.reset(seed=0)
-    env.action_space.seed(0)
-    start = time.perf_counter()
-    for _ in range(n_steps):
-        *_, terminated, truncated, _ = env.step(env.action_space.sample())
-        if terminated or truncated:
-            env.reset()
-    rate = n_steps / (time.perf_counter() - start)
-    env.close()
-    return [("JointAttention-v1 steps, random actions (rendered)", rate, "steps/s")]
+    rows = [("JointAttention-v1 steps, image (rendered)",
+             _env_rate(JointAttentionEnv(), n_steps), "steps/s")]
+    for mode in ("face", "detections"):
+        rows.append((f"JointAttention-v1 steps, {mode} (no rendering)",
+                     _env_rate(JointAttentionEnv(obs_mode=mode), 20 * n_steps), "steps/s"))
+    fast = "JointAttentionFace-v1"
+    rows.append((f"{fast} x8, sync vector",
+                 _env_rate(gym.make_vec(fast, num_envs=8, vectorization_mode="sync"),
+                           3 * n_steps), "steps/s"))
+    for env_id, steps in ((fast, 5 * n_steps), ("JointAttention-v1", n_steps // 2)):
+        envs = gym.make_vec(env_id, num_envs=2, vectorization_mode="async",
+                            vector_kwargs={"context": "spawn"})
+        rows.append((f"{env_id} x2, async vector (spawn)", _env_rate(envs, steps), "steps/s"))
+    return rows
 
 
 def _cell_rate(config, condition, **experiment) -> float:
