@@ -27,15 +27,17 @@ from jointattention.experiment.trial import run_trial
 from jointattention.rng import stream
 
 
-def run_through_env(config, n_objects: int, seed: int,
-                    n_poses: int | None) -> tuple[np.ndarray, np.ndarray]:
+def run_through_env(config, n_objects: int, seed: int, n_poses: int | None,
+                    mode: str = "image") -> tuple[np.ndarray, np.ndarray]:
     """Learn for ``experiment.n_steps`` steps; returns (learning time, success) per trial."""
-    env = FaceWindowObservation(gym.make("JointAttention-v1", config=config,
-                                         n_objects=n_objects, n_poses=n_poses))
-    spaces = env.observation_space
-    h, w, _ = spaces["image"].shape
+    if mode == "image":
+        env = FaceWindowObservation(gym.make("JointAttention-v1", config=config,
+                                             n_objects=n_objects, n_poses=n_poses))
+    else:  # the fast world's face window comes with the observation
+        env = gym.make("JointAttentionFace-v1", config=config, n_objects=n_objects)
+    spaces, kin = env.observation_space, env.unwrapped.kinematics
     head = spaces["head_angle"]
-    body = Body(image_size_px=(w, h),
+    body = Body(image_size_px=(kin.width_px, kin.height_px),
                 joint_limits_rad=tuple(zip(head.low.astype(float), head.high.astype(float),
                                            strict=True)),
                 face_size_px=spaces["face"].shape[::-1])
@@ -67,6 +69,9 @@ def main() -> None:
     parser.add_argument("--poses", type=int, default=125,
                         help="caregiver poses the env draws from, as the runner's 125 data sets "
                              "(default 125; 0: a new pose every episode)")
+    parser.add_argument("--mode", choices=("image", "face"), default="image",
+                        help="the environment's observation mode: image (rendered, default) or "
+                             "face (no rendering: the runner's own fast world)")
     parser.add_argument("--n-steps", type=int, help="learning time (default: the config's)")
     parser.add_argument("--tail-steps", type=int, default=10_000,
                         help="success is measured over this much final learning time")
@@ -79,8 +84,8 @@ def main() -> None:
     condition = ConditionConfig(name=f"n{args.n_objects}", n_objects=args.n_objects)
     runner = np.array([tail_success(r["learning_time"], r["success"], n, tail)
                        for r in (run_cell(config, condition, s) for s in range(args.runner_seeds))])
-    env = np.array([tail_success(*run_through_env(config, args.n_objects, s, args.poses or None),
-                                 n, tail)
+    env = np.array([tail_success(*run_through_env(config, args.n_objects, s,
+                                                  args.poses or None, args.mode), n, tail)
                     for s in range(args.seeds)])
     for name, x in (("runner", runner), ("env", env)):
         mean, lo, hi = (float(v[0]) for v in mean_interval(x[:, None]))
