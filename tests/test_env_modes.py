@@ -193,3 +193,49 @@ def test_async_images_run_under_spawn_and_fork_fails_at_once(tmp_path):
     assert "(2, 240, 320, 3)" in spawned.stdout
     forked = run("fork")
     assert forked.returncode != 0 and "spawn or forkserver" in forked.stderr
+
+
+def _rollout(env_id: str, mode: str, n_envs: int, n_steps: int, **kwargs) -> list:
+    """Observations, rewards, ends and infos of a vector env under fixed random actions."""
+    envs = gym.make_vec(env_id, num_envs=n_envs, vectorization_mode=mode, **kwargs)
+    obs, info = envs.reset(seed=3)
+    rng = np.random.default_rng(0)
+    out = [(obs, info)]
+    for _ in range(n_steps):
+        out.append(envs.step(rng.uniform(-1, 1, (n_envs, 2)).astype(np.float32)))
+    envs.close()
+    return out
+
+
+def _equal(a, b) -> bool:
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_equal(a[k], b[k]) for k in a)
+    if isinstance(a, tuple):
+        return all(_equal(x, y) for x, y in zip(a, b, strict=True))
+    return np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("env_id", ["JointAttentionFace-N5-v1", "JointAttentionDetections-N10-v1",
+                                    "JointAttentionFace-N3-Intrinsic-v1"])
+def test_the_native_vector_env_equals_a_sync_vector_env(env_id):
+    """The compiled vector env gives the sync vector env's observations, rewards, ends, infos."""
+    native = _rollout(env_id, "vector_entry_point", 4, 250)
+    sync = _rollout(env_id, "sync", 4, 250)
+    assert sum(float(step[1].sum()) for step in native[1:]) > 0  # some episodes succeed
+    for a, b in zip(native, sync, strict=True):
+        assert _equal(a, b)
+
+
+def test_the_native_vector_env_refuses_images_and_bad_actions():
+    """Image mode, or actions of the wrong shape or not finite, are one error naming them."""
+    from jointattention.env.vector import JointAttentionVectorEnv
+    from jointattention.errors import ConfigError
+
+    with pytest.raises(ConfigError, match="obs_mode='image'"):
+        JointAttentionVectorEnv(num_envs=2)
+    envs = gym.make_vec("JointAttentionFace-v1", num_envs=2,
+                        vectorization_mode="vector_entry_point")
+    envs.reset(seed=0)
+    for bad in (np.zeros((3, 2)), np.full((2, 2), np.nan), "x"):
+        with pytest.raises(ArgumentError, match="actions"):
+            envs.step(bad)

@@ -97,9 +97,12 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
         rows.append((f"JointAttention-v1 steps, {mode} (no rendering)",
                      _env_rate(JointAttentionEnv(obs_mode=mode), 20 * n_steps), "steps/s"))
     fast = "JointAttentionFace-v1"
-    rows.append((f"{fast} x8, sync vector",
-                 _env_rate(gym.make_vec(fast, num_envs=8, vectorization_mode="sync"),
-                           3 * n_steps), "steps/s"))
+    for n_envs in (8, 64):
+        for mode in ("sync", "vector_entry_point"):
+            envs = gym.make_vec(fast, num_envs=n_envs, vectorization_mode=mode)
+            name = "native vector" if mode == "vector_entry_point" else "sync vector"
+            rows.append((f"{fast} x{n_envs}, {name}",
+                         _env_rate(envs, 3 * n_steps * 8 // n_envs), "steps/s"))
     for env_id, steps in ((fast, 5 * n_steps), ("JointAttention-v1", n_steps // 2)):
         envs = gym.make_vec(env_id, num_envs=2, vectorization_mode="async",
                             vector_kwargs={"context": "spawn"})

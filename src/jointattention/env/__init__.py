@@ -13,7 +13,10 @@ Registered ids (:data:`ENV_IDS`), each with ``max_episode_steps=40`` and actions
 - ``JointAttention{Mode}-N{n}-v1`` for n = 1, 3, 5, 10 objects (``Mode`` empty, ``Face`` or
   ``Detections``), and ``JointAttentionFace-N{n}-Intrinsic-v1`` with the intrinsic reward.
 
-Other arguments go to :func:`gymnasium.make` as keywords, as usual.
+Other arguments go to :func:`gymnasium.make` as keywords, as usual. The ids without images
+have a ``vector_entry_point``: ``gymnasium.make_vec(id, num_envs=N,
+vectorization_mode="vector_entry_point")`` steps all N in one compiled kernel
+(:class:`~jointattention.env.vector.JointAttentionVectorEnv`).
 """
 
 try:
@@ -51,5 +54,7 @@ ENV_IDS = tuple(_variants())
 
 for _id, _kwargs in _variants().items():
     if _id not in gym.registry:
+        fast = _kwargs["obs_mode"] != "image"
         gym.register(id=_id, entry_point="jointattention.env:JointAttentionEnv",
-                     max_episode_steps=40, kwargs=_kwargs)
+                     vector_entry_point="jointattention.env.vector:JointAttentionVectorEnv"
+                     if fast else None, max_episode_steps=40, kwargs=_kwargs)

@@ -1,0 +1,234 @@
+"""A native vector environment: the modes without images, all episodes stepped in one kernel.
+
+``gymnasium.make_vec("JointAttentionFace-v1", num_envs=N, vectorization_mode=
+"vector_entry_point")`` gives :class:`JointAttentionVectorEnv`. Its sub-environments are those
+of :class:`~.joint_attention.JointAttentionEnv` (the same episodes, steps and rewards as a
+``SyncVectorEnv`` of them with the same seeds, tested); it moves every head, projects every
+scene and evaluates every image in one compiled call per step. Episodes are drawn in Python
+when they start, as the single environment draws them.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import gymnasium as gym
+import numpy as np
+from gymnasium.vector import AutoresetMode
+from gymnasium.vector.utils import batch_space
+
+from .._checks import check_int
+from .._jit import jit
+from ..agent.attention import attended_index
+from ..errors import ArgumentError, ConfigError
+from ..experiment.cells import random_scene
+from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
+from ..world.fast import detect_into
+from ..world.kinematics import rotation_matrix
+from ._looks import MAX_DETECTIONS, detection_rows
+from .joint_attention import JointAttentionEnv
+
+__all__ = ["JointAttentionVectorEnv"]
+
+_RUNNING = -1
+
+
+@jit
+def _step_all(theta, dtheta, lo, hi, pos, radius, edge, n_objects, offset_m, focal_px, width_px,
+              height_px, d_th_px, max_steps, n_steps, end, limit_hit, attended, seen, n_det,
+              centre, area, seen_edge, ids, uv, depth, scratch_area):
+    """One step of every running episode: move (Eq. 2's command), look, evaluate (Eq. 3)."""
+    cx, cy = (width_px - 1) / 2, (height_px - 1) / 2
+    for i in range(theta.shape[0]):
+        if end[i] != _RUNNING:
+            continue
+        hit = False
+        for j in range(2):
+            want = theta[i, j] + dtheta[i, j]
+            theta[i, j] = min(max(want, lo[j]), hi[j])
+            hit = hit or theta[i, j] != want
+        n_steps[i] += 1
+        limit_hit[i] = hit
+        n = n_objects
+        rot = rotation_matrix(theta[i, 0], theta[i, 1])
+        m = detect_into(pos[i, :n], radius[i, :n], edge[i, :n], rot, offset_m, focal_px,
+                        width_px, height_px, uv[i, :n], depth[i, :n], scratch_area[i, :n],
+                        centre[i], area[i], seen_edge[i], ids[i])
+        n_det[i] = m
+        s = attended_index(centre[i, :m], cx, cy, d_th_px)
+        seen[i] = s
+        if s >= 0:
+            attended[i], end[i] = ids[i, s], END_FIRED
+        elif hit:
+            end[i] = END_LIMIT
+        elif n_steps[i] >= max_steps:
+            end[i] = END_STEPS
+
+
+class JointAttentionVectorEnv(gym.vector.VectorEnv):
+    """``num_envs`` episodes of the ``"face"`` or ``"detections"`` mode, stepped together.
+
+    Args:
+        num_envs: how many sub-environments.
+        max_episode_steps: the step limit (from the registration; ``max_steps`` wins if given).
+        **kwargs: those of :class:`~.joint_attention.JointAttentionEnv` (not ``"image"`` mode).
+
+    Seeds as ``SyncVectorEnv``: ``reset(seed=s)`` seeds sub-environment ``i`` with ``s + i``;
+    episodes that end restart at the next step (Gymnasium's next-step autoreset).
+    """
+
+    metadata: ClassVar[dict] = {"autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(self, num_envs: int, max_episode_steps: int | None = None, **kwargs):
+        self.num_envs = check_int("num_envs", num_envs, 1, 100_000)
+        if kwargs.get("max_steps") is None and max_episode_steps is not None:
+            kwargs["max_steps"] = max_episode_steps
+        if kwargs.get("obs_mode", "image") == "image":
+            raise ConfigError("obs_mode='image': the native vector environment steps the modes "
+                              "without images; expected 'face' or 'detections' (or make_vec's "
+                              "async mode for images)")
+        self.envs = [JointAttentionEnv(**kwargs) for _ in range(self.num_envs)]
+        one = self.envs[0]
+        self.obs_mode, self.max_steps, self.reward = one.obs_mode, one.max_steps, one.reward
+        self.single_observation_space = one.observation_space
+        self.single_action_space = one.action_space
+        self.observation_space = batch_space(one.observation_space, self.num_envs)
+        self.action_space = batch_space(one.action_space, self.num_envs)
+        kin, cfg = one.kinematics, one.config
+        n = cfg.world.objects.n_objects
+        self._kin, self._n = kin, n
+        self._d_th_px = cfg.agent.d_th_px(kin.width_px)
+        self._scale = one.max_step_rad if one.normalize_actions else np.ones(2)
+        self._alloc(self.num_envs, n)
+        self._needs_reset = np.ones(self.num_envs, bool)
+
+    def _alloc(self, k: int, n: int) -> None:
+        f, i = np.zeros, np.int64
+        self._theta, self._pos, self._radius = f((k, 2)), f((k, n, 3)), f((k, n))
+        self._edge, self._target, self._face_k = f((k, n)), np.zeros(k, i), np.zeros(k, i)
+        self._n_steps, self._end = np.zeros(k, i), np.full(k, _RUNNING, i)
+        self._limit_hit, self._attended = np.zeros(k, bool), np.full(k, -1, i)
+        self._seen, self._n_det = np.full(k, -1, i), np.zeros(k, i)
+        self._centre, self._area = f((k, n, 2)), f((k, n))
+        self._seen_edge, self._ids = f((k, n)), np.zeros((k, n), i)
+        self._scratch = f((k, n, 2)), f((k, n)), f((k, n))
+
+    def _start(self, i: int, seed: int | None) -> None:
+        """Draw sub-environment ``i``'s next episode from its own generator."""
+        env = self.envs[i]
+        gym.Env.reset(env, seed=seed)
+        ds = env._datasets
+        k, scene, _ = random_scene(env.config, ds, self._kin, self._n, env.np_random)
+        self._face_k[i], self._target[i] = k, scene.target_index
+        self._pos[i], self._radius[i], self._edge[i] = (scene.object_pos_m,
+                                                        scene.object_radius_m, scene.edge)
+        self._theta[i] = self._kin.clip(ds.theta_face_rad[k])
+        self._n_steps[i], self._end[i], self._attended[i] = 0, _RUNNING, -1
+        self._limit_hit[i] = False
+        self._look(np.array([i]))
+
+    def _look(self, which: np.ndarray) -> None:
+        """Project and evaluate without moving (a start), through the same kernel."""
+        end = np.full(self.num_envs, 0, np.int64)
+        end[which] = _RUNNING
+        steps = self._n_steps.copy()
+        steps[which] -= 1  # the kernel counts a step: take it back
+        self._kernel(np.zeros((self.num_envs, 2)), end, steps)
+        self._end[which] = np.where(end[which] == END_FIRED, END_FIRED, _RUNNING)
+        self._limit_hit[which] = False
+
+    def _kernel(self, dtheta: np.ndarray, end: np.ndarray, steps: np.ndarray) -> None:
+        kin = self._kin
+        lo = np.array([kin.pan_limits_rad[0], kin.tilt_limits_rad[0]])
+        hi = np.array([kin.pan_limits_rad[1], kin.tilt_limits_rad[1]])
+        _step_all(self._theta, dtheta, lo, hi, self._pos, self._radius, self._edge, self._n,
+                  np.asarray(kin.offset_m, float), float(kin.focal_px), kin.width_px,
+                  kin.height_px, self._d_th_px, self.max_steps, steps, end, self._limit_hit,
+                  self._attended, self._seen, self._n_det, self._centre, self._area,
+                  self._seen_edge, self._ids, *self._scratch)
+        self._n_steps[:] = steps
+
+    def reset(self, *, seed: int | list | None = None, options: dict | None = None):
+        """Start an episode in every sub-environment (``seed + i`` for sub-environment i)."""
+        if options:
+            raise ArgumentError("options: expected None; this environment takes no reset "
+                                "options")
+        seeds = seed if isinstance(seed, list) else (
+            [None] * self.num_envs if seed is None else [seed + i for i in range(self.num_envs)])
+        for i, s in enumerate(seeds):
+            self._start(i, s)
+        self._needs_reset[:] = False
+        return self._observations(), self._infos()
+
+    def step(self, actions):
+        """Step every sub-environment; those that ended at the last step start anew."""
+        try:
+            actions = None if np.iscomplexobj(actions) else np.asarray(actions, dtype=float)
+        except (TypeError, ValueError):
+            actions = None
+        if actions is None or actions.shape != (self.num_envs, 2) or \
+                not np.all(np.isfinite(actions)):
+            raise ArgumentError(f"actions: expected ({self.num_envs}, 2) finite numbers (pan, "
+                                "tilt per sub-environment)")
+        restart = np.flatnonzero(self._needs_reset)
+        for i in restart:
+            self._start(int(i), None)
+        space = self.single_action_space
+        dtheta = np.clip(actions, space.low, space.high) * self._scale
+        end = self._end.copy()
+        end[restart] = END_FIRED  # not stepped this time
+        running = end == _RUNNING
+        steps = self._n_steps.copy()
+        self._kernel(dtheta, end, steps)
+        self._end = np.where(running, end, self._end)
+        fired = running & (self._end == END_FIRED)
+        success = fired & (self._attended == self._target)
+        rewards = (success if self.reward == "external" else fired).astype(float)
+        terminated = running & ((self._end == END_FIRED) | (self._end == END_LIMIT))
+        truncated = running & (self._end == END_STEPS)
+        self._needs_reset = terminated | truncated
+        return self._observations(), rewards, terminated, truncated, self._infos()
+
+    def _observations(self) -> dict:
+        ds = self.envs[0]._datasets
+        obs = {"head_angle": self._theta.astype(np.float32), "face": ds.face[self._face_k]}
+        if self.obs_mode == "detections":
+            obs["detections"] = np.stack([detection_rows(self._detections(i))
+                                          for i in range(self.num_envs)])
+        return obs
+
+    def _detections(self, i: int):
+        from ..agent.detections import Detections
+
+        m = int(self._n_det[i])
+        return Detections(self._centre[i, :m], self._area[i, :m], self._seen_edge[i, :m],
+                          np.zeros(m), (self._kin.width_px, self._kin.height_px))
+
+    def _infos(self) -> dict:
+        k, n = self.num_envs, self._n
+        padded = {}
+        for name, a in (("centre_px", self._centre), ("colour_area_px", self._area),
+                        ("edge", self._seen_edge), ("motion", np.zeros((k, n)))):
+            out = np.zeros((k, MAX_DETECTIONS, *a.shape[2:]))
+            mask = np.arange(n)[None, :] < self._n_det[:, None]
+            out[:, :n] = np.where(mask.reshape(k, n, *([1] * (a.ndim - 2))), a, 0)
+            padded[name] = out
+        fired = self._end == END_FIRED
+        info = {"detections": padded, "n_detections": self._n_det.copy(), "fired": fired,
+                "seen": np.where(fired, self._seen, -1), "attended": self._attended.copy(),
+                "target": self._target.copy(), "limit_hit": self._limit_hit.copy(),
+                "intrinsic_reward": fired.astype(float),
+                "external_reward": (fired & (self._attended == self._target)).astype(float)}
+        return _with_masks(info, k)
+
+    def close_extras(self, **kwargs) -> None:
+        """Nothing to free: no renderer."""
+
+
+def _with_masks(info: dict, k: int) -> dict:
+    """``info`` with Gymnasium's ``_key`` masks (every sub-environment has every key)."""
+    out = {}
+    for key, value in info.items():
+        out[key] = _with_masks(value, k) if isinstance(value, dict) else value
+        out[f"_{key}"] = np.ones(k, bool)
+    return out
