@@ -118,7 +118,8 @@ class JointAttentionEnv(gym.Env, EzPickle):
     Versions: v0, first release (``info["detections"]`` had one row per object in view, so
     vector environments could not stack it). v1: observation modes, ``info`` of fixed shape,
     ``width``/``height``, ``normalize_actions``, ``max_episode_steps`` registered, variants,
-    argument errors, reset options refused, pickling.
+    the native vector environment (:mod:`jointattention.env.vector`), argument errors, reset
+    options refused, pickling.
     """
 
     metadata: ClassVar[dict] = {"render_modes": ["rgb_array"], "render_fps": 5}
