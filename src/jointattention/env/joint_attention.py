@@ -19,6 +19,7 @@ from ..config import Config, load_config, with_n_objects
 from ..errors import ArgumentError, ConfigError
 from ..experiment.cells import datasets_of, evaluator, random_scene
 from ..experiment.trial import END_STEPS, SceneTrial
+from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
 from ._looks import OBS_MODES, detection_rows, info_of, observation_space
 
@@ -29,16 +30,24 @@ _ARGS = ("config", "obs_mode", "n_objects", "n_poses", "reward", "max_steps", "w
          "height", "normalize_actions", "render_mode")
 
 
-def _action(action) -> np.ndarray:
-    """``action`` as 2 finite floats (pan, tilt), else one error naming it."""
+def _action(action, shape: tuple[int, ...] = (2,), name: str = "action") -> np.ndarray:
+    """``action`` as finite floats of ``shape`` (pan, tilt last), else one error naming it."""
     try:
         a = None if np.iscomplexobj(action) else np.asarray(action, dtype=float)
     except (TypeError, ValueError):
         a = None
-    if a is None or a.shape != (2,) or not np.all(np.isfinite(a)):
-        raise ArgumentError(f"action={short_repr(action)}: expected 2 finite numbers (pan, "
-                            "tilt)")
+    if a is None or a.shape != shape or not np.all(np.isfinite(a)):
+        size = "2" if shape == (2,) else str(shape)
+        raise ArgumentError(f"{name}={short_repr(action)}: expected {size} finite numbers "
+                            "(pan, tilt)")
     return a
+
+
+def _refuse_options(options: dict | None) -> None:
+    """Reset options: none are taken."""
+    if options:
+        raise ArgumentError(f"options={short_repr(options)}: expected None; this environment "
+                            "takes no reset options")
 
 
 class JointAttentionEnv(gym.Env, EzPickle):
@@ -206,21 +215,26 @@ class JointAttentionEnv(gym.Env, EzPickle):
         """
         if seed is not None:
             check_int("seed", seed, 0, 2**63 - 1, ArgumentError)
-        if options:
-            raise ArgumentError(f"options={short_repr(options)}: expected None; this "
-                                "environment takes no reset options")
+        _refuse_options(options)
         super().reset(seed=seed)
-        if self._world is None:  # the fast world: a data set and random distractors
-            ds = self._datasets
-            k, scene, _ = random_scene(self.config, ds, self.kinematics,
-                                       self.config.world.objects.n_objects, self.np_random)
-            self._face, start = ds.face[k], ds.theta_face_rad[k]
+        if self._world is None:
+            k, scene = self._fast_episode(self.np_random)
+            self._face, start = self._datasets.face[k], self._datasets.theta_face_rad[k]
         else:
             start = self._new_scene(seeded=seed is not None)
             scene = self._world.fast_scene()
         self._trial = SceneTrial(scene, self.kinematics.clip(start), kinematics=self.kinematics,
                                  max_steps=self.max_steps, evaluate=self._evaluate)
         return self._look()
+
+    def _fast_episode(self, rng: np.random.Generator) -> tuple[int, FastScene]:
+        """The modes without images: a data set's index and its scene with random distractors.
+
+        The runner's own draw (:func:`~jointattention.experiment.cells.random_scene`).
+        """
+        k, scene, _ = random_scene(self.config, self._datasets, self.kinematics,
+                                   self.config.world.objects.n_objects, rng)
+        return k, scene
 
     def _new_scene(self, seeded: bool) -> np.ndarray:
         """``"image"`` mode: show a new scene in the room; returns the start head angle."""

@@ -14,19 +14,19 @@ from typing import ClassVar
 
 import gymnasium as gym
 import numpy as np
+from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from .._checks import check_int
 from .._jit import jit
 from ..agent.attention import attended_index
-from ..errors import ArgumentError, ConfigError
-from ..experiment.cells import random_scene
+from ..errors import ConfigError
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
 from ..world.fast import detect_into
 from ..world.kinematics import rotation_matrix
 from ._looks import MAX_DETECTIONS, detection_rows
-from .joint_attention import JointAttentionEnv
+from .joint_attention import JointAttentionEnv, _action, _refuse_options
 
 __all__ = ["JointAttentionVectorEnv"]
 
@@ -87,8 +87,10 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
             raise ConfigError("obs_mode='image': the native vector environment steps the modes "
                               "without images; expected 'face' or 'detections' (or make_vec's "
                               "async mode for images)")
-        self.envs = [JointAttentionEnv(**kwargs) for _ in range(self.num_envs)]
-        one = self.envs[0]
+        # One environment knows the spaces, the world and the data sets; each sub-environment
+        # has only its own generator, drawn as Env.reset draws it.
+        self._env = one = JointAttentionEnv(**kwargs)
+        self._rngs: list[np.random.Generator | None] = [None] * self.num_envs
         self.obs_mode, self.max_steps, self.reward = one.obs_mode, one.max_steps, one.reward
         self.single_observation_space = one.observation_space
         self.single_action_space = one.action_space
@@ -98,6 +100,9 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         n = cfg.world.objects.n_objects
         self._kin, self._n = kin, n
         self._d_th_px = cfg.agent.d_th_px(kin.width_px)
+        self._lo = np.array([kin.pan_limits_rad[0], kin.tilt_limits_rad[0]])
+        self._hi = np.array([kin.pan_limits_rad[1], kin.tilt_limits_rad[1]])
+        self._offset_m = np.asarray(kin.offset_m, float)
         self._scale = one.max_step_rad if one.normalize_actions else np.ones(2)
         self._alloc(self.num_envs, n)
         self._needs_reset = np.ones(self.num_envs, bool)
@@ -114,21 +119,19 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._scratch = f((k, n, 2)), f((k, n)), f((k, n))
 
     def _start(self, i: int, seed: int | None) -> None:
-        """Draw sub-environment ``i``'s next episode from its own generator."""
-        env = self.envs[i]
-        gym.Env.reset(env, seed=seed)
-        ds = env._datasets
-        k, scene, _ = random_scene(env.config, ds, self._kin, self._n, env.np_random)
+        """Draw sub-environment ``i``'s next episode from its own generator (not yet seen)."""
+        if seed is not None or self._rngs[i] is None:
+            self._rngs[i], _ = seeding.np_random(seed)
+        k, scene = self._env._fast_episode(self._rngs[i])
         self._face_k[i], self._target[i] = k, scene.target_index
         self._pos[i], self._radius[i], self._edge[i] = (scene.object_pos_m,
                                                         scene.object_radius_m, scene.edge)
-        self._theta[i] = self._kin.clip(ds.theta_face_rad[k])
+        self._theta[i] = self._kin.clip(self._env._datasets.theta_face_rad[k])
         self._n_steps[i], self._end[i], self._attended[i] = 0, _RUNNING, -1
         self._limit_hit[i] = False
-        self._look(np.array([i]))
 
     def _look(self, which: np.ndarray) -> None:
-        """Project and evaluate without moving (a start), through the same kernel."""
+        """The first look of the episodes just started: project and evaluate, no move."""
         end = np.full(self.num_envs, 0, np.int64)
         end[which] = _RUNNING
         steps = self._n_steps.copy()
@@ -139,10 +142,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
     def _kernel(self, dtheta: np.ndarray, end: np.ndarray, steps: np.ndarray) -> None:
         kin = self._kin
-        lo = np.array([kin.pan_limits_rad[0], kin.tilt_limits_rad[0]])
-        hi = np.array([kin.pan_limits_rad[1], kin.tilt_limits_rad[1]])
-        _step_all(self._theta, dtheta, lo, hi, self._pos, self._radius, self._edge, self._n,
-                  np.asarray(kin.offset_m, float), float(kin.focal_px), kin.width_px,
+        _step_all(self._theta, dtheta, self._lo, self._hi, self._pos, self._radius, self._edge,
+                  self._n, self._offset_m, float(kin.focal_px), kin.width_px,
                   kin.height_px, self._d_th_px, self.max_steps, steps, end, self._limit_hit,
                   self._attended, self._seen, self._n_det, self._centre, self._area,
                   self._seen_edge, self._ids, *self._scratch)
@@ -150,29 +151,23 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
         """Start an episode in every sub-environment (``seed + i`` for sub-environment i)."""
-        if options:
-            raise ArgumentError("options: expected None; this environment takes no reset "
-                                "options")
+        _refuse_options(options)
         seeds = seed if isinstance(seed, list) else (
             [None] * self.num_envs if seed is None else [seed + i for i in range(self.num_envs)])
         for i, s in enumerate(seeds):
             self._start(i, s)
+        self._look(np.arange(self.num_envs))
         self._needs_reset[:] = False
         return self._observations(), self._infos()
 
     def step(self, actions):
         """Step every sub-environment; those that ended at the last step start anew."""
-        try:
-            actions = None if np.iscomplexobj(actions) else np.asarray(actions, dtype=float)
-        except (TypeError, ValueError):
-            actions = None
-        if actions is None or actions.shape != (self.num_envs, 2) or \
-                not np.all(np.isfinite(actions)):
-            raise ArgumentError(f"actions: expected ({self.num_envs}, 2) finite numbers (pan, "
-                                "tilt per sub-environment)")
+        actions = _action(actions, (self.num_envs, 2), "actions")
         restart = np.flatnonzero(self._needs_reset)
         for i in restart:
             self._start(int(i), None)
+        if len(restart):
+            self._look(restart)
         space = self.single_action_space
         dtheta = np.clip(actions, space.low, space.high) * self._scale
         end = self._end.copy()
@@ -181,16 +176,15 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         steps = self._n_steps.copy()
         self._kernel(dtheta, end, steps)
         self._end = np.where(running, end, self._end)
-        fired = running & (self._end == END_FIRED)
-        success = fired & (self._attended == self._target)
-        rewards = (success if self.reward == "external" else fired).astype(float)
         terminated = running & ((self._end == END_FIRED) | (self._end == END_LIMIT))
         truncated = running & (self._end == END_STEPS)
         self._needs_reset = terminated | truncated
-        return self._observations(), rewards, terminated, truncated, self._infos()
+        infos = self._infos()  # the episodes just started have not fired: reward 0
+        return (self._observations(), infos[f"{self.reward}_reward"], terminated, truncated,
+                infos)
 
     def _observations(self) -> dict:
-        ds = self.envs[0]._datasets
+        ds = self._env._datasets
         obs = {"head_angle": self._theta.astype(np.float32), "face": ds.face[self._face_k]}
         if self.obs_mode == "detections":
             obs["detections"] = np.stack([detection_rows(self._detections(i))
