@@ -16,11 +16,13 @@ from typing import Any
 
 from .errors import ConfigError
 
-__all__ = ["MAX_INT", "NAME", "check_int", "check_name", "check_type", "check_value",
+__all__ = ["MAX_INT", "NAME", "UNSAFE", "check_int", "check_name", "check_type", "check_value",
            "scalar_types", "short_repr"]
 
 # Names become file and folder names: letters, digits and a few marks, never a path.
-NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.,=+-]{0,79}")
+_SAFE = "A-Za-z0-9_.,=+-"
+NAME = re.compile(rf"[A-Za-z0-9][{_SAFE}]{{0,79}}")
+UNSAFE = re.compile(rf"[^{_SAFE}]")  # a character that a name may not hold
 MAX_INT = 2**63 - 1  # the compiled engine's integers; TOML's own limit too
 
 

@@ -8,6 +8,7 @@ JSON, a truncated or corrupt archive, a header claiming more data than the file 
 from __future__ import annotations
 
 import hashlib
+import io
 import json
 import os
 import tomllib
@@ -133,7 +134,7 @@ def read_image(path: str | Path) -> np.ndarray:
     try:  # Pillow reads the header, and checks the file whole (CRCs, length) without decoding
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", Image.DecompressionBombWarning)
-            with Image.open(path) as im:
+            with Image.open(io.BytesIO(data)) as im:
                 w, h = im.size
                 if w * h == 0:
                     raise ValueError(f"its header claims {w}x{h} pixels")

@@ -20,13 +20,13 @@ the final success per point and condition.
 from __future__ import annotations
 
 import itertools
-import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from .._checks import UNSAFE
 from .._fields import from_mapping, to_mapping
 from .._files import check_writable
 from .._readers import read_toml
@@ -73,7 +73,7 @@ def _point_name(keys, values) -> str:
     short = [k.rsplit(".", 1)[-1] for k in keys]
     names = short if len(set(short)) == len(short) else list(keys)
     parts = [f"{n}={v}" for n, v in zip(names, values, strict=True)]
-    return re.sub(r"[^A-Za-z0-9_.,=+-]", "_", ",".join(parts))[:200] or "base"
+    return UNSAFE.sub("_", ",".join(parts))[:200] or "base"
 
 
 def _read_grid(grid: object, where: str, max_cells: int) -> dict[str, list]:
