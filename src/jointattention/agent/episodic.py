@@ -14,8 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .bootstrap import BootstrapAgent, BootstrapOptions, random_step, unit_step
+from .bootstrap import BootstrapAgent, BootstrapOptions
 from .memory import EpisodicMemory
+from .moves import random_step, unit_step
 from .protocol import Body, Outcome
 
 __all__ = ["MemoryAgent"]

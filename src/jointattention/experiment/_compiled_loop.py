@@ -15,16 +15,11 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.attention import attended_index, interest_argmax, visual_feedback_rad
-from ..agent.bootstrap import (
-    LEARNING_TARGETS,
-    learning_samples,
-    random_step,
-    scale_angle_into,
-    unit_step,
-)
+from ..agent.bootstrap import LEARNING_TARGETS
 from ..agent.gates import agreement_update, performance_rate, sigmoid_rate
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
+from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
 from ..world.fast import detect_into
 from ..world.kinematics import rotation_matrix
 from ..world.placement import place_into

@@ -1,0 +1,81 @@
+"""The bootstrap agent's compiled kernels: its moves, its inputs and its learning samples.
+
+Shared by :class:`~.bootstrap.BootstrapAgent` (step by step) and the compiled engine
+(:mod:`jointattention.experiment._compiled_loop`), so that both compute the same numbers.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import jit
+from .learner import accumulate, forward, standardise
+
+__all__ = ["learning_samples", "lm_commands_into", "random_step", "scale_angle_into",
+           "unit_step"]
+
+
+@jit
+def unit_step(out_0: float, out_1: float, step_rad: float) -> tuple[float, float]:
+    """The learning module's command: the direction of its output, one step long."""
+    norm = max(math.hypot(out_0, out_1), 1e-12)
+    return step_rad * out_0 / norm, step_rad * out_1 / norm
+
+
+@jit
+def random_step(rng: np.random.Generator, step_rad: float) -> tuple[float, float]:
+    """One step in a direction drawn from ``rng``."""
+    angle = rng.uniform(0.0, 2 * math.pi)
+    return step_rad * math.cos(angle), step_rad * math.sin(angle)
+
+
+@jit
+def scale_angle_into(pan_rad, tilt_rad, theta_mid_rad, theta_half_rad, out, first) -> None:
+    """The head angle scaled to [-1, 1] by the joint ranges (the learning module's input).
+
+    Written into ``out[first]`` and ``out[first + 1]``.
+    """
+    out[first] = (pan_rad - theta_mid_rad[0]) / theta_half_rad[0]
+    out[first + 1] = (tilt_rad - theta_mid_rad[1]) / theta_half_rad[1]
+
+
+@jit
+def lm_commands_into(faces, thetas_rad, mean, m2, n_seen, min_std, w1, b1, w2, b2,
+                     theta_mid_rad, theta_half_rad, step_rad, out) -> None:
+    """The learning module's command for each face window (K, pixels) and head angle (K, 2).
+
+    As :meth:`BootstrapAgent.lm_command` computes it, one row at a time, into ``out`` (K, 2).
+    """
+    n_pix = faces.shape[1]
+    x, scaled = np.empty(n_pix), np.empty(2)
+    acc, h, o = np.empty(len(b1)), np.empty(len(b1)), np.empty(w2.shape[1])
+    for k in range(len(faces)):
+        standardise(faces[k], mean, m2, n_seen, min_std, x)
+        acc[:] = 0.0
+        accumulate(x, w1, 0, acc)
+        scale_angle_into(thetas_rad[k, 0], thetas_rad[k, 1], theta_mid_rad, theta_half_rad,
+                         scaled, 0)
+        accumulate(scaled, w1, n_pix, acc)
+        forward(acc, b1, w2, b2, h, o)
+        out[k, 0], out[k, 1] = unit_step(o[0], o[1], step_rad)
+
+
+@jit
+def learning_samples(thetas_rad, steps_rad, aim_rad, executed: bool, y_out) -> np.ndarray:
+    """Teaching signals of a successful trial: unit vectors in ``y_out``, and which to keep.
+
+    Each step is taught the unit direction from where the head was to ``aim_rad``, or, if
+    ``executed``, of the step it made; steps of no length are not kept.
+    """
+    keep = np.empty(len(thetas_rad), dtype=np.bool_)
+    for i in range(len(thetas_rad)):
+        if executed:
+            d0, d1 = steps_rad[i, 0], steps_rad[i, 1]
+        else:
+            d0, d1 = aim_rad[0] - thetas_rad[i, 0], aim_rad[1] - thetas_rad[i, 1]
+        norm = max(math.hypot(d0, d1), 1e-12)
+        keep[i] = norm > 1e-9
+        y_out[i, 0], y_out[i, 1] = d0 / norm, d1 / norm
+    return keep
