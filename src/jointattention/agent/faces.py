@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-__all__ = ["Face", "FaceFinder", "face_template", "face_window"]
+__all__ = ["Face", "FaceFinder", "face_template", "face_window", "finder_for", "window_of"]
 
 
 @dataclass(frozen=True)
@@ -121,3 +121,22 @@ def face_window(
     gray = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2GRAY)
     patch = cv2.getRectSubPix(gray, (crop_w, crop_h), (float(centre_px[0]), float(centre_px[1])))
     return cv2.resize(patch, (width, height), interpolation=cv2.INTER_AREA)
+
+
+# faces are looked for from this fraction of an image's height up to all of it
+_LEAST_FACE_FRACTION = 0.08
+
+
+def finder_for(method: str, height_px: int, template: np.ndarray | None = None,
+               min_score: float = 0.5) -> FaceFinder:
+    """A face finder for images ``height_px`` tall: faces from 8% of it (8 px at least) to all."""
+    heights = (max(8.0, _LEAST_FACE_FRACTION * height_px), float(height_px))
+    return FaceFinder(method, template, min_score=min_score, heights_px=heights)
+
+
+def window_of(image_rgb: np.ndarray, face: Face, size_px: tuple[int, int]) -> np.ndarray:
+    """The face window of a face found in an image: :func:`face_window` of its box.
+
+    Imported recordings, ``follow`` and the closed loop all cut their windows with it.
+    """
+    return face_window(image_rgb, face.centre_px, face.height_px, size_px)

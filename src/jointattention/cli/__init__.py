@@ -1,8 +1,8 @@
 """The command line: ``jointattention COMMAND --help`` documents each command.
 
 Each command only parses its arguments and calls the library; the commands are registered by
-:mod:`.run` (reproduce, sweep, report, bench, config), :mod:`.vision` (parity, detect, gaze)
-and :mod:`.world` (render, datasets).
+:mod:`.run` (reproduce, sweep, report, bench, config), :mod:`.vision` (parity, detect, gaze),
+:mod:`.world` (render, datasets) and :mod:`.robot` (train, follow, datasets import).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ import threading
 
 from .. import __version__
 from ..errors import JointAttentionError
-from . import run, vision, world
+from . import robot, run, vision, world
 
 __all__ = ["build_parser", "main"]
 
@@ -38,6 +38,7 @@ def build_parser() -> argparse.ArgumentParser:
     run.add_commands(sub)
     vision.add_commands(sub)
     world.add_commands(sub)
+    robot.add_commands(sub)
     return parser
 
 

@@ -1,0 +1,115 @@
+"""Gaze following on camera images: a saved model in a robot's control loop.
+
+    >>> from jointattention import GazeFollower
+    >>> follower = GazeFollower.load("model.npz")          # doctest: +SKIP
+    >>> while True:                                          # doctest: +SKIP
+    ...     frame, theta = camera.read_rgb(), head.angle_rad()
+    ...     command = follower.command(frame, theta)         # (dpan, dtilt) rad, or None
+    ...     if command is not None:
+    ...         head.move_by(command)
+
+Each frame: the caregiver's face is found (template matching with the mean face the model
+learned from, or OpenCV's Haar cascade for people), its window is cut by
+:func:`~jointattention.agent.faces.window_of` (the function imported recordings are
+made with), and the learning module gives one step toward where the caregiver looks.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ArgumentError
+from .faces import Face, FaceFinder, finder_for, window_of
+from .saved import LearnedModel, Robot, load_model
+
+__all__ = ["FACE_METHODS", "GazeFollower", "Look"]
+
+FACE_METHODS = ("template", "haar")
+
+
+@dataclass(frozen=True)
+class Look:
+    """What the follower made of one frame.
+
+    Attributes:
+        face: the caregiver's face found in the frame.
+        window: the face window cut around it, (H, W) uint8, as the model's inputs.
+        command_rad: the learning module's (dpan, dtilt), one step long.
+    """
+
+    face: Face
+    window: np.ndarray
+    command_rad: np.ndarray
+
+
+class GazeFollower:
+    """A learned model applied to RGB frames.
+
+    Args:
+        model: the learned model (:func:`~jointattention.agent.saved.load_model`).
+        face: ``"template"`` (the mean face window the model learned from: for the simulated
+            caregiver, or a robot's own recordings) or ``"haar"`` (OpenCV's frontal-face
+            cascade: for people).
+    """
+
+    def __init__(self, model: LearnedModel, face: str = "template"):
+        if face not in FACE_METHODS:
+            raise ArgumentError(f"face {face!r}: expected one of {', '.join(FACE_METHODS)}")
+        self.model, self.face = model, face
+        self._finders: dict[int, FaceFinder] = {}
+
+    @classmethod
+    def load(cls, path: str | Path, *, face: str = "template",
+             robot: Robot | None = None) -> GazeFollower:
+        """A follower of the model saved at ``path`` (refused if learned on another ``robot``)."""
+        return cls(load_model(path, robot=robot), face)
+
+    def _finder(self, height_px: int) -> FaceFinder:
+        if height_px not in self._finders:
+            template = self.model.face_template() if self.face == "template" else None
+            self._finders[height_px] = finder_for(
+                self.face, height_px, template, self.model.config.detector.face_min_score)
+        return self._finders[height_px]
+
+    def find(self, frame_rgb: np.ndarray) -> Face | None:
+        """The caregiver's face in an RGB uint8 frame (H, W, 3): the best match, or None."""
+        frame = np.asarray(frame_rgb)
+        if frame.dtype != np.uint8 or frame.ndim != 3 or frame.shape[2] != 3 or min(
+                frame.shape[:2]) < 8:
+            raise ArgumentError(f"frame of {frame.dtype} and shape {frame.shape}: expected an "
+                                "RGB uint8 image (H, W, 3), at least 8 x 8")
+        faces = self._finder(frame.shape[0]).find(frame)
+        return faces[0] if faces else None
+
+    def look(self, frame_rgb: np.ndarray, theta_rad) -> Look | None:
+        """The face, its window and the command for a frame seen at head angle ``theta_rad``."""
+        theta = self._theta(theta_rad)
+        face = self.find(frame_rgb)
+        if face is None:
+            return None
+        window = window_of(frame_rgb, face, self.model.robot.face_size_px)
+        return Look(face, window, self.model.lm_command(window, theta))
+
+    def command(self, frame_rgb: np.ndarray, theta_rad) -> np.ndarray | None:
+        """(dpan, dtilt) in radians, one step toward where the caregiver looks; None: no face."""
+        look = self.look(frame_rgb, theta_rad)
+        return None if look is None else look.command_rad
+
+    def _theta(self, theta_rad) -> np.ndarray:
+        try:
+            theta = np.asarray(theta_rad, dtype=float)
+        except (TypeError, ValueError):
+            theta = None
+        if theta is None or theta.shape != (2,) or not np.all(np.isfinite(theta)):
+            raise ArgumentError(f"theta_rad {theta_rad!r}: expected the head angle as 2 finite "
+                                "numbers (pan, tilt) in radians")
+        robot = self.model.robot
+        for value, (lo, hi), name in ((theta[0], robot.pan_limits_deg, "pan"),
+                                      (theta[1], robot.tilt_limits_deg, "tilt")):
+            if not np.deg2rad(lo) - 1e-9 <= value <= np.deg2rad(hi) + 1e-9:
+                raise ArgumentError(f"theta_rad: {name} {np.rad2deg(value):.1f} deg is outside "
+                                    f"the model's robot's joint range [{lo}, {hi}] deg")
+        return theta

@@ -1,0 +1,256 @@
+"""Learned models in a file: saved after learning, loaded on a robot, never unpickled.
+
+On-disk format, schema version 1: one NumPy ``.npz`` archive whose members are plain arrays
+(loading one never runs code: :func:`~jointattention._readers.read_npz` refuses pickled
+members).
+
+==================  =======  ============  ==============================================
+member              dtype    shape         meaning
+==================  =======  ============  ==============================================
+``schema_version``  int      ()            ``1``
+``w1``              float64  (n_hid, n_in) input weights; ``n_in`` = face pixels + 2
+``b1``              float64  (n_hid,)      hidden biases
+``w2``              float64  (n_hid, 2)    output weights
+``b2``              float64  (2,)          output biases
+``face_mean``       float64  (n_in - 2,)   per-pixel mean of the faces seen (row-major H x W)
+``face_m2``         float64  (n_in - 2,)   per-pixel sum of squared deviations (Welford)
+``face_n_seen``     int      ()            faces seen (>= 1)
+``meta``            str      ()            JSON text, below
+==================  =======  ============  ==============================================
+
+``meta`` holds ``robot`` (:class:`Robot`: the body the model was learned on), ``model`` (its
+kind, the condition, the learning time), ``config`` (the run's whole configuration as TOML,
+from which the model's options and the face standardiser's floor are read),
+``datasets_sha256`` (of the data-set file it learned from) and ``generator`` (the package
+version). The inputs are the face window standardised by ``face_mean``/``face_m2`` and the
+head angle scaled to [-1, 1] by the joint ranges; the output is a direction, one
+``lm_step_deg`` long (README, *Saved models and real heads*).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import tomllib
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .. import __version__
+from .._files import save_npz
+from .._readers import read_npz
+from ..config import Config, condition_named, load_config, model_options, to_toml
+from ..errors import ConfigError, FileError
+from .bootstrap import BootstrapAgent, BootstrapOptions
+from .protocol import Body
+
+__all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
+           "save_model"]
+
+SCHEMA_VERSION = 1
+_ARRAYS = ("w1", "b1", "w2", "b2", "face_mean", "face_m2", "face_n_seen")
+
+
+@dataclass(frozen=True)
+class Robot:
+    """The body a model was learned on; a model runs only on the same one.
+
+    Attributes:
+        image_size_px: (W, H) of the camera image.
+        fov_deg: horizontal field of view.
+        pan_limits_deg, tilt_limits_deg: the joint ranges (the head angle is scaled by them).
+        face_size_px: (width, height) of the face window.
+        lm_step_deg: length of one step of the learning module.
+    """
+
+    image_size_px: tuple[int, int]
+    fov_deg: float
+    pan_limits_deg: tuple[float, float]
+    tilt_limits_deg: tuple[float, float]
+    face_size_px: tuple[int, int]
+    lm_step_deg: float
+
+    @classmethod
+    def of(cls, config: Config) -> Robot:
+        """The robot of a configuration."""
+        w = config.world
+        return cls((w.camera.width_px, w.camera.height_px), float(w.camera.fov_deg),
+                   tuple(map(float, w.head.pan_limits_deg)),
+                   tuple(map(float, w.head.tilt_limits_deg)),
+                   (w.face_window.width_px, w.face_window.height_px),
+                   float(config.agent.lm_step_deg))
+
+    @property
+    def body(self) -> Body:
+        """What the agent knows of this body."""
+        return Body(self.image_size_px, (tuple(np.deg2rad(self.pan_limits_deg)),
+                                         tuple(np.deg2rad(self.tilt_limits_deg))),
+                    self.face_size_px)
+
+    def differences(self, other: Robot) -> list[str]:
+        """The fields in which ``other`` differs from this robot."""
+        mine, theirs = asdict(self), asdict(other)
+        return [k for k in mine if not np.allclose(mine[k], theirs[k], rtol=0, atol=1e-9)]
+
+
+@dataclass(frozen=True)
+class LearnedModel:
+    """A learned bootstrap agent with the robot, configuration and data it was learned from."""
+
+    agent: BootstrapAgent
+    config: Config
+    condition: str
+    datasets_sha256: str | None = None
+
+    @property
+    def robot(self) -> Robot:
+        """The robot it was learned on."""
+        return Robot.of(self.config)
+
+    def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
+        """The learning module's (dpan, dtilt) in radians, one step long, for a face window."""
+        return self.agent.lm_command(face_window, theta_rad)
+
+    def face_template(self) -> np.ndarray:
+        """The mean of the faces it learned from, (H, W) uint8: a template to find them."""
+        w, h = self.robot.face_size_px
+        return np.clip(np.rint(self.agent.faces.mean_), 0, 255).astype(np.uint8).reshape(h, w)
+
+    def save(self, path: str | Path) -> Path:
+        """Write the model to ``path`` (.npz) atomically (see the module docstring)."""
+        return save_model(self.agent, path, config=self.config, condition=self.condition,
+                          datasets_sha256=self.datasets_sha256)
+
+
+def check_savable(config: Config, condition: str) -> BootstrapOptions:
+    """The options of ``condition``'s model if it can be saved, else one ConfigError line."""
+    options = model_options(config, condition_named(config, condition))
+    if not isinstance(options, BootstrapOptions) or options.learner != "backprop":
+        raise ConfigError(f"condition {condition!r}: its model is "
+                          f"{getattr(options, 'label', type(options).__name__)}; expected the "
+                          "bootstrap model with learner = 'backprop' (the only one saved)")
+    return options
+
+
+def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condition: str,
+               datasets_sha256: str | None = None) -> Path:
+    """Write a learned agent of ``config``'s condition ``condition`` to ``path`` (.npz)."""
+    path = Path(path)
+    if path.suffix != ".npz":
+        raise FileError(f"{path}: expected a model file name ending in .npz")
+    check_savable(config, condition)
+    if agent.faces.n_seen_ < 1:
+        raise ConfigError(f"{path}: the agent has seen no face; expected a learned agent")
+    net, faces = agent.learner, agent.faces
+    meta = {"robot": asdict(Robot.of(config)),
+            "model": {"kind": "bootstrap", "condition": condition,
+                      "learning_time_steps": int(agent.learning_time_steps)},
+            "config": to_toml(config), "datasets_sha256": datasets_sha256,
+            "generator": f"jointattention {__version__}"}
+    return save_npz(path, {
+        "schema_version": np.array(SCHEMA_VERSION), "w1": net.w1_, "b1": net.b1_,
+        "w2": net.w2_, "b2": net.b2_, "face_mean": faces.mean_, "face_m2": faces.m2_,
+        "face_n_seen": np.array(faces.n_seen_), "meta": np.array(json.dumps(meta))})
+
+
+def _field(where: str, key: str, expected: str, got) -> FileError:
+    return FileError(f"{where}: field '{key}': expected {expected}, got {got}")
+
+
+def _array(archive: dict, where: str, key: str, shape: tuple, kind: str = "f") -> np.ndarray:
+    a = archive[key]
+    if a.dtype.kind not in kind or a.shape != shape:
+        raise _field(where, key, f"{'a float' if kind == 'f' else 'an integer'} array of shape "
+                     f"{shape}", f"{a.dtype} array of shape {a.shape}")
+    if kind == "f" and not np.all(np.isfinite(a)):
+        raise _field(where, key, "finite values", f"{np.count_nonzero(~np.isfinite(a))} "
+                     "non-finite")
+    return a
+
+
+def _meta(archive: dict, where: str) -> dict:
+    try:
+        meta = json.loads(str(archive["meta"]))
+    except ValueError:
+        meta = None
+    if archive["meta"].shape != () or not isinstance(meta, dict):
+        raise _field(where, "meta", "JSON text of an object", repr(str(archive["meta"]))[:60])
+    for key, kind in (("robot", dict), ("model", dict), ("config", str)):
+        if not isinstance(meta.get(key), kind):
+            raise _field(where, f"meta.{key}", f"a {kind.__name__}", repr(meta.get(key))[:60])
+    model = meta["model"]
+    if model.get("kind") != "bootstrap":
+        raise _field(where, "meta.model.kind", "'bootstrap'", repr(model.get("kind"))[:60])
+    if not isinstance(model.get("condition"), str):
+        raise _field(where, "meta.model.condition", "a condition name",
+                     repr(model.get("condition"))[:60])
+    steps = model.get("learning_time_steps")
+    if type(steps) is not int or steps < 0:
+        raise _field(where, "meta.model.learning_time_steps", "an integer >= 0", repr(steps)[:60])
+    return meta
+
+
+def _robot(meta: dict, config: Config, where: str) -> Robot:
+    """The file's robot, checked against the one its configuration describes."""
+    robot = Robot.of(config)
+    saved = meta["robot"]
+    for key, value in asdict(robot).items():
+        got = saved.get(key)
+        numbers = got if isinstance(got, list) else [got]
+        if (not all(type(v) in (int, float) and math.isfinite(v) for v in numbers)
+                or np.shape(got) != np.shape(value)
+                or not np.allclose(got, value, rtol=0, atol=1e-9)):
+            raise _field(where, f"meta.robot.{key}", f"{value} (the robot of the file's "
+                         "configuration)", repr(got)[:60])
+    return robot
+
+
+def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
+    """Read and check a saved model; any problem is one :class:`FileError` naming the field.
+
+    ``robot``: the body it will run on; a model learned on another is refused.
+    """
+    where = str(path)
+    archive = read_npz(path, "a model .npz file (jointattention train --out)")
+    missing = [k for k in ("schema_version", *_ARRAYS, "meta") if k not in archive]
+    if missing:
+        raise FileError(f"{where}: field '{missing[0]}' is missing; expected a model file "
+                        "(jointattention train --out)")
+    unknown = sorted(set(archive) - {"schema_version", *_ARRAYS, "meta"})
+    if unknown:
+        raise FileError(f"{where}: field '{unknown[0]}' is not part of model schema version "
+                        f"{SCHEMA_VERSION}")
+    version = _array(archive, where, "schema_version", (), "iu")
+    if int(version) != SCHEMA_VERSION:
+        raise _field(where, "schema_version", str(SCHEMA_VERSION), int(version))
+    meta = _meta(archive, where)
+    try:
+        config = load_config(tomllib.loads(meta["config"]))
+        options = check_savable(config, meta["model"]["condition"])
+    except (tomllib.TOMLDecodeError, ConfigError) as err:
+        raise FileError(f"{where}: field 'meta.config': {err}") from None
+    saved = _robot(meta, config, where)
+    if robot is not None and saved.differences(robot):
+        key = saved.differences(robot)[0]
+        raise _field(where, f"meta.robot.{key}", f"{getattr(robot, key)} (this robot's)",
+                     getattr(saved, key))
+    w, h = saved.face_size_px
+    n_hidden, n_pixels = options.n_hidden, w * h
+    agent = BootstrapAgent(options, config.agent, saved.body, np.random.default_rng(0))
+    net, faces = agent.learner, agent.faces
+    net.w1_ = _array(archive, where, "w1", (n_hidden, n_pixels + 2)).astype(float)
+    net.b1_ = _array(archive, where, "b1", (n_hidden,)).astype(float)
+    net.w2_ = _array(archive, where, "w2", (n_hidden, 2)).astype(float)
+    net.b2_ = _array(archive, where, "b2", (2,)).astype(float)
+    net.velocity_ = [np.zeros_like(p) for p in net._params()]
+    faces.mean_ = _array(archive, where, "face_mean", (n_pixels,)).astype(float)
+    faces.m2_ = _array(archive, where, "face_m2", (n_pixels,)).astype(float)
+    if np.any(faces.m2_ < 0):
+        raise _field(where, "face_m2", "sums of squares >= 0", "a negative value")
+    n_seen = _array(archive, where, "face_n_seen", (), "iu")
+    if not 1 <= int(n_seen) <= 2**62:
+        raise _field(where, "face_n_seen", "an integer >= 1", int(n_seen))
+    faces.n_seen_ = int(n_seen)
+    agent.learning_time_steps = meta["model"]["learning_time_steps"]
+    return LearnedModel(agent, config, meta["model"]["condition"], meta.get("datasets_sha256"))

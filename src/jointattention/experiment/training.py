@@ -1,0 +1,55 @@
+"""Learning one cell and keeping what it learned (``train``, ``reproduce --save-models``)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from ..agent.saved import LearnedModel, check_savable, save_model
+from ..config import ConditionConfig, Config, condition_named
+from .cells import run_cell
+from .results import datasets_sha256
+
+__all__ = ["model_path", "run_cell_saving_model", "train"]
+
+
+def _learn(config: Config, condition: ConditionConfig, seed_index: int,
+           progress: Callable[[int], None] | None = None):
+    """The cell's records and its agent at the end of learning."""
+    learned = []
+    records = run_cell(config, condition, seed_index, progress,
+                       checkpoints=[config.experiment.n_steps],
+                       on_checkpoint=lambda t, agent: learned.append(agent))
+    return records, learned[-1]
+
+
+def train(config: Config, condition: str, seed_index: int = 0,
+          progress: Callable[[int], None] | None = None) -> LearnedModel:
+    """Learn one cell (``experiment.n_steps`` steps) and return its learned model.
+
+    Only the bootstrap model with the back-propagation learner is saved (checked first).
+    """
+    cond = condition_named(config, condition)
+    check_savable(config, condition)  # before learning, not after
+    _, agent = _learn(config, cond, seed_index, progress)
+    return LearnedModel(agent, config, condition, datasets_sha256(config))
+
+
+def model_path(models_dir: Path, condition: str, seed_index: int) -> Path:
+    """Where ``reproduce --save-models`` keeps a cell's learned model."""
+    return Path(models_dir) / condition / f"seed_{seed_index:03d}.npz"
+
+
+def run_cell_saving_model(config: Config, condition: ConditionConfig, seed_index: int, *,
+                          models_dir: Path) -> dict[str, np.ndarray]:
+    """:func:`~.cells.run_cell`, saving the learned model (in the worker) before it returns.
+
+    A cell's file is written only after its model, so a finished cell has its model.
+    """
+    records, agent = _learn(config, condition, seed_index)
+    save_model(agent, model_path(models_dir, condition.name, seed_index), config=config,
+               condition=condition.name, datasets_sha256=datasets_sha256(config))
+    return records
+

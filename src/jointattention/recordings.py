@@ -1,0 +1,157 @@
+"""Recordings of a real (or simulated) head imported as caregiver data sets.
+
+A recording is a folder a robot's script writes: camera images, and ``recording.csv`` with
+one row per image, taken while the head looked at the caregiver:
+
+=====================  ========================================================================
+column                 meaning
+=====================  ========================================================================
+``image``              the image file, relative to the folder (PNG, JPEG, BMP or TIFF)
+``pan_rad``            the head's pan when the image was taken (> 0 turns right)
+``tilt_rad``           its tilt (> 0 looks up)
+``command_pan_rad``    the pan change that then centred the object the caregiver looked at
+``command_tilt_rad``   the tilt change
+``target_x_m`` ...     optional, all three or none: ``target_x_m``, ``target_y_m``,
+                       ``target_z_m``, the target in the robot's frame (x right, y forward,
+                       z up, metres, origin at the pan/tilt axes)
+=====================  ========================================================================
+
+The caregiver's face is found in each image and its window cut by
+:func:`~jointattention.agent.faces.window_of`, the function ``follow`` uses on live images.
+Rows whose face is not found are reported (:class:`Missed`), never silently dropped.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from . import __version__
+from ._readers import read_image, read_text
+from .agent.faces import FaceFinder, face_template, finder_for, window_of
+from .datasets import CaregiverDatasets, default_datasets
+from .errors import DatasetError, FileError
+
+__all__ = ["COLUMNS", "CSV_NAME", "MAX_ROWS", "Missed", "import_recording"]
+
+CSV_NAME = "recording.csv"
+COLUMNS = ("image", "pan_rad", "tilt_rad", "command_pan_rad", "command_tilt_rad")
+_TARGET = ("target_x_m", "target_y_m", "target_z_m")
+MAX_ROWS = 1_000_000
+
+
+@dataclass(frozen=True)
+class Missed:
+    """A row of the recording whose caregiver's face was not found."""
+
+    row: int  # 1-based, the header not counted
+    image: str
+
+
+def _rows(folder: Path) -> tuple[list[dict], bool]:
+    """The CSV's rows, every value checked; and whether it has the target columns."""
+    where = folder / CSV_NAME
+    text = read_text(where, f"the recording's table ({', '.join(COLUMNS)})")
+    reader = csv.DictReader(io.StringIO(text))
+    header = reader.fieldnames or []
+    missing = [c for c in COLUMNS if c not in header]
+    if missing:
+        raise DatasetError(f"{where}: column '{missing[0]}' is missing; expected the columns "
+                           f"{', '.join(COLUMNS)} (and optionally {', '.join(_TARGET)})")
+    unknown = [c for c in header if c not in (*COLUMNS, *_TARGET)]
+    if unknown:
+        raise DatasetError(f"{where}: column {unknown[0]!r} is unknown; expected "
+                           f"{', '.join(COLUMNS)} (and optionally {', '.join(_TARGET)})")
+    targets = [c for c in _TARGET if c in header]
+    if targets and len(targets) != 3:
+        raise DatasetError(f"{where}: column '{targets[0]}' without the others; expected all "
+                           f"of {', '.join(_TARGET)} or none")
+    rows = []
+    for i, row in enumerate(reader, start=1):
+        if i > MAX_ROWS:
+            raise DatasetError(f"{where}: more than {MAX_ROWS:,} rows; expected at most that")
+        if None in row or None in row.values():
+            raise DatasetError(f"{where}: row {i}: expected {len(header)} values, like the "
+                               "header")
+        rows.append(_checked(row, i, where, folder))
+    if not rows:
+        raise DatasetError(f"{where}: no rows; expected one row per image")
+    return rows, bool(targets)
+
+
+def _checked(row: dict, i: int, where: Path, folder: Path) -> dict:
+    out = {"image": row["image"].strip()}
+    image = Path(out["image"])
+    if not out["image"] or image.is_absolute() or ".." in image.parts:
+        raise DatasetError(f"{where}: row {i}: column 'image' {out['image']!r}: expected a "
+                           "file name relative to the folder, inside it")
+    for key in (*COLUMNS[1:], *_TARGET):
+        if key not in row:
+            continue
+        try:
+            value = float(row[key])
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value) or (key.endswith("_rad") and abs(value) > math.pi):
+            limits = " in [-pi, pi]" if key.endswith("_rad") else ""
+            raise DatasetError(f"{where}: row {i}: column '{key}' {row[key]!r}: expected a "
+                               f"finite number{limits}")
+        out[key] = value
+    if not (folder / image).is_file():
+        raise DatasetError(f"{where}: row {i}: image {out['image']!r} is not a file in {folder}")
+    return out
+
+
+def import_recording(folder: str | Path, *, face: str = "template",
+                     template: np.ndarray | None = None, face_size_px: tuple[int, int] = (30, 25),
+                     min_score: float = 0.5,
+                     progress: Callable[[int], None] | None = None
+                     ) -> tuple[CaregiverDatasets, list[Missed]]:
+    """The data sets of a recorded folder, and the rows whose face was not found.
+
+    ``face``: ``"template"`` (normalised correlation with ``template``, by default the mean face
+    window of the shipped data sets: the simulated caregiver) or ``"haar"`` (OpenCV's cascade:
+    people). ``face_size_px``: the windows' (width, height). Every row and image is checked
+    before the data sets are built; nothing is written here.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise FileError(f"{folder}: not a folder; expected a recording folder with "
+                        f"{CSV_NAME} and its images")
+    rows, has_target = _rows(folder)
+    if face == "template" and template is None:
+        template = face_template(default_datasets().face)
+    finders: dict[int, FaceFinder] = {}
+    kept, faces, missed = [], [], []
+    for i, row in enumerate(rows, start=1):
+        image = read_image(folder / row["image"])
+        h = image.shape[0]
+        if h not in finders:
+            finders[h] = finder_for(face, h, template, min_score)
+        found = finders[h].find(image)
+        if found:
+            kept.append(row)
+            faces.append(window_of(image, found[0], face_size_px))
+        else:
+            missed.append(Missed(i, row["image"]))
+        if progress is not None:
+            progress(i)
+    if not kept:
+        raise DatasetError(f"{folder}: no face found in any of the {len(rows)} images; expected "
+                           f"the caregiver's face in them (face finder: {face})")
+
+    def column(*keys):
+        return np.array([[r[k] for k in keys] for r in kept], dtype=float)
+
+    meta = {"generator": f"jointattention {__version__}", "imported_from": str(folder),
+            "face_finder": face, "rows": len(rows), "rows_without_face": [m.row for m in missed]}
+    ds = CaregiverDatasets(np.stack(faces).astype(np.uint8), column("pan_rad", "tilt_rad"),
+                           column("command_pan_rad", "command_tilt_rad"),
+                           column(*_TARGET) if has_target else None, meta)
+    return ds, missed
