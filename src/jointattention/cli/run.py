@@ -22,7 +22,8 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
     exp = config.experiment
     with CellBar(len(exp.conditions) * exp.n_seeds) as bar:
         result = reproduce(config, Path(args.out), workers=n_workers, backend=args.backend,
-                           address=args.address, progress=bar, max_cells=args.max_cells)
+                           address=args.address, progress=bar, max_cells=args.max_cells,
+                           save_models=args.save_models)
     for path in result.files:
         print(path)
     print((result.out / "claims.md").read_text(), end="")
@@ -100,6 +101,9 @@ def add_commands(sub) -> None:
                         "beyond the paper), rendered")
     add_config(p)
     p.add_argument("--out", default="runs/reproduce", help="run folder (default: runs/reproduce)")
+    p.add_argument("--save-models", action="store_true",
+                   help="also save each cell's learned model in RUN/models/<condition>/"
+                        "seed_<i>.npz (the bootstrap model; see jointattention follow)")
     add_backend(p)
     add_max_cells(p)
     p.set_defaults(func=_cmd_reproduce)

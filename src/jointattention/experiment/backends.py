@@ -157,7 +157,8 @@ def _done(path: Path) -> bool:
 def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
              backend: str = "local",
              address: str | None = None, progress: Callable[[str], None] | None = None,
-             label: Callable[[CellJob], str] = _label) -> int:
+             label: Callable[[CellJob], str] = _label,
+             also_done: Callable[[CellJob], bool] | None = None) -> int:
     """Run ``run`` for each job not done yet, saving each cell as it finishes.
 
     A job is done when its ``path`` holds whole records; each cell's records go to its
@@ -167,10 +168,12 @@ def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
     ``backend`` is ``"local"`` (``workers`` processes; 1 runs in this process) or ``"ray"``
     (a local Ray instance with ``workers`` CPUs, or the cluster at ``address``).
     ``progress`` hears "K of N cells already done", then ``label(job)`` of each finished cell.
+    ``also_done(job)``: what else a done job must have written (e.g. its saved model).
     Returns the number of cells run.
     """
     check_backend(backend, address, workers)
-    todo = [j for j in jobs if not _done(j.path)]
+    todo = [j for j in jobs
+            if not (_done(j.path) and (also_done is None or also_done(j)))]
     if progress is not None:
         progress(f"{len(jobs) - len(todo)} of {len(jobs)} cells already done")
     if not todo:

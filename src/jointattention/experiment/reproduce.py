@@ -10,12 +10,14 @@ import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from pathlib import Path
 
 import numpy as np
 
 from .._files import save_json
 from .._readers import read_json
+from ..agent.saved import check_savable
 from ..analysis.claims import Claim, check_claims, claims_table
 from ..analysis.curves import condition_curves, final_table
 from ..analysis.diagnostics import condition_diagnostics, diagnostics_table
@@ -25,6 +27,7 @@ from .backends import CellJob, check_backend, run_jobs
 from .cells import measure_ceiling, run_cell
 from .preflight import MAX_CELLS, check_runs
 from .results import cell_path, load_cell, prepare_run_dir, write_trials_csv
+from .training import model_path, run_cell_saving_model
 
 __all__ = ["RunResult", "reproduce", "run_experiment"]
 
@@ -33,30 +36,42 @@ _log = logging.getLogger("jointattention")
 
 def run_experiment(config: Config, out: str | Path, workers: int = 1,
                    progress: Callable[[str], None] | None = None, *, backend: str = "local",
-                   address: str | None = None,
-                   max_cells: int = MAX_CELLS) -> dict[tuple[str, int], dict[str, np.ndarray]]:
+                   address: str | None = None, max_cells: int = MAX_CELLS,
+                   save_models: bool = False) -> dict[tuple[str, int], dict[str, np.ndarray]]:
     """Run every condition x seed into ``out``; cells already there are kept, not re-run.
 
     Returns {(condition, seed): records}. Each cell is saved as it finishes, so an
     interrupted run loses only the cells in progress. ``backend`` and ``address``: see
     :func:`jointattention.experiment.backends.run_jobs`; ``max_cells``: see
-    :func:`~.preflight.check_runs`.
+    :func:`~.preflight.check_runs`; ``save_models``: each cell's learned model is saved in
+    ``out/models/<condition>/seed_<i>.npz`` (:mod:`~.training`).
     """
-    jobs, _ = _run_cells(config, Path(out), workers, progress, backend, address, max_cells)
+    jobs, _ = _run_cells(config, Path(out), workers, progress, backend, address, max_cells,
+                         save_models)
     return {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
 
 
 def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
-               address: str | None, max_cells: int) -> tuple[list[CellJob], int]:
+               address: str | None, max_cells: int,
+               save_models: bool = False) -> tuple[list[CellJob], int]:
     """Every cell's job, after running those not in ``out`` yet; and how many ran."""
     check_backend(backend, address, workers)
+    exp = config.experiment
+    run, also_done = run_cell, None
+    if save_models:
+        for c in exp.conditions:  # every model must be one that is saved: refused up front
+            check_savable(config, c.name)
+        run = partial(run_cell_saving_model, models_dir=out / "models")
+
+        def also_done(job: CellJob) -> bool:  # a cell run without --save-models runs again
+            return model_path(out / "models", job.condition.name, job.seed_index).is_file()
+
     check_runs({out: config}, max_cells=max_cells)  # before anything is written
     prepare_run_dir(out, config)
-    exp = config.experiment
     jobs = [CellJob(config, c, i, cell_path(out, c.name, i))
             for c in exp.conditions for i in range(exp.n_seeds)]
-    ran = run_jobs(run_cell, jobs, workers=workers, backend=backend, address=address,
-                   progress=progress)
+    ran = run_jobs(run, jobs, workers=workers, backend=backend, address=address,
+                   progress=progress, also_done=also_done)
     return jobs, ran
 
 
@@ -96,7 +111,7 @@ class RunResult:
 
 def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str = "local",
               address: str | None = None, progress: Callable[[str], None] | None = None,
-              max_cells: int = MAX_CELLS) -> RunResult:
+              max_cells: int = MAX_CELLS, save_models: bool = False) -> RunResult:
     """Run ``config``'s experiment into the run folder ``out`` and write what it shows.
 
     Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json``, the oracle
@@ -107,13 +122,15 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     ``progress`` hears the runner's messages (see
     :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``. Nothing is
     written unless the run passes :func:`~.preflight.check_runs` (at most ``max_cells``).
+    ``save_models``: see :func:`run_experiment`.
     """
     from ..figures.diagnostics import diagnostics_figure  # matplotlib only when drawn
     from ..figures.paper import write_figures
 
     out = Path(out)
     start = time.perf_counter()
-    jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells)
+    jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells,
+                                 save_models)
     wall_min = (time.perf_counter() - start) / 60
     cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
     save_json({"wall_min": round(wall_min, 2), "workers": workers, "cells_run": cells_run,

@@ -1,0 +1,176 @@
+"""Saved models: the round trip, the refusals of malformed files, and reproduce --save-models."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from jointattention.agent.saved import Robot, load_model
+from jointattention.cli import main
+from jointattention.config import load_config
+from jointattention.datasets import default_datasets
+from jointattention.errors import ConfigError, FileError
+from jointattention.experiment.reproduce import run_experiment
+from jointattention.experiment.training import model_path, train
+
+TINY = {"seed": 3, "experiment": {"n_steps": 4000, "n_seeds": 2, "bin_steps": 1000,
+                                  "n_ceiling_trials": 20,
+                                  "conditions": [{"name": "n1", "n_objects": 1}]}}
+
+
+@pytest.fixture(scope="module")
+def saved(tmp_path_factory) -> tuple[object, Path]:
+    """A model learned for 4000 steps, and the file it was saved to."""
+    model = train(load_config(TINY), "n1", 1)
+    path = tmp_path_factory.mktemp("model") / "m.npz"
+    return model, model.save(path)
+
+
+def _rewrite(src: Path, dst: Path, **changes) -> Path:
+    """A copy of a model file with members replaced (None: removed)."""
+    with np.load(src) as z:
+        arrays = {k: z[k] for k in z.files}
+    for key, value in changes.items():
+        if value is None:
+            arrays.pop(key)
+        else:
+            arrays[key] = value
+    np.savez(dst, **arrays)
+    return dst
+
+
+def _meta(path: Path) -> dict:
+    with np.load(path) as z:
+        return json.loads(str(z["meta"]))
+
+
+def test_round_trip_gives_the_same_commands(saved):
+    """A loaded model commands exactly what the learned agent did, with its robot and steps."""
+    model, path = saved
+    loaded = load_model(path)
+    ds = default_datasets()
+    before = model.agent.lm_commands(ds.face, ds.theta_face_rad)
+    after = loaded.agent.lm_commands(ds.face, ds.theta_face_rad)
+    np.testing.assert_array_equal(before, after)
+    assert loaded.robot == Robot.of(load_config(TINY))
+    assert loaded.agent.learning_time_steps == model.agent.learning_time_steps >= 4000
+    assert loaded.condition == "n1" and len(loaded.datasets_sha256) == 64
+
+
+def test_file_holds_no_pickle(saved):
+    """Every member of the archive loads without pickle: loading it cannot run code."""
+    _, path = saved
+    with np.load(path, allow_pickle=False) as z:
+        assert all(not z[k].dtype.hasobject for k in z.files)
+        assert set(z.files) >= {"w1", "face_mean", "meta"}
+
+
+def _cases(path: Path, tmp: Path):
+    meta = _meta(path)
+    robot_fov = {**meta, "robot": {**meta["robot"], "fov_deg": 55.0}}
+    wrong_kind = {**meta, "model": {**meta["model"], "kind": "oracle"}}
+    bad_config = {**meta, "config": "[[[ not toml"}
+    return {
+        "schema_version": _rewrite(path, tmp / "a.npz", schema_version=np.array(9)),
+        "w1": _rewrite(path, tmp / "b.npz", w1=np.zeros((3, 5))),
+        "b2": _rewrite(path, tmp / "c.npz", b2=np.array([np.nan, 0.0])),
+        "face_m2": _rewrite(path, tmp / "d.npz", face_m2=None),
+        "meta.robot.fov_deg": _rewrite(path, tmp / "e.npz",
+                                       meta=np.array(json.dumps(robot_fov))),
+        "meta.model.kind": _rewrite(path, tmp / "f.npz", meta=np.array(json.dumps(wrong_kind))),
+        "meta.config": _rewrite(path, tmp / "g.npz", meta=np.array(json.dumps(bad_config))),
+        "meta": _rewrite(path, tmp / "h.npz", meta=np.array("{not json")),
+        "extra": _rewrite(path, tmp / "i.npz", extra=np.zeros(2)),
+        "pickled": _rewrite(path, tmp / "j.npz", w2=np.array([{"a": 1}], dtype=object)),
+    }
+
+
+def test_malformed_files_are_refused_naming_the_field(saved, tmp_path):
+    """Each malformed model file is one FileError line that names what is wrong."""
+    _, path = saved
+    for field, bad in _cases(path, tmp_path).items():
+        with pytest.raises(FileError) as err:
+            load_model(bad)
+        message = str(err.value)
+        assert "\n" not in message and str(bad) in message
+        expected = {"pickled": "pickle", "extra": "'extra'"}.get(field, f"'{field}'")
+        assert expected in message, (field, message)
+
+
+def test_a_model_of_another_robot_is_refused(saved):
+    """load_model(robot=...) refuses a model learned on another body, naming the field."""
+    _, path = saved
+    other = Robot.of(load_config({"world": {"camera": {"fov_deg": 60.0}}}))
+    with pytest.raises(FileError, match=r"meta\.robot\.fov_deg"):
+        load_model(path, robot=other)
+    assert load_model(path, robot=Robot.of(load_config(TINY))).condition == "n1"
+
+
+def test_models_that_are_not_saved_are_refused_before_learning():
+    """Training refuses the memory learner at once, not after learning."""
+    config = load_config({**TINY, "model": {"learner": "memory"}})
+    with pytest.raises(ConfigError, match="learner = 'backprop'"):
+        train(config, "n1")
+
+
+def test_reproduce_saves_the_models_train_makes(saved, tmp_path):
+    """With --save-models, reproduce writes each cell's model, equal to train's (2 workers)."""
+    model, _ = saved
+    config = load_config(TINY)
+    run_experiment(config, tmp_path / "run", workers=2, save_models=True)
+    path = model_path(tmp_path / "run" / "models", "n1", 1)
+    again = load_model(path)
+    np.testing.assert_array_equal(again.agent.learner.w1_, model.agent.learner.w1_)
+    np.testing.assert_array_equal(again.agent.faces.mean_, model.agent.faces.mean_)
+    assert model_path(tmp_path / "run" / "models", "n1", 0).is_file()
+
+
+def test_a_resumed_run_saves_the_models_it_lacks(tmp_path):
+    """Cells finished without --save-models are run again when the models are asked for."""
+    config = load_config({**TINY, "experiment": {**TINY["experiment"], "n_seeds": 1}})
+    run_experiment(config, tmp_path / "run")
+    models = tmp_path / "run" / "models"
+    assert not models.exists()
+    run_experiment(config, tmp_path / "run", save_models=True)
+    assert model_path(models, "n1", 0).is_file()
+
+
+def test_cli_train_and_follow(saved, tmp_path, capsys, needs_gl):
+    """The follow command prints one JSON line per image with a command, and writes the overlay."""
+    import cv2
+
+    from jointattention.world.simulator import World
+
+    _, path = saved
+    with World(load_config(TINY).world, seed=0) as world:
+        world.reset()
+        world.set_head_angle(world.face_angle_rad)
+        theta_deg = np.rad2deg(world.face_angle_rad)
+        cv2.imwrite(str(tmp_path / "view.png"), cv2.cvtColor(world.render(), cv2.COLOR_RGB2BGR))
+    code = main(["follow", str(path), str(tmp_path / "view.png"), "--theta",
+                 f"{theta_deg[0]:.3f},{theta_deg[1]:.3f}", "--out", str(tmp_path / "out")])
+    assert code == 0
+    record = json.loads(capsys.readouterr().out.strip())
+    assert record["face"] is not None and record["face"]["score"] > 0.5
+    assert np.hypot(*record["command_deg"]) == pytest.approx(load_config(TINY).agent.lm_step_deg,
+                                                            abs=1e-3)  # rounded in the JSON
+    assert (tmp_path / "out" / "view_follow.png").is_file()
+
+
+def test_cli_follow_refuses_bad_input_in_one_line(saved, tmp_path, capsys):
+    """A bad model, angle or image is one error line, and no overlay is written."""
+    _, path = saved
+    (tmp_path / "junk.npz").write_bytes(b"PK not a zip")
+    (tmp_path / "junk.png").write_bytes(b"\x89PNG\r\n\x1a\n broken")
+    cases = [[str(tmp_path / "junk.npz"), str(tmp_path / "junk.png")],
+             [str(path), str(tmp_path / "junk.png")],
+             [str(path), str(tmp_path / "junk.png"), "--theta", "200,0"],
+             [str(path)]]
+    for args in cases:
+        code = main(["follow", *args, "--out", str(tmp_path / "out")])
+        err = capsys.readouterr().err
+        assert code == 2 and err.count("\n") == 1 and "Traceback" not in err, err
+        assert not (tmp_path / "out").exists()
