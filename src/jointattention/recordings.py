@@ -35,6 +35,7 @@ import numpy as np
 from . import __version__
 from ._readers import read_image, read_text
 from .agent.faces import FaceFinder, face_template, finder_for, window_of
+from .config import DetectorConfig
 from .datasets import CaregiverDatasets, default_datasets
 from .errors import DatasetError, FileError
 
@@ -110,15 +111,16 @@ def _checked(row: dict, i: int, where: Path, folder: Path) -> dict:
 
 def import_recording(folder: str | Path, *, face: str = "template",
                      template: np.ndarray | None = None, face_size_px: tuple[int, int] = (30, 25),
-                     min_score: float = 0.5,
+                     min_score: float | None = None,
                      progress: Callable[[int], None] | None = None
                      ) -> tuple[CaregiverDatasets, list[Missed]]:
     """The data sets of a recorded folder, and the rows whose face was not found.
 
     ``face``: ``"template"`` (normalised correlation with ``template``, by default the mean face
     window of the shipped data sets: the simulated caregiver) or ``"haar"`` (OpenCV's cascade:
-    people). ``face_size_px``: the windows' (width, height). Every row and image is checked
-    before the data sets are built; nothing is written here.
+    people); ``min_score``: the least template score (default: the detector's
+    ``face_min_score``). ``face_size_px``: the windows' (width, height). Every row and image
+    is checked before the data sets are built; nothing is written here.
     """
     folder = Path(folder)
     if not folder.is_dir():
@@ -127,6 +129,8 @@ def import_recording(folder: str | Path, *, face: str = "template",
     rows, has_target = _rows(folder)
     if face == "template" and template is None:
         template = face_template(default_datasets().face)
+    if min_score is None:
+        min_score = DetectorConfig().face_min_score
     finders: dict[int, FaceFinder] = {}
     kept, faces, missed = [], [], []
     for i, row in enumerate(rows, start=1):

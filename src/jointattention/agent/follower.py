@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..config import DetectorConfig
 from ..errors import ArgumentError
 from .faces import Face, FaceFinder, finder_for, window_of
 from .saved import LearnedModel, Robot, load_model
@@ -53,25 +54,29 @@ class GazeFollower:
         face: ``"template"`` (the mean face window the model learned from: for the simulated
             caregiver, or a robot's own recordings) or ``"haar"`` (OpenCV's frontal-face
             cascade: for people).
+        min_score: least score of a template match (default: the detector's
+            ``face_min_score``); a run-time choice, not part of what was learned.
     """
 
-    def __init__(self, model: LearnedModel, face: str = "template"):
+    def __init__(self, model: LearnedModel, face: str = "template",
+                 min_score: float | None = None):
         if face not in FACE_METHODS:
             raise ArgumentError(f"face {face!r}: expected one of {', '.join(FACE_METHODS)}")
         self.model, self.face = model, face
+        self.min_score = DetectorConfig().face_min_score if min_score is None else min_score
         self._finders: dict[int, FaceFinder] = {}
 
     @classmethod
-    def load(cls, path: str | Path, *, face: str = "template",
-             robot: Robot | None = None) -> GazeFollower:
+    def load(cls, path: str | Path, *, face: str = "template", robot: Robot | None = None,
+             min_score: float | None = None) -> GazeFollower:
         """A follower of the model saved at ``path`` (refused if learned on another ``robot``)."""
-        return cls(load_model(path, robot=robot), face)
+        return cls(load_model(path, robot=robot), face, min_score)
 
     def _finder(self, height_px: int) -> FaceFinder:
         if height_px not in self._finders:
             template = self.model.face_template() if self.face == "template" else None
-            self._finders[height_px] = finder_for(
-                self.face, height_px, template, self.model.config.detector.face_min_score)
+            self._finders[height_px] = finder_for(self.face, height_px, template,
+                                                  self.min_score)
         return self._finders[height_px]
 
     def find(self, frame_rgb: np.ndarray) -> Face | None:

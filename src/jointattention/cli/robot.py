@@ -1,4 +1,4 @@
-"""The command line's robot commands: ``train``, ``follow`` and ``datasets import``."""
+"""The command line's robot commands: train, follow, closed-loop and datasets import."""
 
 from __future__ import annotations
 
@@ -120,6 +120,38 @@ def _cmd_follow(args: argparse.Namespace) -> None:
         print(json.dumps(record), flush=True)
 
 
+def _cmd_closed_loop(args: argparse.Namespace) -> None:
+    import time
+
+    from tqdm import tqdm
+
+    from .._files import write_text
+    from ..agent.saved import load_model
+    from ..experiment.closed_loop import closed_loop
+    from ..world import _gl
+
+    model = load_model(args.model)
+    if args.out:
+        check_writable(args.out, "file")
+    _gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start
+    rows = ["| objects | trials | images only | rendered, data-set face | fast world | "
+            "faces found |", "|---|---|---|---|---|---|"]
+    start = time.perf_counter()
+    for n in args.objects:
+        with tqdm(total=args.trials, desc=f"{n} objects", unit="trial") as bar:
+            r = closed_loop(model, n, args.trials, seed=args.seed,
+                            progress=lambda i: bar.update(1))
+        rows.append(f"| {n} | {r.n_trials} | {r.rendered_success:.3f} | "
+                    f"{r.rendered_dataset_face_success:.3f} | {r.fast_success:.3f} | "
+                    f"{r.faces_found:.3f} |")
+    text = "\n".join(rows) + (f"\n\nSuccess of {args.model} (learning time "
+                              f"{model.agent.learning_time_steps:,} steps), "
+                              f"{(time.perf_counter() - start) / 60:.1f} min.\n")
+    print(text, end="")
+    if args.out:
+        write_text(args.out, text)
+
+
 def _cmd_datasets_import(args: argparse.Namespace) -> None:
     import sys
 
@@ -173,7 +205,7 @@ def add_import(dsub) -> None:
 
 
 def add_commands(sub) -> None:
-    """Register ``train`` and ``follow`` on the subparsers ``sub``."""
+    """Register ``train``, ``follow`` and ``closed-loop`` on the subparsers ``sub``."""
     p = sub.add_parser(
         "train", help="learn one cell and save the learned model",
         description="Learn one condition x seed (the fast world) and save the learned model "
@@ -208,3 +240,20 @@ def add_commands(sub) -> None:
                         "or your recordings) or OpenCV's Haar cascade (people)")
     p.add_argument("--out", help="folder for the overlay images (default: none written)")
     p.set_defaults(func=_cmd_follow)
+
+    p = sub.add_parser(
+        "closed-loop", help="a saved model driving the rendered head through images alone",
+        description="For each object count: trials in the rendered world where the face is "
+                    "found in the first image, its window cut, and the learning module moves "
+                    "the head while OpenCV detects and the evaluator (Eq. 3) ends the trial; "
+                    "the same trials with the data set's face window, and in the fast world. "
+                    "Prints a Markdown table of success.")
+    p.add_argument("model", metavar="MODEL", type=Path, help="a model file (train --out)")
+    p.add_argument("--objects", type=int_in(1, 20), nargs="+", default=[1, 3, 5, 10],
+                   help="object counts (default: 1 3 5 10)")
+    p.add_argument("--trials", type=int_in(1, 10**6), default=200,
+                   help="trials per object count (default: 200)")
+    p.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
+                   help="seed of the trials (default: 0)")
+    p.add_argument("--out", help="also write the table to this Markdown file")
+    p.set_defaults(func=_cmd_closed_loop)

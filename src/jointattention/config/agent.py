@@ -56,5 +56,6 @@ class DetectorConfig(Section):
     motion_threshold: int = param(
         15, "least grey-level change between frames counted as motion (f_mot)", lo=0, hi=255)
     face_min_score: float = param(
-        0.5, "least normalised correlation of a template match accepted as a face", lo=-1,
+        0.7, "least normalised correlation of a template match accepted as a face (the "
+        "simulated caregiver scores 0.8-0.9, a blank wall up to 0.56)", lo=-1,
         hi=1)

@@ -1,0 +1,107 @@
+"""A saved model driving the rendered head through images alone, as a real robot would run it.
+
+Each trial starts with the head at the caregiver: the image is rendered, the caregiver's face
+found in it (:class:`~jointattention.agent.follower.GazeFollower`), its window cut, and from
+then on the learning module moves the head, step by step, while the OpenCV detector looks at
+each rendered image and the internal evaluator (Eq. 3) ends the trial. The same model, on the
+same trials, in the fast world (data-set face windows, projected objects) is the comparison;
+between the two, the rendered trials given the data set's face window instead of the one cut
+from the image tell the face route's share of the difference from the detector's.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..agent.follower import GazeFollower
+from ..agent.protocol import LM, Outcome
+from ..agent.saved import LearnedModel
+from ..config import with_n_objects
+from ..rng import stream
+from ..world.kinematics import HeadKinematics
+from ..world.rendered import RenderedScenes
+from .cells import datasets_of, evaluator, random_scene
+from .trial import SceneTrial, run_trial
+
+__all__ = ["ClosedLoopResult", "FollowingAgent", "closed_loop"]
+
+
+class FollowingAgent:
+    """A learned model as an agent that only follows: the learning module moves the head.
+
+    It learns no more (``end_trial`` does nothing): what is measured is what was saved.
+    """
+
+    def __init__(self, model: LearnedModel):
+        self.model, self.learning_time_steps = model, 0
+
+    def begin_trial(self, face_window: np.ndarray, theta_rad: np.ndarray) -> None:
+        """Keep the face window of this trial."""
+        self._face = face_window
+
+    def act(self, detections, theta_rad: np.ndarray) -> tuple[np.ndarray, str]:
+        """One step of the learning module."""
+        self.learning_time_steps += 1
+        return self.model.lm_command(self._face, theta_rad), LM
+
+    def end_trial(self, outcome: Outcome) -> None:
+        """Nothing is learned."""
+
+
+@dataclass(frozen=True)
+class ClosedLoopResult:
+    """Success of one model over the same trials, through images and in the fast world."""
+
+    n_objects: int
+    n_trials: int
+    rendered_success: float
+    rendered_dataset_face_success: float  # rendered, but the data set's face window
+    fast_success: float
+    faces_found: float  # fraction of trials whose first image gave a face
+
+
+def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int = 0,
+                progress: Callable[[int], None] | None = None) -> ClosedLoopResult:
+    """Run ``model`` for ``n_trials`` trials of ``n_objects`` objects, rendered and fast.
+
+    The trials are the model's own world (its configuration and data sets); ``seed`` draws them.
+    A trial whose first image shows no face the finder accepts is a failure.
+    """
+    config = with_n_objects(model.config, n_objects)
+    ds = datasets_of(config)
+    kin = HeadKinematics.from_config(config.world)
+    evaluate = evaluator(config)
+    follower, agent = GazeFollower(model), FollowingAgent(model)
+    rng = stream(seed, "closed-loop", n_objects)
+    seed_of_world = int(ds.meta.get("seed", config.seed))  # the caregiver the data sets show
+    scenes = RenderedScenes(config.world, config.detector, n_objects, seed=seed_of_world,
+                            rng=stream(seed, "closed-loop-render", n_objects))
+    wins = {"rendered": 0, "rendered_dataset_face": 0, "fast": 0}
+    found = 0
+    try:
+        for i in range(n_trials):
+            k, fast, face_m = random_scene(config, ds, kin, n_objects, rng)
+            theta = ds.theta_face_rad[k]
+            rendered = scenes.show(fast, face_m)
+            trial = SceneTrial(rendered, theta, kinematics=kin, max_steps=config.agent.max_steps,
+                               evaluate=evaluate)  # its first look renders the start image
+            look = follower.look(rendered.last_image, theta)
+            if look is not None:
+                found += 1
+                wins["rendered"] += run_trial(trial, agent, look.window).success
+            for name, scene in (("rendered_dataset_face", scenes.show(fast, face_m)),
+                                ("fast", fast)):
+                trial = SceneTrial(scene, theta, kinematics=kin,
+                                   max_steps=config.agent.max_steps, evaluate=evaluate)
+                wins[name] += run_trial(trial, agent, ds.face[k]).success
+            if progress is not None:
+                progress(i + 1)
+    finally:
+        scenes.close()
+    return ClosedLoopResult(n_objects, n_trials, **{f"{k}_success": v / n_trials
+                                                    for k, v in wins.items()},
+                            faces_found=found / n_trials)
+
