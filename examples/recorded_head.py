@@ -2,7 +2,8 @@
 
 1. Record as a robot's script would: look at the caregiver, save the camera image and the head
    angle; turn to the object the caregiver looks at and write the head angle change; one row of
-   ``recording.csv`` per image. A few images look away from the caregiver (no face in them).
+   ``recording.csv`` per image. ``--look-away`` images look 50 degrees away from the caregiver
+   (no face in them: the import must leave them out).
 2. ``jointattention datasets import`` the folder (the rows without a face are reported).
 3. ``jointattention train`` on the imported data sets, saving the model.
 4. Load it with :class:`jointattention.GazeFollower` and follow: each image's face is found,
@@ -27,14 +28,12 @@ from jointattention.cli import main as cli
 from jointattention.config import load_config
 from jointattention.world.simulator import World
 
-LOOK_AWAY = 2  # images per recording taken looking away from the caregiver
 
-
-def record(world: World, folder: Path, poses: int) -> list[dict]:
-    """Render ``poses`` views of the caregiver (and LOOK_AWAY without) into a recording folder."""
+def record(world: World, folder: Path, poses: int, look_away: int = 2) -> list[dict]:
+    """Render ``poses`` views of the caregiver, then ``look_away`` views without her."""
     folder.mkdir(parents=True, exist_ok=True)
     rows = []
-    for i in range(poses + LOOK_AWAY):
+    for i in range(poses + look_away):
         state = world.reset()
         theta = world.face_angle_rad
         if i >= poses:  # looking 50 degrees away: the caregiver is out of view
@@ -62,7 +61,7 @@ def follow(model: Path, folder: Path, rows: list[dict]) -> dict:
     """Median angle error of the follower's commands on a recording's caregiver images."""
     follower = GazeFollower.load(model)
     errors, no_face = [], 0
-    for row in rows[:-LOOK_AWAY]:
+    for row in rows:
         image = cv2.cvtColor(cv2.imread(str(folder / row["image"])), cv2.COLOR_BGR2RGB)
         command = follower.command(image, [row["pan_rad"], row["tilt_rad"]])
         if command is None:
@@ -82,15 +81,18 @@ def main(argv: list[str] | None = None) -> dict:
     p.add_argument("--test-poses", type=int, default=60, help="new poses to follow")
     p.add_argument("--steps", type=int, default=60000, help="learning time, steps")
     p.add_argument("--objects", type=int, default=1, help="objects in the learning trials")
+    p.add_argument("--look-away", type=int, default=2,
+                   help="views away from the caregiver recorded to learn (no face in them)")
     p.add_argument("--seed", type=int, default=0, help="world seed (the caregiver)")
     p.add_argument("--out", type=Path, default=Path("runs/recorded_head"), help="folder")
     args = p.parse_args(argv)
     learn, test = args.out / "recording", args.out / "new_poses"
     with World(load_config().world, seed=args.seed) as world:  # one caregiver, new poses
-        learn_rows, test_rows = record(world, learn, args.poses), record(world, test,
-                                                                         args.test_poses)
+        learn_rows = record(world, learn, args.poses, args.look_away)[:args.poses]
+        test_rows = record(world, test, args.test_poses, 0)
     datasets = args.out / "datasets.npz"
     assert cli(["datasets", "import", str(learn), "--out", str(datasets), "--quiet"]) == 0
+    faces_imported = len(np.load(datasets)["face"])
     config = args.out / "config.toml"
     config.write_text(f'seed = 0\ndatasets = "{datasets.resolve()}"\n\n[experiment]\n'
                       f"n_steps = {args.steps}\nn_seeds = 1\nbin_steps = {args.steps // 10}\n\n"
@@ -99,7 +101,8 @@ def main(argv: list[str] | None = None) -> dict:
     model = args.out / "model.npz"
     assert cli(["train", "--config", str(config), "--condition", "learn", "--out", str(model),
                 "--quiet"]) == 0
-    result = {"learned_poses": follow(model, learn, learn_rows),
+    result = {"rows": len(learn_rows) + args.look_away, "imported": faces_imported,
+              "learned_poses": follow(model, learn, learn_rows),
               "new_poses": follow(model, test, test_rows)}
     print(json.dumps(result))
     return result

@@ -120,6 +120,7 @@ def test_robot_round_trip_learns_to_follow(tmp_path, needs_gl):
     """Record, import, learn, save, load and follow: the learned poses are followed."""
     result = _example().main(["--poses", "30", "--test-poses", "10", "--steps", "8000",
                               "--out", str(tmp_path)])
+    assert result["rows"] == 32 and result["imported"] == 30  # the 2 views away left out
     assert result["learned_poses"]["no_face"] == 0
     # 8000 steps on 30 poses: about 17 deg measured; chance is 90 deg
     assert result["learned_poses"]["median_error_deg"] < 35
