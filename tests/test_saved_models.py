@@ -158,6 +158,16 @@ def test_cli_train_and_follow(saved, tmp_path, capsys, needs_gl):
     assert np.hypot(*record["command_deg"]) == pytest.approx(load_config(TINY).agent.lm_step_deg,
                                                             abs=1e-3)  # rounded in the JSON
     assert (tmp_path / "out" / "view_follow.png").is_file()
+    video = cv2.VideoWriter(str(tmp_path / "v.avi"), cv2.VideoWriter_fourcc(*"MJPG"), 5,
+                            (320, 240))
+    for _ in range(3):
+        video.write(cv2.imread(str(tmp_path / "view.png")))
+    video.release()
+    assert main(["follow", str(path), "--video", str(tmp_path / "v.avi"), "--theta",
+                 f"{theta_deg[0]:.3f},{theta_deg[1]:.3f}"]) == 0
+    lines = [json.loads(x) for x in capsys.readouterr().out.splitlines()]
+    assert [x["frame"] for x in lines] == [0, 1, 2]
+    assert all(x["face"] is not None and x["command_deg"] is not None for x in lines)
 
 
 def test_cli_follow_refuses_bad_input_in_one_line(saved, tmp_path, capsys):
@@ -168,7 +178,8 @@ def test_cli_follow_refuses_bad_input_in_one_line(saved, tmp_path, capsys):
     cases = [[str(tmp_path / "junk.npz"), str(tmp_path / "junk.png")],
              [str(path), str(tmp_path / "junk.png")],
              [str(path), str(tmp_path / "junk.png"), "--theta", "200,0"],
-             [str(path)]]
+             [str(path)],
+             [str(path), "--video", str(tmp_path / "junk.png")]]
     for args in cases:
         code = main(["follow", *args, "--out", str(tmp_path / "out")])
         err = capsys.readouterr().err

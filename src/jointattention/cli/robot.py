@@ -5,6 +5,9 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
+import sys
+from contextlib import contextmanager
 from pathlib import Path
 
 from .._files import check_writable
@@ -53,6 +56,20 @@ def _theta(text: str):
     return values
 
 
+@contextmanager
+def _quiet_stderr():
+    """Silence the process's stderr (file descriptor 2, where C libraries write) for a block."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
 def _frames(args: argparse.Namespace):
     """(source name, frame index, RGB frame) of the images, the video or the camera."""
     from .._readers import read_image
@@ -67,7 +84,8 @@ def _frames(args: argparse.Namespace):
     source = args.camera if args.video is None else str(args.video)
     if args.video is not None and not Path(args.video).is_file():
         raise FileError(f"{args.video}: not a file; expected a video file OpenCV can read")
-    capture = cv2.VideoCapture(source)
+    with _quiet_stderr():  # OpenCV and FFmpeg print their own lines on a failed open
+        capture = cv2.VideoCapture(source)
     try:
         if not capture.isOpened():
             what = f"camera {args.camera}" if args.video is None else str(args.video)
@@ -153,8 +171,6 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
 
 
 def _cmd_datasets_import(args: argparse.Namespace) -> None:
-    import sys
-
     from tqdm import tqdm
 
     from ..config import load_config
