@@ -46,6 +46,10 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
     ConditionConfig(name="memory-performance", n_objects=5, model={
         "learner": "memory", "gate_per": "trial",
         "gate": {"kind": "performance", "window_trials": 20.0, "full_agreement": 0.2}}),
+    ConditionConfig(name="teacher", n_objects=5, model={"kind": "teacher"}),
+    ConditionConfig(name="teacher-performance", n_objects=3, model={
+        "kind": "teacher",
+        "gate": {"kind": "performance", "window_trials": 20.0, "full_agreement": 0.2}}),
 ]
 CONFIG = Config(
     model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),

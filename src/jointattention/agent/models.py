@@ -58,4 +58,5 @@ class ModelOptions(Section):
         return name if gate is None else f"{name}, {gate.label}"
 
 
-MODELS = Registry("model", {"bootstrap": "jointattention.agent.bootstrap:BootstrapOptions"})
+MODELS = Registry("model", {"bootstrap": "jointattention.agent.bootstrap:BootstrapOptions",
+                            "teacher": "jointattention.agent.teacher:TeacherOptions"})

@@ -47,12 +47,16 @@ class Outcome:
         detections: the detector's report of the last image.
         seen: the index, in ``detections``, of the object the evaluator fired on (None if it
             did not fire).
+        approved: the caregiver's evaluation, for models that are taught by her (the teacher):
+            whether the object the evaluator fired on is the one she looks at. None where no
+            caregiver evaluates; the paper's bootstrap model never reads it.
     """
 
     fired: bool
     theta_rad: np.ndarray
     detections: Detections
     seen: int | None
+    approved: bool | None = None
 
 
 @runtime_checkable

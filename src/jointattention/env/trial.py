@@ -83,4 +83,5 @@ class EnvTrial:
         """How the episode ended, as the robot knows it."""
         seen = int(self.info["seen"])
         return Outcome(bool(self.info["fired"]), self.theta_rad, self.detections,
-                       None if seen < 0 else seen)
+                       None if seen < 0 else seen,
+                       approved=bool(self.info["external_reward"]))  # fired on her target

@@ -82,6 +82,7 @@ class LoopRobot(NamedTuple):
     memory_k: int
     memory_radius_rad: float
     memory_in_view: bool  # keep every object in view, not only the attended one
+    caregiver_judges: bool  # the teacher: learn only when the caregiver's target was attended
 
 
 class LoopState(NamedTuple):
@@ -238,8 +239,11 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             tilt = min(max(want_tilt, world.limits_rad[2]), world.limits_rad[3])
             n_steps += 1
             limit_hit = pan != want_pan or tilt != want_tilt
-        # the agent learns (BootstrapAgent.end_trial, MemoryAgent.end_trial)
-        if end == END_FIRED and n_steps > 0:
+        # the agent learns (BootstrapAgent.end_trial, MemoryAgent.end_trial; the teacher only
+        # when the caregiver approves: TeacherAgent.end_trial)
+        learns = end == END_FIRED and n_steps > 0 and (
+            not robot.caregiver_judges or attended == target)
+        if learns:
             v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
                                                 robot.gain_rad_per_px)
             if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
@@ -251,7 +255,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             place[0], place[1] = pan, tilt
             if robot.learning_target == _OBJECT_DIRECTION:
                 place[0], place[1] = pan + v_pan, tilt + v_tilt
-        if end == END_FIRED and n_steps > 0 and robot.memory:
+        if learns and robot.memory:
             memory_store(code, place[0], place[1], state.codes, state.aims, state.base, c[4],
                          robot.memory_lo_rad, robot.memory_cell_rad)
             c[4] += 1
@@ -262,7 +266,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
                     memory_store(code, pan + v_pan, tilt + v_tilt, state.codes, state.aims,
                                  state.base, c[4], robot.memory_lo_rad, robot.memory_cell_rad)
                     c[4] += 1
-        elif end == END_FIRED and n_steps > 0:
+        elif learns:
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])
             x_full[:n_pix] = face_x

@@ -21,6 +21,7 @@ import numpy as np
 from ..agent.bootstrap import LEARNING_TARGETS, BootstrapAgent, BootstrapOptions
 from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from ..agent.models import MODELS, ModelOptions
+from ..agent.teacher import TeacherOptions
 from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
@@ -44,14 +45,15 @@ __all__ = ["CompiledCell", "pack_world", "unsupported"]
 
 def unsupported(options: ModelOptions) -> str | None:
     """Why the compiled engine cannot run ``options``, as an error message (None if it can)."""
-    if type(options) is not BootstrapOptions:
+    if type(options) not in (BootstrapOptions, TeacherOptions):
         what = f"model kind {MODELS.name_of(options)!r}"
     elif type(options.gate) not in (SigmoidGate, ConstantGate, PerformanceGate):
         what = f"gate kind {options.gate.label!r}"
     else:
         return None
-    return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap model "
-            "with a sigmoid, constant or performance gate, or experiment.engine = 'python'")
+    return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap or "
+            "teacher model with a sigmoid, constant or performance gate, or "
+            "experiment.engine = 'python'")
 
 
 def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_objects: int,
@@ -119,7 +121,7 @@ class CompiledCell:
             LEARNING_TARGETS.index(opts.learning_target),
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
             float(opts.learning_rate), float(opts.momentum),
-            *_memory_inputs(memory, world.faces.shape[1]))
+            *_memory_inputs(memory, world.faces.shape[1]), isinstance(opts, TeacherOptions))
         learner, faces = agent.learner, agent.faces
         if faces.n_seen_ == 0:
             faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])

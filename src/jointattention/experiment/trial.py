@@ -147,7 +147,9 @@ class SceneTrial:
     @property
     def outcome(self) -> Outcome:
         """How the trial ended, as the robot knows it."""
-        return Outcome(self.end == END_FIRED, self.theta_rad, self.detections, self.seen)
+        fired = self.end == END_FIRED
+        return Outcome(fired, self.theta_rad, self.detections, self.seen,
+                       approved=fired and self.attended == self.target)
 
 
 # Called at each look of a trial with the trial and the module that moves the head next
