@@ -87,7 +87,7 @@ def test_shipped_default_is_valid():
         ({"command_rad": np.full((3, 2), 7.0)}, "field 'command_rad': expected angles"),
         ({"command_rad": np.full((3, 2), np.nan)}, "field 'command_rad': expected finite"),
         ({"target_m": np.zeros((3, 2))}, "field 'target_m'"),
-        ({"schema_version": np.array(2)}, "field 'schema_version': expected 1, got 2"),
+        ({"schema_version": np.array(3)}, "field 'schema_version': expected 1 or 2, got 3"),
         ({"schema_version": None}, "field 'schema_version' is missing"),
         ({"face": None}, "field 'face' is missing"),
         ({"extra": np.zeros(3)}, "field 'extra' is not part of schema version 1"),

@@ -1,11 +1,11 @@
 """Caregiver data sets: the paper's recorded (face window, head angle, motor command) triples.
 
-On-disk format, schema version 1: one NumPy ``.npz`` archive (no pickles) with
+On-disk format: one NumPy ``.npz`` archive (no pickles) with
 
 =================  ========  ===========  ==================================================
 key                dtype     shape        meaning
 =================  ========  ===========  ==================================================
-``schema_version`` int       ()           ``1``
+``schema_version`` int       ()           ``2`` if the file has ``caregiver``, else ``1``
 ``face``           uint8     (N, H, W)    grayscale face window while the robot looks at the
                                           caregiver (paper: H = 25, W = 30)
 ``theta_face_rad`` float     (N, 2)       head angle (pan, tilt) at that moment; pan > 0
@@ -15,8 +15,15 @@ key                dtype     shape        meaning
 ``target_m``       float     (N, 3)       optional: the target's position in the robot's
                                           frame (x right, y forward, z up, metres, origin at
                                           the pan/tilt axes); omit it if it was not measured
+``caregiver``      int       (N,)         schema version 2 only (and required there): which
+                                          caregiver (identity index >= 0) posed each data
+                                          set, for data sets of several people
 ``meta``           str       ()           optional: JSON text, free provenance (camera, seed)
 =================  ========  ===========  ==================================================
+
+Schema version 1 (no ``caregiver`` field: one caregiver, or nobody said who) is still read, and
+:func:`save` writes version 1 for data sets without the field, so files of one caregiver are
+byte for byte what they were before version 2.
 
 A robot records one row per caregiver pose: look at the caregiver, save the face window and
 the head angle, then turn to the object the caregiver attends to and save the difference of
@@ -39,9 +46,10 @@ from .errors import DatasetError, FileError
 
 __all__ = ["SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load", "save"]
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2  # the newest; version 1 is version 2 without ``caregiver``
 _REQUIRED = ("schema_version", "face", "theta_face_rad", "command_rad")
 _OPTIONAL = ("target_m", "meta")
+_VERSION_FIELDS = {1: (), 2: ("caregiver",)}  # the fields each version adds, all required
 
 
 @dataclass(frozen=True)
@@ -53,6 +61,7 @@ class CaregiverDatasets:
     command_rad: np.ndarray
     target_m: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
+    caregiver: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         _validate(self, "data sets")
@@ -64,6 +73,11 @@ class CaregiverDatasets:
     def window_size_px(self) -> tuple[int, int]:
         """(width, height) of the face windows."""
         return self.face.shape[2], self.face.shape[1]
+
+    @property
+    def n_caregivers(self) -> int | None:
+        """How many distinct caregivers the ``caregiver`` field names (None without it)."""
+        return None if self.caregiver is None else len(np.unique(self.caregiver))
 
 
 def _fail(where: str, key: str, expected: str, got: str) -> None:
@@ -97,15 +111,25 @@ def _validate(ds, where: str) -> None:
                 "angles in radians within [-pi, pi]",
                 f"a value of {np.max(np.abs(a)):.4g}",
             )
+    caregiver = getattr(ds, "caregiver", None)
+    if caregiver is not None:
+        a = np.asarray(caregiver)
+        if a.dtype.kind not in "iu" or a.shape != (n,):
+            _fail(where, "caregiver", f"integer array of shape ({n},)", _describe(a))
+        if np.any(a < 0):
+            _fail(where, "caregiver", "identity indices >= 0", f"{int(a.min())}")
 
 
 def save(datasets: CaregiverDatasets, path: str | Path) -> Path:
-    """Write ``datasets`` to ``path`` (an ``.npz``) atomically: all of it or nothing."""
+    """Write ``datasets`` to ``path`` (an ``.npz``) atomically: all of it or nothing.
+
+    Schema version 2 if they name their caregivers, else version 1 (as before version 2).
+    """
     path = Path(path)
     if path.suffix != ".npz":
         raise DatasetError(f"{path}: expected a file name ending in .npz")
     arrays = {
-        "schema_version": np.array(SCHEMA_VERSION),
+        "schema_version": np.array(1 if datasets.caregiver is None else 2),
         "face": datasets.face,
         "theta_face_rad": datasets.theta_face_rad,
         "command_rad": datasets.command_rad,
@@ -113,6 +137,8 @@ def save(datasets: CaregiverDatasets, path: str | Path) -> Path:
     }
     if datasets.target_m is not None:
         arrays["target_m"] = datasets.target_m
+    if datasets.caregiver is not None:
+        arrays["caregiver"] = datasets.caregiver
     return save_npz(path, arrays)
 
 
@@ -131,16 +157,24 @@ def load(path: str | Path) -> CaregiverDatasets:
                 f"{where}: field '{key}' is missing; expected the fields "
                 f"{', '.join(_REQUIRED)} (and optionally target_m, meta)"
             )
-    unknown = sorted(keys - set(_REQUIRED) - set(_OPTIONAL))
-    if unknown:
-        raise DatasetError(
-            f"{where}: field '{unknown[0]}' is not part of schema version {SCHEMA_VERSION}"
-        )
     version = archive["schema_version"]
     if version.shape != () or version.dtype.kind not in "iu":
         _fail(where, "schema_version", "an integer", _describe(version))
-    if int(version) != SCHEMA_VERSION:
-        _fail(where, "schema_version", f"{SCHEMA_VERSION}", f"{int(version)}")
+    version = int(version)
+    if version not in _VERSION_FIELDS:
+        _fail(where, "schema_version", " or ".join(map(str, _VERSION_FIELDS)), f"{version}")
+    added = _VERSION_FIELDS[version]
+    for key in added:
+        if key not in keys:
+            raise DatasetError(f"{where}: field '{key}' is missing; schema version {version} "
+                               f"files have it (version 1 files have no {key})")
+    unknown = sorted(keys - set(_REQUIRED) - set(_OPTIONAL) - set(added))
+    if unknown:
+        newer = [v for v, extra in _VERSION_FIELDS.items() if unknown[0] in extra]
+        hint = f" (it is a field of version {newer[0]})" if newer else ""
+        raise DatasetError(
+            f"{where}: field '{unknown[0]}' is not part of schema version {version}{hint}"
+        )
     meta = {}
     if "meta" in keys:
         try:
@@ -151,7 +185,7 @@ def load(path: str | Path) -> CaregiverDatasets:
             _fail(where, "meta", "JSON text of an object", repr(str(archive["meta"]))[:60])
     fields = dict(face=archive["face"], theta_face_rad=archive["theta_face_rad"],
                   command_rad=archive["command_rad"], target_m=archive.get("target_m"),
-                  meta=meta)
+                  meta=meta, caregiver=archive.get("caregiver"))
     _validate(SimpleNamespace(**fields), where)  # errors name the file, not "data sets"
     return CaregiverDatasets(**fields)
 
