@@ -7,6 +7,7 @@ import argparse
 from .._files import check_writable
 from ..errors import JointAttentionError
 from ._common import add_config, int_in
+from .robot import add_import
 
 __all__ = ["add_commands"]
 
@@ -35,9 +36,13 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
     config = load_config(args.config)
     if not args.out.endswith(".npz"):
         raise JointAttentionError(f"{args.out}: expected a file name ending in .npz")
+    if args.caregivers > args.n:
+        raise JointAttentionError(f"--caregivers {args.caregivers}: expected at most --n "
+                                  f"({args.n}); each caregiver poses at least one data set")
     check_writable(args.out, "file", "OUT")
     with tqdm(total=args.n, desc="data sets", unit="set", disable=args.quiet) as bar:
-        ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1))
+        ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1),
+                           caregivers=args.caregivers)
     print(save(ds, args.out))
 
 
@@ -54,6 +59,7 @@ def _cmd_datasets_check(args: argparse.Namespace) -> None:
         f"commands pan [{cmd[:, 0].min():.1f}, {cmd[:, 0].max():.1f}] deg, "
         f"tilt [{cmd[:, 1].min():.1f}, {cmd[:, 1].max():.1f}] deg, "
         f"target positions {'present' if ds.target_m is not None else 'absent'}"
+        + ("" if ds.caregiver is None else f", {ds.n_caregivers} caregivers")
     )
 
 
@@ -76,12 +82,16 @@ def add_commands(sub) -> None:
     q = dsub.add_parser(
         "make", help="record N data sets from the simulated world",
         description="Record N data sets (face window, head angle, command to the target, "
-                    "target position) into OUT (.npz).")
+                    "target position) into OUT (.npz), posed by --caregivers people.")
     add_config(q)
     q.add_argument("--n", type=int_in(1, 100_000), default=125,
                    help="number of data sets (default: 125)")
     q.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
                    help="world seed (default: 0)")
+    q.add_argument("--caregivers", type=int_in(1, 1000), default=1, metavar="K",
+                   help="caregiver identities, the N data sets split evenly among them in turn: "
+                        "the seed's own, then new ones drawn by the world; with more than one the "
+                        "file names each set's caregiver (schema version 2) (default: 1)")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
     q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
     q.set_defaults(func=_cmd_datasets_make)
@@ -89,3 +99,4 @@ def add_commands(sub) -> None:
                         description="Validate FILE (default: the shipped data sets).")
     q.add_argument("file", metavar="FILE", nargs="?", help="a data-set .npz file")
     q.set_defaults(func=_cmd_datasets_check)
+    add_import(dsub)  # datasets import: with the robot commands
