@@ -19,12 +19,12 @@ member              dtype    shape         meaning
 ==================  =======  ============  ==============================================
 
 ``meta`` holds ``robot`` (:class:`Robot`: the body the model was learned on), ``model`` (its
-kind, the condition, the learning time), ``config`` (the run's whole configuration as TOML,
-from which the model's options and the face standardiser's floor are read),
-``datasets_sha256`` (of the data-set file it learned from) and ``generator`` (the package
-version). The inputs are the face window standardised by ``face_mean``/``face_m2`` and the
-head angle scaled to [-1, 1] by the joint ranges; the output is a direction, one
-``lm_step_deg`` long (README, *Saved models and real heads*).
+kind, ``bootstrap`` or ``teacher``, the condition, the learning time), ``config`` (the run's
+whole configuration as TOML, from which the model's options and the face standardiser's floor
+are read), ``datasets_sha256`` (of the data-set file it learned from) and ``generator`` (the
+package version). The inputs are the face window standardised by ``face_mean``/``face_m2``
+and the head angle scaled to [-1, 1] by the joint ranges; the output is a direction, one
+``lm_step_deg`` long (README, *From the simulator to a real head*).
 """
 
 from __future__ import annotations
@@ -43,6 +43,7 @@ from .._readers import read_npz
 from ..config import Config, condition_named, load_config, model_options, to_toml
 from ..errors import ConfigError, FileError
 from .bootstrap import BootstrapAgent, BootstrapOptions
+from .models import MODELS
 from .protocol import Body
 
 __all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
@@ -96,7 +97,7 @@ class Robot:
 
 @dataclass(frozen=True)
 class LearnedModel:
-    """A learned bootstrap agent with the robot, configuration and data it was learned from."""
+    """A learned agent (bootstrap or teacher) and the robot, configuration and data it had."""
 
     agent: BootstrapAgent
     config: Config
@@ -129,7 +130,8 @@ def check_savable(config: Config, condition: str) -> BootstrapOptions:
     if not isinstance(options, BootstrapOptions) or options.learner != "backprop":
         raise ConfigError(f"condition {condition!r}: its model is "
                           f"{getattr(options, 'label', type(options).__name__)}; expected the "
-                          "bootstrap model with learner = 'backprop' (the only one saved)")
+                          "bootstrap model or the teacher, with learner = 'backprop' (the "
+                          "models saved)")
     return options
 
 
@@ -139,12 +141,12 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
     path = Path(path)
     if path.suffix != ".npz":
         raise FileError(f"{path}: expected a model file name ending in .npz")
-    check_savable(config, condition)
+    options = check_savable(config, condition)
     if agent.faces.n_seen_ < 1:
         raise ConfigError(f"{path}: the agent has seen no face; expected a learned agent")
     net, faces = agent.learner, agent.faces
     meta = {"robot": asdict(Robot.of(config)),
-            "model": {"kind": "bootstrap", "condition": condition,
+            "model": {"kind": MODELS.name_of(options), "condition": condition,
                       "learning_time_steps": int(agent.learning_time_steps)},
             "config": to_toml(config), "datasets_sha256": datasets_sha256,
             "generator": f"jointattention {__version__}"}
@@ -180,8 +182,6 @@ def _meta(archive: dict, where: str) -> dict:
         if not isinstance(meta.get(key), kind):
             raise _field(where, f"meta.{key}", f"a {kind.__name__}", repr(meta.get(key))[:60])
     model = meta["model"]
-    if model.get("kind") != "bootstrap":
-        raise _field(where, "meta.model.kind", "'bootstrap'", repr(model.get("kind"))[:60])
     if not isinstance(model.get("condition"), str):
         raise _field(where, "meta.model.condition", "a condition name",
                      repr(model.get("condition"))[:60])
@@ -230,6 +230,10 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
         options = check_savable(config, meta["model"]["condition"])
     except (tomllib.TOMLDecodeError, ConfigError) as err:
         raise FileError(f"{where}: field 'meta.config': {err}") from None
+    kind = MODELS.name_of(options)
+    if meta["model"].get("kind") != kind:
+        raise _field(where, "meta.model.kind", f"{kind!r} (the model of its configuration)",
+                     repr(meta["model"].get("kind"))[:60])
     saved = _robot(meta, config, where)
     if robot is not None and saved.differences(robot):
         key = saved.differences(robot)[0]
@@ -237,7 +241,7 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
                      getattr(saved, key))
     w, h = saved.face_size_px
     n_hidden, n_pixels = options.n_hidden, w * h
-    agent = BootstrapAgent(options, config.agent, saved.body, np.random.default_rng(0))
+    agent = options.build(config.agent, saved.body, np.random.default_rng(0))
     net, faces = agent.learner, agent.faces
     net.w1_ = _array(archive, where, "w1", (n_hidden, n_pixels + 2)).astype(float)
     net.b1_ = _array(archive, where, "b1", (n_hidden,)).astype(float)
