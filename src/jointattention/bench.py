@@ -12,7 +12,7 @@ from .agent.learner import LearningModule, sgd_update
 from .config import WorldConfig
 
 __all__ = ["compile_times", "preset_estimates", "run_agent_benchmark", "run_env_benchmark",
-           "run_preset", "run_world_benchmarks"]
+           "run_follow_benchmark", "run_preset", "run_world_benchmarks"]
 
 
 def _rate(fn: Callable[[int], object], n: int, repeats: int = 3) -> float:
@@ -107,6 +107,44 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
         envs = gym.make_vec(env_id, num_envs=2, vectorization_mode="async",
                             vector_kwargs={"context": "spawn"})
         rows.append((f"{env_id} x2, async vector (spawn)", _env_rate(envs, steps), "steps/s"))
+    return rows
+
+
+def run_follow_benchmark(n_frames: int = 30) -> list[tuple[str, float, str]]:
+    """Frames per second of gaze following: find the face, cut its window, the command.
+
+    On a rendered view of the caregiver (template) and on matplotlib's photograph (Haar),
+    with an untrained model whose face statistics are the shipped data sets' (speed only).
+    """
+    from pathlib import Path
+
+    import matplotlib
+
+    from ._readers import read_image
+    from .agent.follower import GazeFollower
+    from .agent.saved import LearnedModel
+    from .config import load_config
+    from .datasets import default_datasets
+    from .experiment.cells import make_agent
+    from .world.simulator import World
+
+    config = load_config()
+    ds = default_datasets()
+    agent = make_agent(config, config.experiment.conditions[0], 0, ds)
+    agent.faces.partial_fit(ds.face.reshape(len(ds), -1))
+    model = LearnedModel(agent, config, config.experiment.conditions[0].name)
+    with World(config.world, seed=0) as world:
+        world.set_head_angle(world.face_angle_rad)
+        view = world.render()
+    photo = read_image(Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg")
+    rows = []
+    for face, image, what in (("template", view, "rendered view"),
+                              ("haar", photo, "photograph")):
+        follower = GazeFollower(model, face)
+        h, w = image.shape[:2]
+        rows.append((f"follow: face, window, command ({face}, {what} {w}x{h})",
+                     _rate(lambda i, f=follower, im=image: f.look(im, np.zeros(2)), n_frames),
+                     "frames/s"))
     return rows
 
 

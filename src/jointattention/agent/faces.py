@@ -55,7 +55,8 @@ class FaceFinder:
             windows; needed for ``"template"``.
         min_score: least score of a template match.
         heights_px: (least, greatest) face height to look for.
-        scale_step: ratio of one template height to the next tried.
+        scale_step: ratio of one template height to the next tried (below 1.1: heights 10%
+            apart first, then this step around the best).
         min_edge_score: least correlation of the best match's edge strength (Sobel
             magnitude) with the template's. A face has eyes, nose and mouth; a dark ball on
             a wall can match a mean face's grey levels but has none. Measured with
@@ -97,26 +98,37 @@ class FaceFinder:
 
     def _match(self, gray: np.ndarray) -> list[Face]:
         th, tw = self.template.shape
-        best = (-np.inf, None, 0.0)
-        height = self.heights_px[0]
-        while height <= min(self.heights_px[1], gray.shape[0]):
-            w = int(round(height * tw / th))
-            h = int(round(height))
-            if w > gray.shape[1]:
-                break
-            t = cv2.resize(self.template, (w, h), interpolation=cv2.INTER_AREA)
-            scores = cv2.matchTemplate(gray, t, cv2.TM_CCOEFF_NORMED)
-            _, score, _, (x, y) = cv2.minMaxLoc(scores)
-            if score > best[0]:
-                best = (score, np.array([x + (w - 1) / 2, y + (h - 1) / 2]), float(h))
-            height *= self.scale_step
-        score, centre, h = best
+        lo, hi = self.heights_px[0], min(self.heights_px[1], gray.shape[0])
+        # coarse to fine: heights 10% apart, then ``scale_step`` apart around the best
+        score, centre, h = self._best(gray, lo, hi, max(self.scale_step, _COARSE_STEP))
+        if centre is not None and self.scale_step < _COARSE_STEP:
+            score, centre, h = self._best(gray, max(lo, h / _COARSE_STEP),
+                                          min(hi, h * _COARSE_STEP), self.scale_step)
         if centre is None or score < self.min_score:
             return []
         window = face_window(cv2.cvtColor(gray, cv2.COLOR_GRAY2RGB), centre, h, (tw, th))
         if _correlation(_edges(window), _edges(self.template)) < self.min_edge_score:
             return []
         return [Face(centre, h, float(score), tw / th)]
+
+    def _best(self, gray: np.ndarray, lo: float, hi: float, step: float):
+        """The best template match over heights ``lo``, ``lo * step``, ... up to ``hi``."""
+        th, tw = self.template.shape
+        best = (-np.inf, None, 0.0)
+        height = lo
+        while height <= hi * (1 + 1e-9):
+            w, h = int(round(height * tw / th)), int(round(height))
+            if w > gray.shape[1]:
+                break
+            t = cv2.resize(self.template, (w, h), interpolation=cv2.INTER_AREA)
+            _, score, _, (x, y) = cv2.minMaxLoc(cv2.matchTemplate(gray, t, cv2.TM_CCOEFF_NORMED))
+            if score > best[0]:
+                best = (score, np.array([x + (w - 1) / 2, y + (h - 1) / 2]), float(h))
+            height *= step
+        return best
+
+
+_COARSE_STEP = 1.1
 
 
 def _edges(gray: np.ndarray) -> np.ndarray:

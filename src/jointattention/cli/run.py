@@ -59,6 +59,7 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         preset_estimates,
         run_agent_benchmark,
         run_env_benchmark,
+        run_follow_benchmark,
         run_preset,
         run_world_benchmarks,
     )
@@ -71,7 +72,8 @@ def _cmd_bench(args: argparse.Namespace) -> None:
     agent = run_agent_benchmark()
     rates = dict(zip(("compiled", "python", "rendered", "memory"), (r[1] for r in agent[:4]),
                      strict=True))
-    rows += run_env_benchmark() + agent + preset_estimates(rates, n_workers)
+    rows += run_env_benchmark() + run_follow_benchmark() + agent + preset_estimates(
+        rates, n_workers)
     for preset in args.run:
         rows += run_preset(preset, n_workers)
     for name, value, unit in rows:
