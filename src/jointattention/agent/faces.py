@@ -56,7 +56,7 @@ class FaceFinder:
         min_score: least score of a template match.
         heights_px: (least, greatest) face height to look for.
         scale_step: ratio of one template height to the next tried (below 1.1: heights 10%
-            apart first, then this step around the best).
+            apart first, then this step around the three best).
         min_edge_score: least correlation of the best match's edge strength (Sobel
             magnitude) with the template's. A face has eyes, nose and mouth; a dark ball on
             a wall can match a mean face's grey levels but has none. Measured with
@@ -99,11 +99,14 @@ class FaceFinder:
     def _match(self, gray: np.ndarray) -> list[Face]:
         th, tw = self.template.shape
         lo, hi = self.heights_px[0], min(self.heights_px[1], gray.shape[0])
-        # coarse to fine: heights 10% apart, then ``scale_step`` apart around the best
-        score, centre, h = self._best(gray, lo, hi, max(self.scale_step, _COARSE_STEP))
-        if centre is not None and self.scale_step < _COARSE_STEP:
-            score, centre, h = self._best(gray, max(lo, h / _COARSE_STEP),
-                                          min(hi, h * _COARSE_STEP), self.scale_step)
+        # coarse to fine: heights 10% apart, then ``scale_step`` apart around the three best
+        # (a face's peak sampled 5% off its height can score below a small spurious match)
+        matches = self._matches(gray, lo, hi, max(self.scale_step, _COARSE_STEP))
+        if matches and self.scale_step < _COARSE_STEP:
+            matches = [m for _, _, h in sorted(matches, key=lambda m: -m[0])[:3]
+                       for m in self._matches(gray, max(lo, h / _COARSE_STEP),
+                                              min(hi, h * _COARSE_STEP), self.scale_step)]
+        score, centre, h = max(matches, key=lambda m: m[0], default=(-np.inf, None, 0.0))
         if centre is None or score < self.min_score:
             return []
         window = face_window(cv2.cvtColor(gray, cv2.COLOR_GRAY2RGB), centre, h, (tw, th))
@@ -111,10 +114,10 @@ class FaceFinder:
             return []
         return [Face(centre, h, float(score), tw / th)]
 
-    def _best(self, gray: np.ndarray, lo: float, hi: float, step: float):
-        """The best template match over heights ``lo``, ``lo * step``, ... up to ``hi``."""
+    def _matches(self, gray: np.ndarray, lo: float, hi: float, step: float) -> list[tuple]:
+        """(score, centre, height) of the best match at each height ``lo``, ``lo * step``, ..."""
         th, tw = self.template.shape
-        best = (-np.inf, None, 0.0)
+        found = []
         height = lo
         while height <= hi * (1 + 1e-9):
             w, h = int(round(height * tw / th)), int(round(height))
@@ -122,10 +125,9 @@ class FaceFinder:
                 break
             t = cv2.resize(self.template, (w, h), interpolation=cv2.INTER_AREA)
             _, score, _, (x, y) = cv2.minMaxLoc(cv2.matchTemplate(gray, t, cv2.TM_CCOEFF_NORMED))
-            if score > best[0]:
-                best = (score, np.array([x + (w - 1) / 2, y + (h - 1) / 2]), float(h))
+            found.append((score, np.array([x + (w - 1) / 2, y + (h - 1) / 2]), float(h)))
             height *= step
-        return best
+        return found
 
 
 _COARSE_STEP = 1.1
