@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 import os
 
-__all__ = ["CellBar", "add_backend", "add_config", "add_max_cells", "int_in", "workers"]
+__all__ = ["CellBar", "add_backend", "add_cell", "add_config", "add_max_cells", "int_in",
+           "workers"]
 
 
 def int_in(lo: int, hi: int):
@@ -27,6 +28,16 @@ def add_config(p: argparse.ArgumentParser) -> None:
     """The ``--config PRESET|FILE.toml`` option."""
     p.add_argument("--config", metavar="PRESET|FILE.toml",
                    help="a preset name or a TOML file (default: built-in defaults)")
+
+
+def add_cell(p: argparse.ArgumentParser) -> None:
+    """The options naming one cell: --preset, --config, --condition and --seed-index."""
+    p.add_argument("--preset", default="paper", help="a shipped preset (default: paper)")
+    add_config(p)
+    p.add_argument("--condition", default="n5-sigmoid",
+                   help="the condition to learn (default: n5-sigmoid)")
+    p.add_argument("--seed-index", type=int_in(0, 10**6), default=0,
+                   help="the cell's seed index (default: 0)")
 
 
 def add_backend(p: argparse.ArgumentParser) -> None:

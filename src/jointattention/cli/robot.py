@@ -12,7 +12,7 @@ from pathlib import Path
 
 from .._files import check_writable
 from ..errors import ArgumentError, FileError
-from ._common import add_config, int_in
+from ._common import add_cell, add_config, int_in
 
 __all__ = ["add_commands", "add_import"]
 
@@ -226,12 +226,7 @@ def add_commands(sub) -> None:
         "train", help="learn one cell and save the learned model",
         description="Learn one condition x seed (the fast world) and save the learned model "
                     "(weights, face statistics, robot, configuration; no pickle) to --out.")
-    p.add_argument("--preset", default="paper", help="a shipped preset (default: paper)")
-    add_config(p)
-    p.add_argument("--condition", default="n5-sigmoid",
-                   help="the condition to learn (default: n5-sigmoid)")
-    p.add_argument("--seed-index", type=int_in(0, 10**6), default=0,
-                   help="the cell's seed index (default: 0)")
+    add_cell(p)
     p.add_argument("--out", required=True, help="the model file, ending in .npz")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_train)

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .._files import check_writable, write_text
 from ..world import _gl
-from ._common import add_config, int_in
+from ._common import add_cell, add_config, int_in
 
 __all__ = ["add_commands"]
 
@@ -106,11 +106,6 @@ def add_commands(sub) -> None:
                     "unseen in the data sets), lm_error.png (median angle to the target on the "
                     "data sets and on held-out poses, over learning time), fig7.png and "
                     "fig7.gif (one rendered trial after learning) and gaze.json.")
-    p.add_argument("--preset", default="paper", help="a shipped preset (default: paper)")
-    add_config(p)
-    p.add_argument("--condition", default="n5-sigmoid",
-                   help="the condition to learn (default: n5-sigmoid)")
-    p.add_argument("--seed-index", type=int_in(0, 10**6), default=0,
-                   help="the cell's seed index (default: 0)")
+    add_cell(p)
     p.add_argument("--out", default="runs/gaze", help="output folder (default: runs/gaze)")
     p.set_defaults(func=_cmd_gaze)
