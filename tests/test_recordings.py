@@ -71,6 +71,18 @@ def test_cli_import_writes_a_valid_file_and_warns(recording, tmp_path, capsys):
     assert main(["datasets", "check", str(out)]) == 0
 
 
+def test_import_keeps_who_the_caregiver_is(recording, tmp_path):
+    """An optional caregiver column becomes the data sets' caregiver field (schema 2)."""
+    folder, _, _ = recording
+    lines = (folder / "recording.csv").read_text().splitlines()
+    copy = tmp_path / "two"
+    shutil.copytree(folder, copy)
+    (copy / "recording.csv").write_text("\n".join(
+        [lines[0] + ",caregiver"] + [f"{x},{i % 2}" for i, x in enumerate(lines[1:])]) + "\n")
+    ds, _ = import_recording(copy)
+    assert ds.caregiver.tolist() == [i % 2 for i in range(12)]
+
+
 def _broken(folder: Path, tmp: Path) -> dict[str, Path]:
     """Copies of the recording, each broken in one way, and what the error must name."""
     cases = {}
@@ -100,6 +112,7 @@ def _broken(folder: Path, tmp: Path) -> dict[str, Path]:
     cases["recording.csv"] = tmp / "empty_folder"
     cases["recording.csv"].mkdir()
     cases["no face found in any"] = copy("i", header + "\n" + text.splitlines()[-1] + "\n")
+    cases["column 'caregiver' '-1'"] = copy("j", header + ",caregiver\n" + first + ",-1\n")
     return cases
 
 

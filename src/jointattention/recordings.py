@@ -14,6 +14,8 @@ column                 meaning
 ``target_x_m`` ...     optional, all three or none: ``target_x_m``, ``target_y_m``,
                        ``target_z_m``, the target in the robot's frame (x right, y forward,
                        z up, metres, origin at the pan/tilt axes)
+``caregiver``          optional: who the caregiver is, an integer >= 0 (for recordings of
+                       several people; the data sets' ``caregiver`` field)
 =====================  ========================================================================
 
 The caregiver's face is found in each image and its window cut by
@@ -44,6 +46,7 @@ __all__ = ["COLUMNS", "CSV_NAME", "MAX_ROWS", "Missed", "import_recording"]
 CSV_NAME = "recording.csv"
 COLUMNS = ("image", "pan_rad", "tilt_rad", "command_pan_rad", "command_tilt_rad")
 _TARGET = ("target_x_m", "target_y_m", "target_z_m")
+_OPTIONAL = (*_TARGET, "caregiver")
 MAX_ROWS = 1_000_000
 
 
@@ -55,8 +58,8 @@ class Missed:
     image: str
 
 
-def _rows(folder: Path) -> tuple[list[dict], bool]:
-    """The CSV's rows, every value checked; and whether it has the target columns."""
+def _rows(folder: Path) -> tuple[list[dict], list[str]]:
+    """The CSV's rows, every value checked; and which optional columns it has."""
     where = folder / CSV_NAME
     text = read_text(where, f"the recording's table ({', '.join(COLUMNS)})")
     reader = csv.DictReader(io.StringIO(text))
@@ -64,11 +67,11 @@ def _rows(folder: Path) -> tuple[list[dict], bool]:
     missing = [c for c in COLUMNS if c not in header]
     if missing:
         raise DatasetError(f"{where}: column '{missing[0]}' is missing; expected the columns "
-                           f"{', '.join(COLUMNS)} (and optionally {', '.join(_TARGET)})")
-    unknown = [c for c in header if c not in (*COLUMNS, *_TARGET)]
+                           f"{', '.join(COLUMNS)} (and optionally {', '.join(_OPTIONAL)})")
+    unknown = [c for c in header if c not in (*COLUMNS, *_OPTIONAL)]
     if unknown:
         raise DatasetError(f"{where}: column {unknown[0]!r} is unknown; expected "
-                           f"{', '.join(COLUMNS)} (and optionally {', '.join(_TARGET)})")
+                           f"{', '.join(COLUMNS)} (and optionally {', '.join(_OPTIONAL)})")
     targets = [c for c in _TARGET if c in header]
     if targets and len(targets) != 3:
         raise DatasetError(f"{where}: column '{targets[0]}' without the others; expected all "
@@ -83,7 +86,7 @@ def _rows(folder: Path) -> tuple[list[dict], bool]:
         rows.append(_checked(row, i, where, folder))
     if not rows:
         raise DatasetError(f"{where}: no rows; expected one row per image")
-    return rows, bool(targets)
+    return rows, [c for c in _OPTIONAL if c in header]
 
 
 def _checked(row: dict, i: int, where: Path, folder: Path) -> dict:
@@ -104,6 +107,12 @@ def _checked(row: dict, i: int, where: Path, folder: Path) -> dict:
             raise DatasetError(f"{where}: row {i}: column '{key}' {row[key]!r}: expected a "
                                f"finite number{limits}")
         out[key] = value
+    if "caregiver" in row:
+        text = row["caregiver"].strip()
+        if not text.isdigit() or int(text) > 2**31 - 1:
+            raise DatasetError(f"{where}: row {i}: column 'caregiver' {row['caregiver']!r}: "
+                               "expected an integer >= 0")
+        out["caregiver"] = int(text)
     if not (folder / image).is_file():
         raise DatasetError(f"{where}: row {i}: image {out['image']!r} is not a file in {folder}")
     return out
@@ -126,7 +135,7 @@ def import_recording(folder: str | Path, *, face: str = "template",
     if not folder.is_dir():
         raise FileError(f"{folder}: not a folder; expected a recording folder with "
                         f"{CSV_NAME} and its images")
-    rows, has_target = _rows(folder)
+    rows, optional = _rows(folder)
     if face == "template" and template is None:
         template = face_template(default_datasets().face)
     if min_score is None:
@@ -155,7 +164,10 @@ def import_recording(folder: str | Path, *, face: str = "template",
 
     meta = {"generator": f"jointattention {__version__}", "imported_from": str(folder),
             "face_finder": face, "rows": len(rows), "rows_without_face": [m.row for m in missed]}
+    caregiver = (np.array([r["caregiver"] for r in kept], dtype=np.int64)
+                 if "caregiver" in optional else None)
     ds = CaregiverDatasets(np.stack(faces).astype(np.uint8), column("pan_rad", "tilt_rad"),
                            column("command_pan_rad", "command_tilt_rad"),
-                           column(*_TARGET) if has_target else None, meta)
+                           column(*_TARGET) if "target_x_m" in optional else None, meta,
+                           caregiver)
     return ds, missed
