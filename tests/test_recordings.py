@@ -83,6 +83,18 @@ def test_import_keeps_who_the_caregiver_is(recording, tmp_path):
     assert ds.caregiver.tolist() == [i % 2 for i in range(12)]
 
 
+def test_datasets_cut_by_the_robots_finder(needs_gl):
+    """--cut finder: windows cut around the found face, close to the head box's, all found."""
+    from jointattention.world.recording import make_datasets
+
+    box = make_datasets(load_config().world, 6, 0)
+    found = make_datasets(load_config().world, 6, 0, cut="finder")
+    assert len(found) == 6 and found.meta["without_face"] == []
+    np.testing.assert_array_equal(found.command_rad, box.command_rad)
+    diff = np.abs(found.face.astype(float) - box.face).mean()
+    assert 0 < diff < 8, diff  # the same faces, cut a little differently
+
+
 def _broken(folder: Path, tmp: Path) -> dict[str, Path]:
     """Copies of the recording, each broken in one way, and what the error must name."""
     cases = {}

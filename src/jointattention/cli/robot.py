@@ -152,8 +152,9 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     if args.out:
         check_writable(args.out, "file")
     _gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start
-    rows = ["| objects | trials | images only | rendered, data-set face | fast world | "
-            "faces found |", "|---|---|---|---|---|---|"]
+    rows = ["| objects | trials | images only | rendered, the data set's face window | fast world "
+            "| faces found | first command's error: image window, data set's window |",
+            "|---|---|---|---|---|---|---|"]
     start = time.perf_counter()
     for n in args.objects:
         with tqdm(total=args.trials, desc=f"{n} objects", unit="trial") as bar:
@@ -161,7 +162,7 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
                             progress=lambda i: bar.update(1))
         rows.append(f"| {n} | {r.n_trials} | {r.rendered_success:.3f} | "
                     f"{r.rendered_dataset_face_success:.3f} | {r.fast_success:.3f} | "
-                    f"{r.faces_found:.3f} |")
+                    f"{r.faces_found:.3f} | {r.image_error_deg:.1f}°, {r.dataset_error_deg:.1f}° |")
     text = "\n".join(rows) + (f"\n\nSuccess of {args.model} (learning time "
                               f"{model.agent.learning_time_steps:,} steps), "
                               f"{(time.perf_counter() - start) / 60:.1f} min.\n")
@@ -258,7 +259,8 @@ def add_commands(sub) -> None:
                     "found in the first image, its window cut, and the learning module moves "
                     "the head while OpenCV detects and the evaluator (Eq. 3) ends the trial; "
                     "the same trials with the data set's face window, and in the fast world. "
-                    "Prints a Markdown table of success.")
+                    "Prints a Markdown table of success, and the median angle between the "
+                    "module's first command and the direction to the target with each window.")
     p.add_argument("model", metavar="MODEL", type=Path, help="a model file (train --out)")
     p.add_argument("--objects", type=int_in(1, 20), nargs="+", default=[1, 3, 5, 10],
                    help="object counts (default: 1 3 5 10)")

@@ -42,7 +42,7 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
     check_writable(args.out, "file", "OUT")
     with tqdm(total=args.n, desc="data sets", unit="set", disable=args.quiet) as bar:
         ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1),
-                           caregivers=args.caregivers)
+                           caregivers=args.caregivers, cut=args.cut)
     print(save(ds, args.out))
 
 
@@ -92,6 +92,10 @@ def add_commands(sub) -> None:
                    help="caregiver identities, the N data sets split evenly among them in turn: "
                         "the seed's own, then new ones drawn by the world; with more than one the "
                         "file names each set's caregiver (schema version 2) (default: 1)")
+    q.add_argument("--cut", choices=("box", "finder"), default="box",
+                   help="where face windows are cut: around the head's projection (default, "
+                        "the experimenter's knowledge) or around the face the robot's own "
+                        "finder finds, as follow and datasets import cut them")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
     q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
     q.set_defaults(func=_cmd_datasets_make)

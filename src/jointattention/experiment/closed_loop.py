@@ -20,13 +20,25 @@ from ..agent.follower import GazeFollower
 from ..agent.protocol import LM, Outcome
 from ..agent.saved import LearnedModel
 from ..config import with_n_objects
+from ..datasets import CaregiverDatasets
 from ..rng import stream
 from ..world.kinematics import HeadKinematics
 from ..world.rendered import RenderedScenes
 from .cells import datasets_of, evaluator, random_scene
+from .probes import angle_deg
 from .trial import SceneTrial, run_trial
 
 __all__ = ["ClosedLoopResult", "FollowingAgent", "closed_loop"]
+
+
+def _first_caregiver(ds: CaregiverDatasets) -> CaregiverDatasets:
+    """The data sets of identity 0 (all of them if the file names no caregivers)."""
+    if ds.caregiver is None:
+        return ds
+    keep = ds.caregiver == 0
+    return CaregiverDatasets(ds.face[keep], ds.theta_face_rad[keep], ds.command_rad[keep],
+                             None if ds.target_m is None else ds.target_m[keep], ds.meta,
+                             ds.caregiver[keep])
 
 
 class FollowingAgent:
@@ -61,6 +73,8 @@ class ClosedLoopResult:
     rendered_dataset_face_success: float  # rendered, but the data set's face window
     fast_success: float
     faces_found: float  # fraction of trials whose first image gave a face
+    image_error_deg: float  # median angle of the first command to the target's, image window
+    dataset_error_deg: float  # the same with the data set's window
 
 
 def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int = 0,
@@ -68,10 +82,12 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
     """Run ``model`` for ``n_trials`` trials of ``n_objects`` objects, rendered and fast.
 
     The trials are the model's own world (its configuration and data sets); ``seed`` draws them.
-    A trial whose first image shows no face the finder accepts is a failure.
+    The rendered caregiver is the data sets' first identity (the world seed's own), so data
+    sets of several caregivers are narrowed to hers. A trial whose first image shows no face the
+    finder accepts is a failure.
     """
     config = with_n_objects(model.config, n_objects)
-    ds = datasets_of(config)
+    ds = _first_caregiver(datasets_of(config))
     kin = HeadKinematics.from_config(config.world)
     evaluate = evaluator(config)
     follower, agent = GazeFollower(model), FollowingAgent(model)
@@ -80,7 +96,7 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
     scenes = RenderedScenes(config.world, config.detector, n_objects, seed=seed_of_world,
                             rng=stream(seed, "closed-loop-render", n_objects))
     wins = {"rendered": 0, "rendered_dataset_face": 0, "fast": 0}
-    found = 0
+    found, errors = 0, {"image": [], "dataset": []}
     try:
         for i in range(n_trials):
             k, fast, face_m = random_scene(config, ds, kin, n_objects, rng)
@@ -89,8 +105,11 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
             trial = SceneTrial(rendered, theta, kinematics=kin, max_steps=config.agent.max_steps,
                                evaluate=evaluate)  # its first look renders the start image
             look = follower.look(rendered.last_image, theta)
+            errors["dataset"].append(angle_deg(model.lm_command(ds.face[k], theta),
+                                               ds.command_rad[k]))
             if look is not None:
                 found += 1
+                errors["image"].append(angle_deg(look.command_rad, ds.command_rad[k]))
                 wins["rendered"] += run_trial(trial, agent, look.window).success
             for name, scene in (("rendered_dataset_face", scenes.show(fast, face_m)),
                                 ("fast", fast)):
@@ -103,5 +122,7 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
         scenes.close()
     return ClosedLoopResult(n_objects, n_trials, **{f"{k}_success": v / n_trials
                                                     for k, v in wins.items()},
-                            faces_found=found / n_trials)
+                            faces_found=found / n_trials,
+                            image_error_deg=float(np.median(errors["image"] or [np.nan])),
+                            dataset_error_deg=float(np.median(errors["dataset"])))
 

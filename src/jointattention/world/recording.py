@@ -8,12 +8,14 @@ from collections.abc import Callable
 import numpy as np
 
 from .. import __version__
-from ..agent.faces import face_window
-from ..config import Config, WorldConfig, to_toml
+from ..agent.faces import face_template, face_window, finder_for, window_of
+from ..config import Config, DetectorConfig, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets
 from .simulator import World
 
-__all__ = ["capture_face_window", "face_box", "make_datasets", "split_evenly"]
+__all__ = ["CUTS", "capture_face_window", "face_box", "make_datasets", "split_evenly"]
+
+CUTS = ("box", "finder")  # where make_datasets cuts the face windows
 
 
 def face_box(world: World) -> tuple[np.ndarray, float]:
@@ -36,6 +38,22 @@ def capture_face_window(world: World, image: np.ndarray | None = None) -> np.nda
     return face_window(image, *face_box(world), (fw.width_px, fw.height_px))
 
 
+def _cut_by_finder(images: list[np.ndarray], faces: np.ndarray, size_px) -> np.ndarray:
+    """Re-cut ``faces`` in place around the faces the robot finds; which ones were found."""
+    template = face_template(faces)
+    finder = finder_for("template", images[0].shape[0], template,
+                        DetectorConfig().face_min_score)
+    found = np.zeros(len(faces), bool)
+    for i, image in enumerate(images):
+        match = finder.find(image)
+        if match:
+            faces[i], found[i] = window_of(image, match[0], size_px), True
+    if not found.any():
+        raise ValueError("cut = 'finder': the face finder found no face in any recording; "
+                         "expected the caregiver's face in them")
+    return found
+
+
 def split_evenly(n: int, k: int) -> np.ndarray:
     """The part (0 to k - 1) of each of ``n`` items cut into ``k`` contiguous parts.
 
@@ -48,7 +66,7 @@ def split_evenly(n: int, k: int) -> np.ndarray:
 
 def make_datasets(
     config: WorldConfig, n: int, seed: int, progress: Callable[[int], None] | None = None,
-    caregivers: int = 1,
+    caregivers: int = 1, cut: str = "box",
 ) -> CaregiverDatasets:
     """``n`` data sets, each from a new scene, posed by ``caregivers`` people.
 
@@ -59,7 +77,15 @@ def make_datasets(
     (``World.reset(new_identity=True)``). With several caregivers the data sets name them
     (the ``caregiver`` field) and ``meta["caregivers"]`` holds each one's head size and
     colours; with one they are exactly the data sets recorded before caregivers existed.
+
+    ``cut``: where each face window is cut. ``"box"``: around the head's projection (what only
+    the experimenter knows). ``"finder"``: around the face the robot's own face finder
+    finds, with the mean of the recording's box windows as its template, as a robot's
+    recordings are made (``datasets import``) and as ``follow`` and the closed loop cut their
+    windows; data sets whose face it does not find are left out (``meta["without_face"]``).
     """
+    if cut not in CUTS:
+        raise ValueError(f"cut {cut!r}: expected one of {', '.join(CUTS)}")
     if n < 1:
         raise ValueError(f"n = {n}: expected at least one data set")
     if not 1 <= caregivers <= n:
@@ -71,7 +97,7 @@ def make_datasets(
     command = np.empty((n, 2))
     target = np.empty((n, 3))
     who = split_evenly(n, caregivers)
-    identities = []
+    identities, images = [], []
     with World(config, seed=seed) as world:
         for i in range(n):
             new_identity = i > 0 and who[i] != who[i - 1]
@@ -80,7 +106,10 @@ def make_datasets(
                 identities.append(dataclasses.asdict(world.caregiver))
             theta_face[i] = world.face_angle_rad
             world.set_head_angle(theta_face[i])
-            faces[i] = capture_face_window(world)
+            image = world.render()
+            faces[i] = capture_face_window(world, image)
+            if cut == "finder":
+                images.append(image)
             command[i] = world.kinematics.centring_angles(state.target_pos_m) - theta_face[i]
             target[i] = state.target_pos_m
             if progress is not None:
@@ -90,6 +119,11 @@ def make_datasets(
         "seed": seed,
         "world_config_toml": to_toml(Config(world=config)),
     }
+    if cut == "finder":
+        keep = _cut_by_finder(images, faces, (fw.width_px, fw.height_px))
+        faces, theta_face, command, target, who = (
+            a[keep] for a in (faces, theta_face, command, target, who))
+        meta.update(cut="finder", without_face=np.flatnonzero(~keep).tolist())
     if caregivers == 1:
         return CaregiverDatasets(faces, theta_face, command, target, meta)
     meta["caregivers"] = identities
