@@ -138,11 +138,10 @@ def run_follow_benchmark(n_frames: int = 30) -> list[tuple[str, float, str]]:
         view = world.render()
     photo = read_image(Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg")
     rows = []
-    for face, image, what in (("template", view, "rendered view"),
-                              ("haar", photo, "photograph")):
+    for face, image in (("template", view), ("haar", photo)):
         follower = GazeFollower(model, face)
         h, w = image.shape[:2]
-        rows.append((f"follow: face, window, command ({face}, {what} {w}x{h})",
+        rows.append((f"follow frames (face, window, command): {face}, {w}x{h}",
                      _rate(lambda i, f=follower, im=image: f.look(im, np.zeros(2)), n_frames),
                      "frames/s"))
     return rows
