@@ -168,12 +168,11 @@ _LEAST_FACE_FRACTION = 0.08
 
 
 def finder_for(method: str, height_px: int, template: np.ndarray | None = None,
-               min_score: float = 0.5) -> FaceFinder:
+               min_score: float = 0.7) -> FaceFinder:
     """A face finder for images ``height_px`` tall: faces from 8% of it (8 px at least) to all.
 
-    Templates are tried at heights 2% apart: a window cut from a box 5% too large is far
-    enough from the learned ones to turn the module's command by about 14 degrees (measured
-    on rendered views of the shipped caregiver).
+    Templates are tried at heights 2% apart: the learning module answers a window cut a few
+    percent too large or too small differently (README, *The loop closed in the simulator*).
     """
     heights = (max(8.0, _LEAST_FACE_FRACTION * height_px), float(height_px))
     return FaceFinder(method, template, min_score=min_score, heights_px=heights,
