@@ -185,3 +185,21 @@ def test_cli_follow_refuses_bad_input_in_one_line(saved, tmp_path, capsys):
         err = capsys.readouterr().err
         assert code == 2 and err.count("\n") == 1 and "Traceback" not in err, err
         assert not (tmp_path / "out").exists()
+
+
+def test_closed_loop_runs_a_saved_model_through_images(saved, tmp_path, capsys, needs_gl):
+    """The closed loop finds the face in every rendered start image and prints its table."""
+    from jointattention.experiment.closed_loop import closed_loop
+
+    model, path = saved
+    before = model.agent.learner.w1_.copy()
+    result = closed_loop(model, 1, 6, seed=1)
+    assert result.faces_found == 1.0 and result.n_trials == 6
+    for value in (result.rendered_success, result.rendered_dataset_face_success,
+                  result.fast_success):
+        assert 0 <= value <= 1
+    assert 0 <= result.image_error_deg <= 180 and 0 <= result.dataset_error_deg <= 180
+    np.testing.assert_array_equal(model.agent.learner.w1_, before)  # following learns nothing
+    assert main(["closed-loop", str(path), "--objects", "1", "--trials", "2",
+                 "--out", str(tmp_path / "cl.md")]) == 0
+    assert "| 1 | 2 |" in (tmp_path / "cl.md").read_text()
