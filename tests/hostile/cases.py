@@ -897,6 +897,13 @@ for _tag, _make in CORRUPT_DATASETS.items():
                                                ["datasets", "check", "bad.npz"])(tmp))(_make),
              names="bad.npz",
              check=not_pickled if _tag in ("random-bytes", "text") else None))
+for _tag, _make in CORRUPT_DATASETS.items():  # the same corruptions as a saved model
+    add(Case(f"follow-model-{_tag}", "corrupt-files",
+             (lambda m: lambda tmp: files_case(
+                 {"bad.npz": m(), "img.png": png_bytes()},
+                 ["follow", "bad.npz", "img.png", "--out", "out"])(tmp))(_make),
+             names="bad.npz",
+             check=not_pickled if _tag in ("random-bytes", "text") else None))
 for _tag in ("truncated", "empty", "bad-crc", "huge-member-header", "pickled-member",
              "npy-renamed"):
     add(Case(f"api-load-datasets-{_tag}", "corrupt-files",
@@ -1023,6 +1030,7 @@ OUT_COMMANDS = {  # command -> (argv before --out, kind of output: dir or file)
     "detect": (["detect", "img.png"], "dir"),
     "gaze": (["gaze", "--config", "tiny.toml", "--condition", "n1"], "dir"),
     "parity": (["parity", "--cases", "1", "--objects", "1"], "file"),
+    "train": (["train", "--config", "tiny.toml", "--condition", "n1", "--quiet"], "file"),
 }
 OUT_FILES = {"tiny.toml": tiny_toml(), "s.toml": spec_toml(), "img.png": png_bytes(),
              "file.txt": "a file\n"}
