@@ -90,3 +90,23 @@ def test_claim_teacher_at_least_bootstrap(teacher, holds):
                           {"5": 0.9})
     [claim] = [c for c in claims if "teacher at least bootstrap" in c.claim]
     assert claim.holds is holds
+
+
+def test_axis_errors_split_the_error_into_pan_and_tilt():
+    """A module right in tilt and mirrored in pan errs horizontally only, by twice the pan."""
+    from jointattention.datasets import default_datasets
+    from jointattention.experiment.probes import axis_errors_deg
+
+    ds = default_datasets()
+
+    class Module:
+        def __init__(self, flip):
+            self.flip = np.array(flip)
+
+        def lm_commands(self, faces, thetas):
+            return ds.command_rad * self.flip * 0.1  # a direction; its length does not matter
+
+    assert axis_errors_deg(Module([1, 1]), ds) == pytest.approx((0, 0), abs=1e-9)
+    pan, tilt = axis_errors_deg(Module([-1, 1]), ds)
+    assert tilt == pytest.approx(0, abs=1e-9)
+    assert pan == pytest.approx(np.median(np.rad2deg(2 * np.abs(ds.command_rad[:, 0]))))

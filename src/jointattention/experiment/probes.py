@@ -12,12 +12,34 @@ import numpy as np
 from ..datasets import CaregiverDatasets
 from ..world.kinematics import angle_rad
 
-__all__ = ["angle_deg", "angle_errors", "median_error_deg"]
+__all__ = ["angle_deg", "angle_errors", "axis_errors_deg", "median_error_deg"]
 
 
 def angle_deg(a, b) -> np.ndarray:
     """The angle (deg) between each vector of ``a`` (..., k) and the vector ``b`` (k,)."""
     return np.rad2deg(angle_rad(a, b))
+
+
+def _outputs(agent, ds: CaregiverDatasets) -> np.ndarray:
+    """The module's output at each data set's face and head angle, (N, 2)."""
+    if hasattr(agent, "lm_commands"):
+        return agent.lm_commands(ds.face, ds.theta_face_rad)
+    return np.array([agent.lm_command(f, t) for f, t in zip(ds.face, ds.theta_face_rad,
+                                                             strict=True)])
+
+
+def axis_errors_deg(agent, ds: CaregiverDatasets) -> tuple[float, float]:
+    """Median horizontal and vertical error (deg): where a turn along the output ends.
+
+    The head turned from the face along the module's direction, as far as the command to the
+    target, lands ``e = |c| u / |u| - c`` from the target; the pan and tilt parts of ``e``
+    are the horizontal and vertical errors (the developmental model's measure: Nagai, Asada,
+    Hosoda 2006 report the horizontal learned before the vertical).
+    """
+    u, c = _outputs(agent, ds), np.asarray(ds.command_rad, dtype=float)
+    norm = np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-12)
+    e = np.linalg.norm(c, axis=1, keepdims=True) * u / norm - c
+    return tuple(float(np.median(np.rad2deg(np.abs(e[:, i])))) for i in (0, 1))
 
 
 def angle_errors(agent, ds: CaregiverDatasets) -> np.ndarray:
@@ -26,11 +48,7 @@ def angle_errors(agent, ds: CaregiverDatasets) -> np.ndarray:
     The output is taken at the face (``agent.lm_commands``, or ``agent.lm_command`` one face
     at a time), the command is the one that centres the target.
     """
-    if hasattr(agent, "lm_commands"):
-        out = agent.lm_commands(ds.face, ds.theta_face_rad)
-    else:
-        out = np.array([agent.lm_command(f, t) for f, t in zip(ds.face, ds.theta_face_rad,
-                                                                 strict=True)])
+    out = _outputs(agent, ds)
     return np.array([angle_deg(o, c) for o, c in zip(out, ds.command_rad, strict=True)])
 
 
