@@ -29,7 +29,8 @@ def train(config: Config, condition: str, seed_index: int = 0,
           progress: Callable[[int], None] | None = None) -> LearnedModel:
     """Learn one cell (``experiment.n_steps`` steps) and return its learned model.
 
-    Only the bootstrap model with the back-propagation learner is saved (checked first).
+    Only the bootstrap model and the teacher, with the back-propagation learner, are saved
+    (checked first).
     """
     cond = condition_named(config, condition)
     check_savable(config, condition)  # before learning, not after
