@@ -26,6 +26,7 @@ import numpy as np
 from jointattention import GazeFollower
 from jointattention.cli import main as cli
 from jointattention.config import load_config
+from jointattention.experiment.probes import angle_deg
 from jointattention.world.simulator import World
 
 
@@ -51,12 +52,6 @@ def record(world: World, folder: Path, poses: int, look_away: int = 2) -> list[d
     return rows
 
 
-def angle_error_deg(a: np.ndarray, b: np.ndarray) -> float:
-    """The angle between two 2-D directions, in degrees."""
-    cos = float(a @ b / (np.linalg.norm(a) * np.linalg.norm(b)))
-    return float(np.degrees(np.arccos(np.clip(cos, -1, 1))))
-
-
 def follow(model: Path, folder: Path, rows: list[dict]) -> dict:
     """Median angle error of the follower's commands on a recording's caregiver images."""
     follower = GazeFollower.load(model)
@@ -67,8 +62,8 @@ def follow(model: Path, folder: Path, rows: list[dict]) -> dict:
         if command is None:
             no_face += 1
             continue
-        errors.append(angle_error_deg(command, np.array([row["command_pan_rad"],
-                                                         row["command_tilt_rad"]])))
+        recorded = np.array([row["command_pan_rad"], row["command_tilt_rad"]])
+        errors.append(float(angle_deg(command, recorded)))
     errors = np.array(errors)
     return {"median_error_deg": round(float(np.median(errors)), 1),
             "within_20_deg": round(float(np.mean(errors <= 20)), 3), "no_face": no_face}

@@ -36,7 +36,7 @@ import numpy as np
 
 from . import __version__
 from ._readers import read_image, read_text
-from .agent.faces import FaceFinder, face_template, finder_for, window_of
+from .agent.faces import face_template, finder_for, window_of
 from .config import DetectorConfig
 from .datasets import CaregiverDatasets, default_datasets
 from .errors import DatasetError, FileError
@@ -140,14 +140,11 @@ def import_recording(folder: str | Path, *, face: str = "template",
         template = face_template(default_datasets().face)
     if min_score is None:
         min_score = DetectorConfig().face_min_score
-    finders: dict[int, FaceFinder] = {}
+    finder = finder_for(face, template, min_score)
     kept, faces, missed = [], [], []
     for i, row in enumerate(rows, start=1):
         image = read_image(folder / row["image"])
-        h = image.shape[0]
-        if h not in finders:
-            finders[h] = finder_for(face, h, template, min_score)
-        found = finders[h].find(image)
+        found = finder.find(image)
         if found:
             kept.append(row)
             faces.append(window_of(image, found[0], face_size_px))

@@ -54,7 +54,8 @@ class FaceFinder:
         template: grayscale uint8 (h, w), e.g. :func:`face_template` of the data sets'
             windows; needed for ``"template"``.
         min_score: least score of a template match.
-        heights_px: (least, greatest) face height to look for.
+        heights_px: (least, greatest) face height to look for; None: from 8% of each
+            image's height (8 px at least) to all of it.
         scale_step: ratio of one template height to the next tried (below 1.1: heights 10%
             apart first, then this step around the three best).
         min_edge_score: least correlation of the best match's edge strength (Sobel
@@ -65,7 +66,8 @@ class FaceFinder:
     """
 
     def __init__(self, method: str = "template", template: np.ndarray | None = None, *,
-                 min_score: float = 0.5, heights_px: tuple[float, float] = (50.0, 200.0),
+                 min_score: float = 0.5,
+                 heights_px: tuple[float, float] | None = (50.0, 200.0),
                  scale_step: float = 1.1, min_edge_score: float = 0.65):
         if method not in ("template", "haar"):
             raise ValueError(f"face method {method!r}: expected 'template' or 'haar'")
@@ -88,7 +90,7 @@ class FaceFinder:
         """The faces in an RGB uint8 image, best first."""
         gray = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2GRAY)
         if self.method == "haar":
-            lo, hi = (int(v) for v in self.heights_px)
+            lo, hi = (int(v) for v in self._heights(gray))
             boxes = self._cascade.detectMultiScale(gray, scaleFactor=1.1, minNeighbors=5,
                                                    minSize=(lo, lo), maxSize=(hi, hi))
             faces = [Face(np.array([x + w / 2, y + h / 2]), float(h), 1.0, w / h)
@@ -96,9 +98,16 @@ class FaceFinder:
             return sorted(faces, key=lambda f: -f.height_px)
         return self._match(gray)
 
+    def _heights(self, gray: np.ndarray) -> tuple[float, float]:
+        """The least and greatest face height looked for in this image."""
+        if self.heights_px is not None:
+            return self.heights_px
+        return max(8.0, _LEAST_FACE_FRACTION * gray.shape[0]), float(gray.shape[0])
+
     def _match(self, gray: np.ndarray) -> list[Face]:
         th, tw = self.template.shape
-        lo, hi = self.heights_px[0], min(self.heights_px[1], gray.shape[0])
+        lo, hi = self._heights(gray)
+        hi = min(hi, gray.shape[0])
         # coarse to fine: heights 10% apart, then ``scale_step`` apart around the three best
         # (a face's peak sampled 5% off its height can score below a small spurious match)
         matches = self._matches(gray, lo, hi, max(self.scale_step, _COARSE_STEP))
@@ -109,7 +118,7 @@ class FaceFinder:
         score, centre, h = max(matches, key=lambda m: m[0], default=(-np.inf, None, 0.0))
         if centre is None or score < self.min_score:
             return []
-        window = face_window(cv2.cvtColor(gray, cv2.COLOR_GRAY2RGB), centre, h, (tw, th))
+        window = _gray_window(gray, centre, h, (tw, th))
         if _correlation(_edges(window), _edges(self.template)) < self.min_edge_score:
             return []
         return [Face(centre, h, float(score), tw / th)]
@@ -155,10 +164,16 @@ def face_window(
     window whatever its distance; it is then resized to ``size_px = (width, height)`` by
     area averaging. Parts of the crop outside the image repeat the border pixels.
     """
+    gray = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2GRAY)
+    return _gray_window(gray, centre_px, height_px, size_px)
+
+
+def _gray_window(gray: np.ndarray, centre_px, height_px: float,
+                 size_px: tuple[int, int]) -> np.ndarray:
+    """:func:`face_window` of an image already in grey levels."""
     width, height = size_px
     crop_h = max(int(round(height_px)), height)
     crop_w = max(int(round(crop_h * width / height)), width)
-    gray = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2GRAY)
     patch = cv2.getRectSubPix(gray, (crop_w, crop_h), (float(centre_px[0]), float(centre_px[1])))
     return cv2.resize(patch, (width, height), interpolation=cv2.INTER_AREA)
 
@@ -167,16 +182,14 @@ def face_window(
 _LEAST_FACE_FRACTION = 0.08
 
 
-def finder_for(method: str, height_px: int, template: np.ndarray | None = None,
+def finder_for(method: str, template: np.ndarray | None = None,
                min_score: float = 0.7) -> FaceFinder:
-    """A face finder for images ``height_px`` tall: faces from 8% of it (8 px at least) to all.
+    """The robot's face finder: faces from 8% of each image's height (8 px at least) to all.
 
     Templates are tried at heights 2% apart: the learning module answers a window cut a few
     percent too large or too small differently (README, *The loop closed in the simulator*).
     """
-    heights = (max(8.0, _LEAST_FACE_FRACTION * height_px), float(height_px))
-    return FaceFinder(method, template, min_score=min_score, heights_px=heights,
-                      scale_step=1.02)
+    return FaceFinder(method, template, min_score=min_score, heights_px=None, scale_step=1.02)
 
 
 def window_of(image_rgb: np.ndarray, face: Face, size_px: tuple[int, int]) -> np.ndarray:

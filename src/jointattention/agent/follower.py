@@ -23,7 +23,7 @@ import numpy as np
 
 from ..config import DetectorConfig
 from ..errors import ArgumentError
-from .faces import Face, FaceFinder, finder_for, window_of
+from .faces import Face, finder_for, window_of
 from .saved import LearnedModel, Robot, load_model
 
 __all__ = ["FACE_METHODS", "GazeFollower", "Look"]
@@ -63,21 +63,15 @@ class GazeFollower:
         if face not in FACE_METHODS:
             raise ArgumentError(f"face {face!r}: expected one of {', '.join(FACE_METHODS)}")
         self.model, self.face = model, face
-        self.min_score = DetectorConfig().face_min_score if min_score is None else min_score
-        self._finders: dict[int, FaceFinder] = {}
+        min_score = DetectorConfig().face_min_score if min_score is None else min_score
+        self.finder = finder_for(face, model.face_template() if face == "template" else None,
+                                 min_score)
 
     @classmethod
     def load(cls, path: str | Path, *, face: str = "template", robot: Robot | None = None,
              min_score: float | None = None) -> GazeFollower:
         """A follower of the model saved at ``path`` (refused if learned on another ``robot``)."""
         return cls(load_model(path, robot=robot), face, min_score)
-
-    def _finder(self, height_px: int) -> FaceFinder:
-        if height_px not in self._finders:
-            template = self.model.face_template() if self.face == "template" else None
-            self._finders[height_px] = finder_for(self.face, height_px, template,
-                                                  self.min_score)
-        return self._finders[height_px]
 
     def find(self, frame_rgb: np.ndarray) -> Face | None:
         """The caregiver's face in an RGB uint8 frame (H, W, 3): the best match, or None."""
@@ -86,12 +80,12 @@ class GazeFollower:
                 frame.shape[:2]) < 8:
             raise ArgumentError(f"frame of {frame.dtype} and shape {frame.shape}: expected an "
                                 "RGB uint8 image (H, W, 3), at least 8 x 8")
-        faces = self._finder(frame.shape[0]).find(frame)
+        faces = self.finder.find(frame)
         return faces[0] if faces else None
 
     def look(self, frame_rgb: np.ndarray, theta_rad) -> Look | None:
         """The face, its window and the command for a frame seen at head angle ``theta_rad``."""
-        theta = self._theta(theta_rad)
+        theta = self.check_angle(theta_rad)
         face = self.find(frame_rgb)
         if face is None:
             return None
@@ -103,7 +97,8 @@ class GazeFollower:
         look = self.look(frame_rgb, theta_rad)
         return None if look is None else look.command_rad
 
-    def _theta(self, theta_rad) -> np.ndarray:
+    def check_angle(self, theta_rad) -> np.ndarray:
+        """The head angle as an array, or one ArgumentError line if it is not one of the robot's."""
         try:
             theta = np.asarray(theta_rad, dtype=float)
         except (TypeError, ValueError):

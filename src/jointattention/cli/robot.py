@@ -116,7 +116,7 @@ def _cmd_follow(args: argparse.Namespace) -> None:
                             "of them)")
     follower = GazeFollower.load(args.model, face=args.face)
     theta = np.deg2rad(args.theta_deg)
-    follower.look(np.zeros((8, 8, 3), np.uint8), theta)  # the angle is checked before any frame
+    follower.check_angle(theta)  # before any frame is read
     out = check_writable(args.out, "folder") if args.out else None
     for name, index, frame in _frames(args):
         look = follower.look(frame, theta)

@@ -41,8 +41,7 @@ def capture_face_window(world: World, image: np.ndarray | None = None) -> np.nda
 def _cut_by_finder(images: list[np.ndarray], faces: np.ndarray, size_px) -> np.ndarray:
     """Re-cut ``faces`` in place around the faces the robot finds; which ones were found."""
     template = face_template(faces)
-    finder = finder_for("template", images[0].shape[0], template,
-                        DetectorConfig().face_min_score)
+    finder = finder_for("template", template, DetectorConfig().face_min_score)
     found = np.zeros(len(faces), bool)
     for i, image in enumerate(images):
         match = finder.find(image)
