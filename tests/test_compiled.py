@@ -50,6 +50,11 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
     ConditionConfig(name="teacher-performance", n_objects=3, model={
         "kind": "teacher",
         "gate": {"kind": "performance", "window_trials": 20.0, "full_agreement": 0.2}}),
+    ConditionConfig(name="developmental", n_objects=5, model={
+        "kind": "developmental", "criterion_start_deg": 40.0, "criterion_window_trials": 10.0,
+        "criterion_shrink": 0.9, "blur_start_px": 3.0, "blur_sharp_steps": 2000.0}),
+    ConditionConfig(name="developmental-shuffled", n_objects=3, shuffle_faces=True, model={
+        "kind": "developmental", "criterion_level": 0.2, "blur_start_px": 0.5}),
 ]
 CONFIG = Config(
     model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),

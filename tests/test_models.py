@@ -1,9 +1,12 @@
-"""The models beside the bootstrap model: the teacher learns, is controlled and is checked."""
+"""The models beside the bootstrap model: the teacher and the developmental model learn, are
+controlled and are checked."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from jointattention.agent.detections import Detections
 from jointattention.agent.protocol import Body, Outcome
@@ -111,3 +114,102 @@ def test_axis_errors_split_the_error_into_pan_and_tilt():
     pan, tilt = axis_errors_deg(Module([-1, 1]), ds)
     assert tilt == pytest.approx(0, abs=1e-9)
     assert pan == pytest.approx(np.median(np.rad2deg(2 * np.abs(ds.command_rad[:, 0]))))
+
+
+# -- the developmental model -------------------------------------------------------------------
+DEV = {**SHORT, "experiment": {**SHORT["experiment"], "conditions": [
+    {"name": "developmental-n1", "n_objects": 1, "model": {"kind": "developmental"}},
+    {"name": "developmental-n5-shuffled", "n_objects": 5, "shuffle_faces": True,
+     "model": {"kind": "developmental"}}]}}
+
+
+def test_developmental_learns_on_one_object():
+    """With 1 object the developmental model rises from about 0.1 to above 0.6 in 6x10^4 steps."""
+    config = load_config(DEV)
+    records = run_cell(config, config.experiment.conditions[0], 0)
+    assert records["success"][:50].mean() < 0.3  # measured 0.12
+    assert _final(records) > 0.6  # measured 0.82 (the teacher: 0.72)
+
+
+def test_developmental_with_shuffled_faces_stays_at_chance():
+    """With faces shuffled the developmental model stays near or below chance (0.2)."""
+    config = load_config(DEV)
+    assert _final(run_cell(config, config.experiment.conditions[1], 0)) <= 1.25 * 0.2  # 0.10
+
+
+def test_developmental_cells_do_not_depend_on_workers(tmp_path):
+    """The same developmental cells on 1 and 2 worker processes."""
+    config = load_config({**DEV, "experiment": {**DEV["experiment"], "n_steps": 3000,
+                                                "bin_steps": 1000}})
+    one = run_experiment(config, tmp_path / "one", workers=1)
+    two = run_experiment(config, tmp_path / "two", workers=2)
+    for key, cell in one.items():
+        for column, values in cell.items():
+            np.testing.assert_array_equal(values, two[key][column], err_msg=str((key, column)))
+
+
+def test_developmental_without_its_developments_is_the_teacher():
+    """criterion_start_deg = 0 and blur_start_px = 0 give the teacher's cell, byte for byte."""
+    def cell(model):
+        config = load_config({**SHORT, "experiment": {**SHORT["experiment"], "n_steps": 4000,
+                                                      "conditions": [{"name": "c",
+                                                                      "n_objects": 5,
+                                                                      "model": model}]}})
+        return run_cell(config, config.experiment.conditions[0], 0)
+
+    teacher = cell({"kind": "teacher"})
+    plain = cell({"kind": "developmental", "criterion_start_deg": 0.0, "blur_start_px": 0.0})
+    developing = cell({"kind": "developmental"})
+    for key in teacher:
+        np.testing.assert_array_equal(teacher[key], plain[key], err_msg=key)
+    assert not np.array_equal(teacher["lm_error_deg"], developing["lm_error_deg"])
+
+
+def _developmental_agent(**options):
+    config = load_config({"model": {"kind": "developmental", **options}})
+    body = Body((320, 240), ((-1.0, 1.0), (-0.8, 0.6)), (30, 25))
+    return model_options(config, config.experiment.conditions[0]).build(
+        config.agent, body, np.random.default_rng(0))
+
+
+def test_the_caregiver_approves_near_objects_and_narrows_her_criterion():
+    """Within her criterion she approves another object; approving above her level narrows it."""
+    agent = _developmental_agent(criterion_start_deg=20.0, criterion_level=0.0,
+                                 criterion_shrink=0.5)
+    det = Detections(np.array([[100.0, 120.0]]), np.array([400.0]), np.zeros(1), np.zeros(1),
+                     (320, 240))
+    taught = []
+    for error_deg in (10.0, 10.0, 30.0):
+        agent.begin_trial(np.full((25, 30), 100, np.uint8), np.zeros(2))
+        agent.act(det, np.zeros(2))
+        taught.append(agent.end_trial(Outcome(True, np.zeros(2), det, 0, approved=False,
+                                              caregiver_error_rad=np.radians(error_deg))))
+    # 20 deg: approved (then 10); 10 deg: approved (then 5); 30 deg: not
+    assert taught[0] > 0 and taught[1] > 0 and taught[2] == 0
+    assert np.degrees(agent.criterion_rad_) == pytest.approx(20 * 0.5 ** 3)
+
+
+def test_the_face_sharpens_with_learning_time():
+    """The blur's s.d. falls linearly to 0 at blur_sharp_steps; a sharp face is the face itself."""
+    agent = _developmental_agent(blur_start_px=3.0, blur_sharp_steps=1000.0)
+    assert [agent.blur_px(t) for t in (0, 500, 1000, 2000)] == [3.0, 1.5, 0.0, 0.0]
+    face = np.random.default_rng(1).integers(0, 256, (25, 30)).astype(np.uint8)
+    assert agent.see(face).std() < face.std()
+    agent.learning_time_steps = 1000
+    np.testing.assert_array_equal(agent.see(face), face)
+
+
+@settings(max_examples=30, deadline=None)
+@given(sigma=st.floats(0.3, 4.0), seed=st.integers(0, 2**16))
+def test_the_blur_is_opencvs_gaussian_blur(sigma, seed):
+    """blur_into equals cv2.GaussianBlur with the same s.d., 3 s.d. wide, borders repeated."""
+    import cv2
+
+    from jointattention.agent.developmental import blur_into
+
+    face = np.random.default_rng(seed).uniform(0, 255, (25, 30))
+    out = np.empty(face.size)
+    blur_into(face.ravel(), 30, 25, sigma, np.empty(face.size), out)
+    size = 2 * int(np.ceil(3 * sigma)) + 1
+    expected = cv2.GaussianBlur(face, (size, size), sigma, borderType=cv2.BORDER_REPLICATE)
+    np.testing.assert_allclose(out.reshape(25, 30), expected, atol=1e-9)

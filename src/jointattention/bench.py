@@ -248,13 +248,14 @@ def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, f
     the measured time.
     """
     from .config import load_config, model_options, preset_names
+    from .experiment.cells import engine_of
 
     rows = []
     for name in preset_names():
         config = load_config(name)
         exp, minutes = config.experiment, 0.0
         for c in exp.conditions:
-            kind = "rendered" if exp.perception == "rendered" else exp.engine
+            kind = "rendered" if exp.perception == "rendered" else engine_of(config, c)
             if getattr(model_options(config, c), "learner", "") == "memory":
                 kind = "memory"
             minutes += exp.n_seeds * exp.n_steps / rates[kind] / 60

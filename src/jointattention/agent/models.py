@@ -59,4 +59,7 @@ class ModelOptions(Section):
 
 
 MODELS = Registry("model", {"bootstrap": "jointattention.agent.bootstrap:BootstrapOptions",
-                            "teacher": "jointattention.agent.teacher:TeacherOptions"})
+                            "teacher": "jointattention.agent.teacher:TeacherOptions",
+                            "rl": "jointattention.agent.rl:RLOptions",
+                            "developmental":
+                                "jointattention.agent.developmental:DevelopmentalOptions"})

@@ -50,6 +50,10 @@ class Outcome:
         approved: the caregiver's evaluation, for models that are taught by her (the teacher):
             whether the object the evaluator fired on is the one she looks at. None where no
             caregiver evaluates; the paper's bootstrap model never reads it.
+        caregiver_error_rad: how far from her target the robot looked, as she sees it: the
+            angle, at the robot's head, between the object the evaluator fired on and her
+            target (0 for her target; None where no caregiver evaluates or nothing was
+            attended). The developmental model's caregiver grades the robot with it.
     """
 
     fired: bool
@@ -57,6 +61,7 @@ class Outcome:
     detections: Detections
     seen: int | None
     approved: bool | None = None
+    caregiver_error_rad: float | None = None
 
 
 @runtime_checkable

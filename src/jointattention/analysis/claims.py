@@ -18,24 +18,18 @@ model of your own with a gate is checked like the paper's:
 - **shuffled faces stay at chance** (the control): final success at most 1.25 x chance.
 - **final success at least 0.9 of the ceiling** (1, 3 and 5 objects: the issue's aim).
 
-Across models (the neighbours' claims, README *The models side by side*), each teacher
-condition against the bootstrap condition with the same objects, gate and readings:
-
-- **teacher at least bootstrap**: the caregiver's evaluation gives up nothing; the upper end
-  of the paired 95% interval of (teacher - bootstrap) final success is at least zero (the
-  data do not show the teacher worse).
+The claims of the neighbours' papers (the teacher, the developmental model, reinforcement
+learning) are :mod:`.neighbours`'; :func:`check_claims` returns them too.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..agent.bootstrap import BootstrapOptions
 from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from ..agent.models import MODELS
-from ..agent.teacher import TeacherOptions
 from ..config import Config, model_options
 from .metrics import final_success, mean_interval
 from .tables import Table
@@ -83,12 +77,16 @@ def _finals(per_seed: np.ndarray) -> np.ndarray:
     return np.array([final_success(s) for s in per_seed])
 
 
-def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
-    """Every claim each reading's conditions allow.
+def check_claims(config: Config, curves: dict, ceilings: dict,
+                 axis_errors: dict | None = None) -> list[Claim]:
+    """Every claim each reading's conditions allow, the neighbours' included.
 
     ``curves`` as from :func:`jointattention.analysis.curves.condition_curves`, ``ceilings``
-    {str(n): ceiling}.
+    {str(n): ceiling}, ``axis_errors`` as from
+    :func:`jointattention.analysis.curves.condition_axis_errors` (None: not checked).
     """
+    from .neighbours import neighbour_claims  # it builds on this module's helpers
+
     gates = {c.name: getattr(model_options(config, c), "gate", None)
              for c in config.experiment.conditions}
     groups: dict[str, list] = {}
@@ -147,29 +145,7 @@ def check_claims(config: Config, curves: dict, ceilings: dict) -> list[Claim]:
                 add(f"{c.n_objects} objects, shuffled faces: stays at chance",
                     finals[c.name].mean() <= 1.25 * chance,
                     f"final {finals[c.name].mean():.3f}, chance {chance:.3f}")
-    return claims + _model_claims(config, curves)
-
-
-def _model_claims(config: Config, curves: dict) -> list[Claim]:
-    """The neighbours' claims: each teacher condition against its bootstrap twin."""
-    options = {c.name: model_options(config, c) for c in config.experiment.conditions}
-    claims = []
-    for t in config.experiment.conditions:
-        if type(options[t.name]) is not TeacherOptions or t.shuffle_faces:
-            continue
-        twin = BootstrapOptions(**{f.name: getattr(options[t.name], f.name)
-                                   for f in fields(BootstrapOptions)})
-        for b in config.experiment.conditions:
-            if (b.n_objects != t.n_objects or b.shuffle_faces
-                    or type(options[b.name]) is not BootstrapOptions or options[b.name] != twin):
-                continue
-            ft, fb = _finals(curves[t.name][1]), _finals(curves[b.name][1])
-            _, _, upper = mean_interval((ft - fb)[:, None])
-            claims.append(Claim(
-                reading_of(t, config), f"{t.n_objects} objects: teacher at least bootstrap",
-                bool(upper[0] >= 0), f"final {ft.mean():.3f} against {fb.mean():.3f}; paired "
-                f"difference {(ft - fb).mean():+.3f}, 95% upper bound {upper[0]:+.3f}"))
-    return claims
+    return claims + neighbour_claims(config, curves, axis_errors)
 
 
 def claims_table(claims: list[Claim]) -> Table:

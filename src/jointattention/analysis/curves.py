@@ -11,7 +11,7 @@ from ..experiment.results import cell_path, load_cell
 from .metrics import final_success, mean_interval, success_by_bin, time_to_fraction
 from .tables import Table
 
-__all__ = ["condition_curves", "final_table"]
+__all__ = ["condition_axis_errors", "condition_curves", "final_table"]
 
 Curves = dict[str, tuple[np.ndarray, np.ndarray]]
 
@@ -29,6 +29,23 @@ def condition_curves(out: Path, config: Config) -> Curves:
                                            exp.bin_steps, exp.n_steps))
         curves[c.name] = (ends, np.array(per_seed))
     return curves
+
+
+def condition_axis_errors(out: Path, config: Config) -> dict:
+    """{condition: (horizontal, vertical) errors (seeds, bins)} of the learning module.
+
+    For the conditions whose cells hold them (``lm_pan_error_deg``, ``lm_tilt_error_deg``) and
+    measured them (a model with a learning module).
+    """
+    exp, errors = config.experiment, {}
+    for c in exp.conditions:
+        cells = [load_cell(cell_path(out, c.name, i)) for i in range(exp.n_seeds)]
+        if all("lm_pan_error_deg" in r for r in cells):
+            pan, tilt = (np.array([r[k] for r in cells]) for k in
+                         ("lm_pan_error_deg", "lm_tilt_error_deg"))
+            if np.isfinite(pan).all() and np.isfinite(tilt).all():
+                errors[c.name] = (pan, tilt)
+    return errors
 
 
 def final_table(config: Config, curves: Curves, ceilings: dict[str, float]) -> Table:

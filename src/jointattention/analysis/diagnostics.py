@@ -7,7 +7,9 @@ For each condition and bin (means over seeds):
 - ``lm_steps``, ``vf_steps``, ``random_steps``: which module drove the head (fractions of
   steps);
 - ``lm_error_deg``: the learning module's median angle error over the data sets' faces at
-  the bin's end (the cell's ``lm_error_deg``).
+  the bin's end (the cell's ``lm_error_deg``), and its horizontal and vertical parts
+  (``lm_pan_error_deg``, ``lm_tilt_error_deg``: NaN for cells written before they were
+  measured).
 """
 
 from __future__ import annotations
@@ -34,6 +36,8 @@ METRICS = {
     "vf_steps": "fraction of steps moved by the visual controller",
     "random_steps": "fraction of steps that were random (nothing in view)",
     "lm_error_deg": "learning module's median angle error at the data sets' faces (deg)",
+    "lm_pan_error_deg": "its median horizontal error: where a turn along it ends (deg)",
+    "lm_tilt_error_deg": "its median vertical error (deg)",
 }
 
 Diagnostics = dict[str, tuple[np.ndarray, dict[str, np.ndarray]]]
@@ -55,14 +59,16 @@ def _cell_metrics(rec: dict[str, np.ndarray], exp: ExperimentConfig) -> np.ndarr
     trials, steps = per_bin(np.ones(len(idx))), per_bin(rec["n_steps"])
     fired = rec["end"] == END_FIRED
     lm, rand = per_bin(rec["n_lm_steps"]), per_bin(rec["n_random_steps"])
-    error = rec.get("lm_error_deg", np.full(n_bins, np.nan))[:n_bins]
+    errors = [np.pad(e[:n_bins], (0, n_bins - len(e[:n_bins])), constant_values=np.nan)
+              for e in (rec.get(k, np.full(n_bins, np.nan)) for k in
+                        ("lm_error_deg", "lm_pan_error_deg", "lm_tilt_error_deg"))]
     return np.array([
         _ratio(per_bin(fired & rec["success"]), per_bin(fired)),
         _ratio(per_bin(fired), trials),
         _ratio(per_bin(rec["end"] == END_STEPS), trials),
         _ratio(per_bin(rec["end"] == END_LIMIT), trials),
         _ratio(lm, steps), _ratio(steps - lm - rand, steps), _ratio(rand, steps),
-        np.pad(error, (0, n_bins - len(error)), constant_values=np.nan)])
+        *errors])
 
 
 def condition_diagnostics(out: Path, config: Config) -> Diagnostics:

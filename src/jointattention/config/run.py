@@ -77,9 +77,10 @@ class ExperimentConfig(Section):
         choices=("fast", "rendered"))
     engine: str = param(
         "compiled", "how fast-perception cells run: compiled (whole cells in compiled code; the "
-        "bootstrap model with a sigmoid or constant gate) or python (step by step through the "
-        "Agent and Scene seams: any model, rendered perception, step observers); both give the "
-        "same records", choices=("compiled", "python"))
+        "bootstrap, teacher and developmental models), python (step by step through the Agent "
+        "and Scene seams: any model, rendered perception, step observers), or auto (each "
+        "condition compiled if its model allows, else python); all give the same records",
+        choices=("compiled", "python", "auto"))
     n_ceiling_trials: int = param(
         4000, "trials of the oracle that measure each object count's ceiling", lo=1,
         hi=10**7)

@@ -16,12 +16,13 @@ import numpy as np
 from .._jit import jit
 from ..agent.attention import attended_index, interest_argmax, visual_feedback_rad
 from ..agent.bootstrap import LEARNING_TARGETS
+from ..agent.developmental import blur_into, blur_px, caregiver_update
 from ..agent.gates import agreement_update, performance_rate, sigmoid_rate
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
 from ..world.fast import detect_into
-from ..world.kinematics import rotation_matrix
+from ..world.kinematics import rotation_matrix, separation_rad
 from ..world.placement import place_into
 from .trial import END_FIRED, END_LIMIT, END_STEPS
 
@@ -82,7 +83,15 @@ class LoopRobot(NamedTuple):
     memory_k: int
     memory_radius_rad: float
     memory_in_view: bool  # keep every object in view, not only the attended one
-    caregiver_judges: bool  # the teacher: learn only when the caregiver's target was attended
+    caregiver_judges: bool  # the teacher: learn only when the caregiver approves
+    caregiver_adapts: bool  # the developmental model: her criterion narrows (caregiver_update)
+    criterion_level: float
+    criterion_window_trials: float
+    criterion_shrink: float
+    blur_start_px: float  # the developmental model's visual development (0: none)
+    blur_sharp_steps: float
+    face_width_px: int
+    face_height_px: int
 
 
 class LoopState(NamedTuple):
@@ -103,6 +112,7 @@ class LoopState(NamedTuple):
     base: np.ndarray
     counters: np.ndarray  # learning time, faces seen, updates, records, trials kept
     agreement: np.ndarray  # (1,): the performance gate's measure
+    caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving
 
 
 @jit
@@ -154,6 +164,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
     aim, place = np.empty(2), np.empty(2)  # the place recalled, the place found
     thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
     y = np.empty((robot.max_steps, 2))
+    seen_face, blur_tmp = np.empty(n_pix), np.empty(n_pix)  # the face through the blur
     a1, a2, a3 = robot.weights[0], robot.weights[1], robot.weights[2]
     c = state.counters
     while c[0] < until_steps and c[3] < max_trials:
@@ -170,6 +181,11 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         edge = trials_rng.uniform(0.0, 1.0, n)
         face = world.faces[shuffle_rng.integers(0, len(world.faces))
                            if world.shuffle_faces else k]
+        if robot.blur_start_px > 0:  # DevelopmentalAgent.see
+            blur_into(face, robot.face_width_px, robot.face_height_px,
+                      blur_px(robot.blur_start_px, robot.blur_sharp_steps, float(c[0])),
+                      blur_tmp, seen_face)
+            face = seen_face
         # the agent begins (MemoryAgent.begin_trial, then BootstrapAgent.begin_trial)
         recalled = False
         if robot.memory:
@@ -240,9 +256,14 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             n_steps += 1
             limit_hit = pan != want_pan or tilt != want_tilt
         # the agent learns (BootstrapAgent.end_trial, MemoryAgent.end_trial; the teacher only
-        # when the caregiver approves: TeacherAgent.end_trial)
-        learns = end == END_FIRED and n_steps > 0 and (
-            not robot.caregiver_judges or attended == target)
+        # when the caregiver approves: TeacherAgent.end_trial, DevelopmentalAgent.end_trial)
+        approved = end == END_FIRED and (attended == target or separation_rad(
+            obj_pos[attended], obj_pos[target]) <= state.caregiver[0])
+        if robot.caregiver_adapts:
+            state.caregiver[0], state.caregiver[1] = caregiver_update(
+                approved, state.caregiver[0], state.caregiver[1], robot.criterion_level,
+                robot.criterion_window_trials, robot.criterion_shrink)
+        learns = end == END_FIRED and n_steps > 0 and (not robot.caregiver_judges or approved)
         if learns:
             v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
                                                 robot.gain_rad_per_px)

@@ -20,12 +20,12 @@ from ..datasets import CaregiverDatasets, default_datasets, load
 from ..rng import stream
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
-from .compiled import CompiledCell, pack_world
+from .compiled import CompiledCell, pack_world, unsupported
 from .oracle import OracleAgent
-from .probes import median_error_deg
+from .probes import axis_errors_deg, median_error_deg
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
-__all__ = ["body_of", "datasets_of", "evaluator", "make_agent", "measure_ceiling",
+__all__ = ["body_of", "datasets_of", "engine_of", "evaluator", "make_agent", "measure_ceiling",
            "random_scene", "run_cell"]
 
 _CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learning steps)
@@ -61,6 +61,20 @@ def random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_o
     return k, FastScene.sample(config.world, kin, target_m, face_m, n_objects, rng), face_m
 
 
+def engine_of(config: Config, condition: ConditionConfig) -> str:
+    """The engine that runs ``condition``'s cells: "compiled" or "python".
+
+    ``experiment.engine = "auto"`` runs compiled every condition whose model the compiled
+    engine runs (:func:`~.compiled.unsupported`), and the rest step by step.
+    """
+    exp = config.experiment
+    if exp.engine != "auto":
+        return exp.engine
+    if exp.perception != "fast" or unsupported(model_options(config, condition)) is not None:
+        return "python"
+    return "compiled"
+
+
 def body_of(kin: HeadKinematics, ds: CaregiverDatasets) -> Body:
     """What the robot knows of its body: its camera's image, its joints, its face window."""
     return Body(image_size_px=(kin.width_px, kin.height_px),
@@ -89,12 +103,14 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
 
     The cell also holds ``lm_error_deg``, one value per learning-time bin: the learning
     module's median angle error over the data sets' faces at the first trial end past the
-    bin (:func:`~.probes.median_error_deg`; NaN for a model without one). ``progress`` gets
+    bin (:func:`~.probes.median_error_deg`; NaN for a model without one), and its horizontal
+    and vertical parts, ``lm_pan_error_deg`` and ``lm_tilt_error_deg``
+    (:func:`~.probes.axis_errors_deg`). ``progress`` gets
     the learning time now and then; ``on_checkpoint(t, agent)`` is called
     at the first trial end at or past each learning time ``t`` of ``checkpoints``; ``observer``
     sees each step (see :func:`~jointattention.experiment.trial.run_trial`; the python engine
-    only). ``experiment.engine`` chooses the compiled engine or the step-by-step loop; both
-    give the same records.
+    only). ``experiment.engine`` chooses the compiled engine or the step-by-step loop
+    (:func:`engine_of`); both give the same records.
     """
     check_int("seed_index", seed_index, 0, 2**31 - 1)
     ds = datasets_of(config)
@@ -104,6 +120,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     exp = config.experiment
     bin_ends = [int(t) for t in exp.bin_ends_steps()]
     errors = np.full(len(bin_ends), np.nan)
+    axes = np.full((2, len(bin_ends)), np.nan)  # horizontal and vertical parts
     measured = 0  # bins whose error is measured
 
     def reached(t: int) -> None:
@@ -112,9 +129,11 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
             on_checkpoint(pending.pop(0), agent)
         while measured < len(bin_ends) and t >= bin_ends[measured]:
             errors[measured] = median_error_deg(agent, ds)
+            if hasattr(agent, "lm_command"):
+                axes[:, measured] = axis_errors_deg(agent, ds)
             measured += 1
 
-    if config.experiment.engine == "compiled":
+    if engine_of(config, condition) == "compiled":
         if observer is not None:
             raise ValueError("an observer sees single steps: expected experiment.engine = "
                              "'python'")
@@ -123,7 +142,8 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     else:
         records = _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached,
                              observer)
-    return {**records, "lm_error_deg": errors}
+    return {**records, "lm_error_deg": errors, "lm_pan_error_deg": axes[0],
+            "lm_tilt_error_deg": axes[1]}
 
 
 def _run_compiled(config, condition, ds, agent, rngs, progress, stops,

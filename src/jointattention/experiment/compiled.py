@@ -10,8 +10,9 @@ the same kernels as the step-by-step path (:mod:`~jointattention.world.kinematic
 order, so both give byte-identical cells (``tests/test_compiled.py``).
 
 It learns in place the arrays of a :class:`~jointattention.agent.bootstrap.BootstrapAgent`,
-so the learned agent is the same object either way. It runs the bootstrap model with every
-gate, reading and learner; anything else is refused (:func:`unsupported`).
+so the learned agent is the same object either way. It runs the bootstrap model (every gate,
+reading and learner), the teacher and the developmental model; anything else is refused
+(:func:`unsupported`).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..agent.bootstrap import LEARNING_TARGETS, BootstrapAgent, BootstrapOptions
+from ..agent.developmental import DevelopmentalOptions
 from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from ..agent.models import MODELS, ModelOptions
 from ..agent.teacher import TeacherOptions
@@ -45,15 +47,15 @@ __all__ = ["CompiledCell", "pack_world", "unsupported"]
 
 def unsupported(options: ModelOptions) -> str | None:
     """Why the compiled engine cannot run ``options``, as an error message (None if it can)."""
-    if type(options) not in (BootstrapOptions, TeacherOptions):
+    if type(options) not in (BootstrapOptions, TeacherOptions, DevelopmentalOptions):
         what = f"model kind {MODELS.name_of(options)!r}"
     elif type(options.gate) not in (SigmoidGate, ConstantGate, PerformanceGate):
         what = f"gate kind {options.gate.label!r}"
     else:
         return None
-    return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap or "
-            "teacher model with a sigmoid, constant or performance gate, or "
-            "experiment.engine = 'python'")
+    return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap, "
+            "teacher or developmental model with a sigmoid, constant or performance gate, or "
+            "experiment.engine = 'python' or 'auto'")
 
 
 def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_objects: int,
@@ -77,6 +79,16 @@ def _gate_inputs(gate) -> tuple:
     if isinstance(gate, PerformanceGate):
         return PERFORMANCE, gate.agree_rad, float(gate.full_agreement), float(gate.window_trials)
     return SIGMOID, float(gate.midpoint_steps), float(gate.width_steps), 1.0
+
+
+def _caregiver_inputs(options, face_size_px) -> tuple:
+    """The caregiver's evaluation and the visual development as LoopRobot takes them."""
+    teacher = isinstance(options, TeacherOptions)
+    if not isinstance(options, DevelopmentalOptions):
+        return teacher, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px
+    o = options
+    return (True, True, o.criterion_level, o.criterion_window_trials, o.criterion_shrink,
+            o.blur_start_px, o.blur_sharp_steps, *face_size_px)
 
 
 def _memory_inputs(memory, n_pix: int) -> tuple:
@@ -121,7 +133,8 @@ class CompiledCell:
             LEARNING_TARGETS.index(opts.learning_target),
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
             float(opts.learning_rate), float(opts.momentum),
-            *_memory_inputs(memory, world.faces.shape[1]), isinstance(opts, TeacherOptions))
+            *_memory_inputs(memory, world.faces.shape[1]),
+            *_caregiver_inputs(opts, agent.body.face_size_px))
         learner, faces = agent.learner, agent.faces
         if faces.n_seen_ == 0:
             faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
@@ -132,7 +145,9 @@ class CompiledCell:
             faces.mean_, faces.m2_, *kept,
             np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0,
                       0 if memory is None else memory.n_stored_]),
-            np.array([agent.agreement_]))
+            np.array([agent.agreement_]),
+            np.array([getattr(agent, "criterion_rad_", 0.0),
+                      getattr(agent, "approved_rate_", 0.0)]))
         self._records = np.zeros((len(COLUMNS), max_trials), dtype=np.int64)
 
     def run_until(self, learning_time_steps: int) -> None:
@@ -147,6 +162,9 @@ class CompiledCell:
         self.agent.learning_time_steps = int(c[0])
         self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
         self.agent.agreement_ = float(self._state.agreement[0])
+        if isinstance(self.agent.options, DevelopmentalOptions):
+            self.agent.criterion_rad_, self.agent.approved_rate_ = map(float,
+                                                                       self._state.caregiver)
         if hasattr(self.agent, "memory"):
             self.agent.memory.n_stored_ = int(c[4])
 

@@ -19,7 +19,7 @@ from .._files import save_json
 from .._readers import read_json
 from ..agent.saved import check_savable
 from ..analysis.claims import Claim, check_claims, claims_table
-from ..analysis.curves import condition_curves, final_table
+from ..analysis.curves import condition_axis_errors, condition_curves, final_table
 from ..analysis.diagnostics import condition_diagnostics, diagnostics_table
 from ..config import Config
 from ..errors import JointAttentionError
@@ -137,7 +137,7 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
                "cells_total": len(cells)}, out / "timing.json")
     ceilings = _ceilings(config, out / "ceilings.json", progress)
     curves = condition_curves(out, config)
-    claims = check_claims(config, curves, ceilings)
+    claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config))
     diagnostics = condition_diagnostics(out, config)
     files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
              *final_table(config, curves, ceilings).write(out / "table"),

@@ -103,16 +103,20 @@ def save_cell(path: Path, records: dict[str, np.ndarray]) -> None:
     save_npz(path, records)
 
 
+_PER_BIN = ("lm_error_deg", "lm_pan_error_deg", "lm_tilt_error_deg")  # the last two optional
+
+
 def load_cell(path: Path) -> dict[str, np.ndarray]:
     """A saved cell's records; a :class:`~..errors.FileError` if they are not whole.
 
     Whole: the columns of :data:`~.trial.RECORD`, one row per trial each and of its type, and
-    ``lm_error_deg`` (one value per learning-time bin).
+    ``lm_error_deg`` (one value per learning-time bin); ``lm_pan_error_deg`` and
+    ``lm_tilt_error_deg`` too, except in cells written before they were measured.
     """
     records = read_npz(path, "a cell's records (cells/*.npz)")
     expected = {**{k: np.dtype(t) for k, (t, _) in RECORD.items()},
-                "lm_error_deg": np.dtype(np.float64)}
-    odd = sorted(set(expected) ^ set(records))
+                **{k: np.dtype(np.float64) for k in _PER_BIN}}
+    odd = sorted((set(expected) ^ set(records)) - set(_PER_BIN[1:]))
     if odd:
         raise FileError(f"{path}: column {odd[0]!r} missing or unknown; expected the columns "
                         f"{', '.join(expected)}")

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..agent.detections import Detections
 from ..agent.protocol import LM, RANDOM, Agent, Outcome
-from ..world.kinematics import HeadKinematics
+from ..world.kinematics import HeadKinematics, separation_rad
 from ..world.protocol import Scene
 
 __all__ = ["END_FIRED", "END_LIMIT", "END_STEPS", "RECORD", "SceneTrial", "StepObserver",
@@ -148,8 +148,13 @@ class SceneTrial:
     def outcome(self) -> Outcome:
         """How the trial ended, as the robot knows it."""
         fired = self.end == END_FIRED
+        error = None
+        pos = getattr(self.scene, "object_pos_m", None)
+        if fired and self.attended >= 0 and pos is not None:
+            error = separation_rad(pos[self.attended], pos[self.target])
         return Outcome(fired, self.theta_rad, self.detections, self.seen,
-                       approved=fired and self.attended == self.target)
+                       approved=fired and self.attended == self.target,
+                       caregiver_error_rad=error)
 
 
 # Called at each look of a trial with the trial and the module that moves the head next

@@ -23,7 +23,7 @@ from ..config import WorldConfig
 
 __all__ = ["BEHIND", "CENTRED", "INSIDE_LATERAL", "INSIDE_VERTICAL", "HeadKinematics",
            "Unreachable", "angle_rad", "centring_angles", "direction", "project_spheres_into",
-           "rotation_matrix"]
+           "rotation_matrix", "separation_rad"]
 
 
 class Unreachable(ValueError):
@@ -42,6 +42,19 @@ def angle_rad(a, b) -> np.ndarray:
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     cos = a @ b / (np.linalg.norm(a, axis=-1) * np.linalg.norm(b))
     return np.arccos(np.clip(cos, -1.0, 1.0))
+
+
+@jit
+def separation_rad(a_m: np.ndarray, b_m: np.ndarray) -> float:
+    """The angle between two points seen from the origin (the robot's head).
+
+    How far from her target the robot looked, as the caregiver judges it (the developmental
+    model: README, *The models side by side*).
+    """
+    dot = a_m[0] * b_m[0] + a_m[1] * b_m[1] + a_m[2] * b_m[2]
+    norms = math.sqrt((a_m[0] ** 2 + a_m[1] ** 2 + a_m[2] ** 2)
+                      * (b_m[0] ** 2 + b_m[1] ** 2 + b_m[2] ** 2))
+    return math.acos(min(max(dot / norms, -1.0), 1.0))
 
 
 @jit

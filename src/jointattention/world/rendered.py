@@ -44,6 +44,7 @@ class RenderedScene:
                  rng: np.random.Generator):
         self.world, self.detector = world, detector
         self.target_index = fast.target_index
+        self.object_pos_m = fast.object_pos_m  # the caregiver's judge (trial.SceneTrial.outcome)
         world.set_scene(scene_with(world.config, world.caregiver, face_m, fast.object_pos_m,
                                    fast.object_radius_m, fast.target_index, rng))
         detector.reset()
