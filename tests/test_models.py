@@ -1,5 +1,4 @@
-"""The models beside the bootstrap model: the teacher and the developmental model learn, are
-controlled and are checked."""
+"""The models beside the bootstrap model: the teacher and the developmental model, checked."""
 
 from __future__ import annotations
 
@@ -213,3 +212,58 @@ def test_the_blur_is_opencvs_gaussian_blur(sigma, seed):
     size = 2 * int(np.ceil(3 * sigma)) + 1
     expected = cv2.GaussianBlur(face, (size, size), sigma, borderType=cv2.BORDER_REPLICATE)
     np.testing.assert_allclose(out.reshape(25, 30), expected, atol=1e-9)
+
+
+@pytest.mark.parametrize(("developmental", "holds"), [([0.7, 0.72, 0.69], True),
+                                                      ([0.6, 0.61, 0.59], False)])
+def test_claim_developmental_faster_than_teacher(developmental, holds):
+    """It holds when the developmental curve's mean beats its teacher twin's, else fails."""
+    config = load_config({"experiment": {"conditions": [
+        {"name": "t", "n_objects": 5, "model": {"kind": "teacher"}},
+        {"name": "d", "n_objects": 5, "model": {"kind": "developmental"}}]}})
+    claims = check_claims(config, _curves({"t": [0.6, 0.62, 0.61], "d": developmental}),
+                          {"5": 0.9})
+    [claim] = [c for c in claims if "developmental faster than teacher" in c.claim]
+    assert claim.holds is holds
+
+
+@pytest.mark.parametrize(("pan_halves_at", "holds"), [(2, True), (6, False)])
+def test_claim_horizontal_before_vertical(pan_halves_at, holds):
+    """It holds when every seed halves its horizontal error bins before its vertical error."""
+    config = load_config({"experiment": {"conditions": [
+        {"name": "d", "n_objects": 5, "model": {"kind": "developmental"}}]}})
+    bins = np.arange(10)
+    pan = np.array([np.where(bins < pan_halves_at + s % 2, 20.0, 5.0) for s in range(4)])
+    tilt = np.array([np.where(bins < 5, 10.0, 4.0) for _ in range(4)])
+    claims = check_claims(config, _curves({"d": [0.5] * 4}), {"5": 0.9}, {"d": (pan, tilt)})
+    [claim] = [c for c in claims if "horizontal before vertical" in c.claim]
+    assert claim.holds is holds
+
+
+def test_engine_auto_compiles_what_it_can():
+    """With engine "auto" the bootstrap family runs compiled, the RL learner step by step."""
+    from jointattention.experiment.cells import engine_of
+
+    config = load_config({"experiment": {"engine": "auto", "conditions": [
+        {"name": "d", "model": {"kind": "developmental"}}, {"name": "r", "model": {"kind": "rl"}}
+    ]}})
+    assert [engine_of(config, c) for c in config.experiment.conditions] == ["compiled", "python"]
+    with pytest.raises(ConfigError, match="does not run model kind 'rl'"):
+        load_config({"experiment": {"conditions": [{"name": "r", "model": {"kind": "rl"}}]}})
+
+
+def test_a_developmental_model_is_saved_once_it_sees_sharp_faces(tmp_path):
+    """Saving while the face is still blurred is one ConfigError line; once sharp, it loads."""
+    from jointattention.agent.saved import load_model, save_model
+
+    config = load_config({"model": {"kind": "developmental", "blur_sharp_steps": 10.0}})
+    name = config.experiment.conditions[0].name
+    agent = _developmental_agent(blur_sharp_steps=10.0)
+    agent.begin_trial(np.full((25, 30), 100, np.uint8), np.zeros(2))
+    with pytest.raises(ConfigError, match="still sees the face blurred"):
+        save_model(agent, tmp_path / "blurred.npz", config=config, condition=name)
+    assert not (tmp_path / "blurred.npz").exists()
+    agent.learning_time_steps = 10
+    loaded = load_model(save_model(agent, tmp_path / "sharp.npz", config=config,
+                                   condition=name))
+    np.testing.assert_array_equal(loaded.agent.learner.w1_, agent.learner.w1_)

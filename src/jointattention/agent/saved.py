@@ -19,7 +19,8 @@ member              dtype    shape         meaning
 ==================  =======  ============  ==============================================
 
 ``meta`` holds ``robot`` (:class:`Robot`: the body the model was learned on), ``model`` (its
-kind, ``bootstrap`` or ``teacher``, the condition, the learning time), ``config`` (the run's
+kind, ``bootstrap``, ``teacher`` or ``developmental`` (saved once it sees sharp faces),
+the condition, the learning time), ``config`` (the run's
 whole configuration as TOML, from which the model's options and the face standardiser's floor
 are read), ``datasets_sha256`` (of the data-set file it learned from) and ``generator`` (the
 package version). The inputs are the face window standardised by ``face_mean``/``face_m2``
@@ -130,8 +131,8 @@ def check_savable(config: Config, condition: str) -> BootstrapOptions:
     if not isinstance(options, BootstrapOptions) or options.learner != "backprop":
         raise ConfigError(f"condition {condition!r}: its model is "
                           f"{getattr(options, 'label', type(options).__name__)}; expected the "
-                          "bootstrap model or the teacher, with learner = 'backprop' (the "
-                          "models saved)")
+                          "bootstrap model, the teacher or the developmental model, with "
+                          "learner = 'backprop' (the models saved)")
     return options
 
 
@@ -144,6 +145,11 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
     options = check_savable(config, condition)
     if agent.faces.n_seen_ < 1:
         raise ConfigError(f"{path}: the agent has seen no face; expected a learned agent")
+    if getattr(agent, "blur_px", lambda: 0.0)() > 0:  # a saved model sees sharp faces
+        raise ConfigError(f"{path}: the developmental agent still sees the face blurred (s.d. "
+                          f"{agent.blur_px():.2f} px at learning time "
+                          f"{agent.learning_time_steps}); expected a learning time of at least "
+                          f"blur_sharp_steps = {agent.options.blur_sharp_steps:g}")
     net, faces = agent.learner, agent.faces
     meta = {"robot": asdict(Robot.of(config)),
             "model": {"kind": MODELS.name_of(options), "condition": condition,
