@@ -160,12 +160,13 @@ def _cell_rate(config, condition, **experiment) -> float:
 
 
 def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
-    """Agent-steps per second of learning: compiled engine, python engine, rendered mode, memory.
+    """Agent-steps per second of learning: both engines, rendered mode, memory and RL learners.
 
     The quick preset's 5-object sigmoid cell (whose gate goes from the visual controller to the
     learning module) in both engines, and its first ``rendered_steps`` steps in rendered mode
     (MuJoCo render + OpenCV detection each step); the beyond preset's 5-object memory cell at
-    the paper's scale (its recall grows with the trials kept). Then one compiled step's time
+    the paper's scale (its recall grows with the trials kept); the models preset's 5-object
+    reinforcement learner (python engine) for 1e5 steps. Then one compiled step's time
     against its bound: one forward and backward pass of the learning module alone, in compiled
     code.
     """
@@ -181,12 +182,16 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     beyond = load_config("beyond")
     memory = _cell_rate(beyond, next(c for c in beyond.experiment.conditions
                                      if c.name == "memory-n5"))
+    models = load_config("models")
+    rl = _cell_rate(models, next(c for c in models.experiment.conditions if c.name == "rl-n5"),
+                    n_steps=100_000)
     step_us, bound_us = 1e6 / compiled, _update_us()
     return [("agent steps, compiled engine, learning (quick n5-sigmoid)", compiled, "steps/s"),
             ("agent steps, python engine, learning (same cell)", python, "steps/s"),
             ("agent steps, rendered mode + OpenCV, learning (same cell)", rendered, "steps/s"),
             ("agent steps, compiled engine, memory learner (beyond memory-n5)", memory,
              "steps/s"),
+            ("agent steps, python engine, RL learner (models rl-n5, 1e5 steps)", rl, "steps/s"),
             ("compiled / python engine", compiled / python, "x"),
             ("compiled / rendered", compiled / rendered, "x"),
             ("one compiled step (mean over the cell)", step_us, "us"),
@@ -244,9 +249,10 @@ def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, f
     """Estimated wall time of each shipped preset.
 
     Its agent-steps over ``workers`` processes, each cell at the rate of its engine, perception
-    or learner (``rates``: "compiled", "python", "rendered", "memory"); ``reproduce`` records
+    or learner (``rates``: "compiled", "python", "rendered", "memory", "rl"); ``reproduce`` records
     the measured time.
     """
+    from .agent.models import MODELS
     from .config import load_config, model_options, preset_names
     from .experiment.cells import engine_of
 
@@ -256,8 +262,11 @@ def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, f
         exp, minutes = config.experiment, 0.0
         for c in exp.conditions:
             kind = "rendered" if exp.perception == "rendered" else engine_of(config, c)
-            if getattr(model_options(config, c), "learner", "") == "memory":
+            options = model_options(config, c)
+            if getattr(options, "learner", "") == "memory":
                 kind = "memory"
+            elif MODELS.name_of(options) == "rl":
+                kind = "rl"
             minutes += exp.n_seeds * exp.n_steps / rates[kind] / 60
         cells = len(exp.conditions) * exp.n_seeds
         rounds = np.ceil(cells / workers)  # cells are the unit of parallel work
