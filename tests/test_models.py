@@ -60,10 +60,15 @@ def test_teacher_learns_only_from_approved_trials():
     assert taught[0] == 0 and taught[1] > 0
 
 
-def test_teacher_cells_do_not_depend_on_workers(tmp_path):
-    """The same teacher cells on 1 and 2 worker processes."""
-    config = load_config({**SHORT, "experiment": {**SHORT["experiment"], "n_steps": 3000,
-                                                  "bin_steps": 1000}})
+@pytest.mark.parametrize("kind", ["teacher", "developmental", "rl"])
+def test_cells_do_not_depend_on_workers(tmp_path, kind):
+    """Each neighbour's cells, learning and shuffled, are the same on 1 and 2 worker processes."""
+    config = load_config({**SHORT, "experiment": {**SHORT["experiment"], "engine": "auto",
+                                                  "n_steps": 3000, "bin_steps": 1000,
+                                                  "conditions": [
+        {"name": "n1", "n_objects": 1, "model": {"kind": kind}},
+        {"name": "n5-shuffled", "n_objects": 5, "shuffle_faces": True,
+         "model": {"kind": kind}}]}})
     one = run_experiment(config, tmp_path / "one", workers=1)
     two = run_experiment(config, tmp_path / "two", workers=2)
     for key, cell in one.items():
@@ -134,17 +139,6 @@ def test_developmental_with_shuffled_faces_stays_at_chance():
     """With faces shuffled the developmental model stays near or below chance (0.2)."""
     config = load_config(DEV)
     assert _final(run_cell(config, config.experiment.conditions[1], 0)) <= 1.25 * 0.2  # 0.10
-
-
-def test_developmental_cells_do_not_depend_on_workers(tmp_path):
-    """The same developmental cells on 1 and 2 worker processes."""
-    config = load_config({**DEV, "experiment": {**DEV["experiment"], "n_steps": 3000,
-                                                "bin_steps": 1000}})
-    one = run_experiment(config, tmp_path / "one", workers=1)
-    two = run_experiment(config, tmp_path / "two", workers=2)
-    for key, cell in one.items():
-        for column, values in cell.items():
-            np.testing.assert_array_equal(values, two[key][column], err_msg=str((key, column)))
 
 
 def test_developmental_without_its_developments_is_the_teacher():
@@ -267,3 +261,15 @@ def test_a_developmental_model_is_saved_once_it_sees_sharp_faces(tmp_path):
     loaded = load_model(save_model(agent, tmp_path / "sharp.npz", config=config,
                                    condition=name))
     np.testing.assert_array_equal(loaded.agent.learner.w1_, agent.learner.w1_)
+
+
+@pytest.mark.parametrize(("finals", "holds"), [([0.6, 0.62, 0.58], True),
+                                               ([0.21, 0.19, 0.2], False)])
+def test_claim_gaze_following_emerges_from_the_basic_set(finals, holds):
+    """It holds when the RL learner ends above chance and above its first bin, else fails."""
+    config = load_config({"experiment": {"engine": "python", "conditions": [
+        {"name": "r", "n_objects": 5, "model": {"kind": "rl"}}]}})
+    curves = {"r": (None, np.array([[0.2] * 9 + [f] for f in finals]))}
+    [claim] = [c for c in check_claims(config, curves, {"5": 0.9})
+               if "emerges from the basic set" in c.claim]
+    assert claim.holds is holds

@@ -14,7 +14,6 @@ from jointattention.analysis.metrics import final_success
 from jointattention.config import load_config, model_options
 from jointattention.errors import ConfigError
 from jointattention.experiment.cells import run_cell
-from jointattention.experiment.reproduce import run_experiment
 
 SHORT = {"seed": 0, "model": {"kind": "rl"},
          "experiment": {"engine": "python", "n_steps": 30000, "n_seeds": 2, "bin_steps": 3000,
@@ -65,17 +64,6 @@ def test_rl_with_shuffled_faces_stays_at_chance():
     """With faces shuffled the RL model has nothing to learn from: near or below chance (0.2)."""
     config = load_config(SHORT)
     assert _final(run_cell(config, config.experiment.conditions[1], 0)) <= 1.25 * 0.2  # 0.085
-
-
-def test_rl_cells_do_not_depend_on_workers(tmp_path):
-    """The same RL cells on 1 and 2 worker processes."""
-    config = load_config({**SHORT, "experiment": {**SHORT["experiment"], "n_steps": 3000,
-                                                  "bin_steps": 1000}})
-    one = run_experiment(config, tmp_path / "one", workers=1)
-    two = run_experiment(config, tmp_path / "two", workers=2)
-    for key, cell in one.items():
-        for column, values in cell.items():
-            np.testing.assert_array_equal(values, two[key][column], err_msg=str((key, column)))
 
 
 def test_rl_never_reads_the_caregivers_judgement():

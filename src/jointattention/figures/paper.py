@@ -121,11 +121,15 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
 
 
 def _models_figure(path: Path, curves, conds, options, shown, ceilings) -> Path:
-    """One panel per object count: the conditions ``shown``, labelled by name."""
+    """One panel per object count (two per row): the conditions ``shown``, labelled by name."""
     counts = sorted({conds[n].n_objects for n in shown})
-    fig = new_figure(6.4 * len(counts), 4.4)
-    axes = np.atleast_1d(fig.subplots(1, len(counts)))
-    for ax, n in zip(axes, counts, strict=True):
+    cols = min(2, len(counts))
+    rows = -(-len(counts) // cols)
+    fig = new_figure(6.4 * cols, 4.4 * rows)
+    axes = np.atleast_1d(fig.subplots(rows, cols)).ravel()
+    for ax in axes[len(counts):]:
+        ax.set_visible(False)
+    for ax, n in zip(axes, counts, strict=False):
         names = [m for m in shown if conds[m].n_objects == n]
         _plot_conditions(ax, curves, names, conds, ceilings, {m: m for m in names})
         ax.set_title(f"{n} objects: the models side by side\n" + _NOTE, fontsize=8)
