@@ -221,14 +221,16 @@ def test_claim_developmental_faster_than_teacher(developmental, holds):
     assert claim.holds is holds
 
 
-@pytest.mark.parametrize(("pan_halves_at", "holds"), [(2, True), (6, False)])
-def test_claim_horizontal_before_vertical(pan_halves_at, holds):
-    """It holds when every seed halves its horizontal error bins before its vertical error."""
+@pytest.mark.parametrize(("factor", "holds"), [(0.4, True), (0.7, False), (1.0, False)])
+def test_claim_horizontal_before_vertical(factor, holds):
+    """It holds when the horizontal error is below what the geometry gives (0.61 x vertical)."""
+    from jointattention.analysis.neighbours import geometry_ratio
+
     config = load_config({"experiment": {"conditions": [
         {"name": "d", "n_objects": 5, "model": {"kind": "developmental"}}]}})
-    bins = np.arange(10)
-    pan = np.array([np.where(bins < pan_halves_at + s % 2, 20.0, 5.0) for s in range(4)])
-    tilt = np.array([np.where(bins < 5, 10.0, 4.0) for _ in range(4)])
+    assert geometry_ratio(config) == pytest.approx(0.61, abs=0.01)  # 18.6 deg over 30.4 deg
+    tilt = np.array([np.linspace(20, 1, 10) * (1 + 0.1 * s) for s in range(4)])
+    pan = factor * tilt
     claims = check_claims(config, _curves({"d": [0.5] * 4}), {"5": 0.9}, {"d": (pan, tilt)})
     [claim] = [c for c in claims if "horizontal before vertical" in c.claim]
     assert claim.holds is holds

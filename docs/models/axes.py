@@ -8,9 +8,9 @@ sets, the median horizontal and vertical error of the learning module
 snapshot where its error is at most half its untrained value; "horizontal first" counts the
 seeds where the horizontal error halves strictly earlier.
 
-The run's own claim ("horizontal before vertical", ``claims.md``) uses the cells' errors at
-each 10,000-step bin and halves from the first bin; this script looks closer, from the untrained
-module every 5,000 steps.
+The run's own claim ("horizontal before vertical", ``claims.md``) compares the two errors at
+each 10,000-step bin; this script looks at the first steps, from the untrained module, every
+5,000 steps.
 
 Run from the repository: ``python docs/models/axes.py`` (about 1 min); it writes
 ``docs/models/axes.md`` and ``axes.png``.

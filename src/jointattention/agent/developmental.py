@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -38,7 +39,13 @@ __all__ = ["DevelopmentalAgent", "DevelopmentalOptions", "blur_into", "blur_px",
 
 @dataclass(frozen=True)
 class DevelopmentalOptions(TeacherOptions):
-    """The developmental model's options: the teacher's, and the two developments (readings)."""
+    """The developmental model's options: the teacher's, and the two developments (readings).
+
+    The claims tell its variants apart by where each development starts (``readings``).
+    """
+
+    readings: ClassVar[tuple[str, ...]] = (*TeacherOptions.readings, "criterion_start_deg",
+                                           "blur_start_px")
 
     criterion_start_deg: float = param(
         20.0, "reading: the caregiver's first criterion: she approves a trial whose attended "
