@@ -37,9 +37,11 @@ def test_agent_sources_never_import_world():
 
 
 def test_importing_agent_loads_no_world_module():
-    """Importing the agent package does not pull jointattention.world in transitively."""
+    """Importing every module of the agent package pulls no jointattention.world in."""
     code = (
-        "import sys, jointattention.agent\n"
+        "import importlib, pkgutil, sys, jointattention.agent as a\n"
+        "for m in pkgutil.iter_modules(a.__path__):\n"
+        "    importlib.import_module(f'{a.__name__}.{m.name}')\n"
         "bad = [m for m in sys.modules if m.startswith('jointattention.world')]\n"
         "assert not bad, bad\n"
     )

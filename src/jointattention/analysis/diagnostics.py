@@ -33,7 +33,8 @@ METRICS = {
     "step_limit": "fraction of trials ended at the step limit",
     "joint_limit": "fraction of trials ended at a joint limit",
     "lm_steps": "fraction of steps moved by the learning module",
-    "vf_steps": "fraction of steps moved by the visual controller",
+    "vf_steps": "fraction of steps moved by the visual controller (the reinforcement "
+                "learner's: spent looking at the caregiver)",
     "random_steps": "fraction of steps that were random (nothing in view)",
     "lm_error_deg": "learning module's median angle error at the data sets' faces (deg)",
     "lm_pan_error_deg": "its median horizontal error: where a turn along it ends (deg)",
