@@ -257,8 +257,9 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             limit_hit = pan != want_pan or tilt != want_tilt
         # the agent learns (BootstrapAgent.end_trial, MemoryAgent.end_trial; the teacher only
         # when the caregiver approves: TeacherAgent.end_trial, DevelopmentalAgent.end_trial)
-        approved = end == END_FIRED and (attended == target or separation_rad(
-            obj_pos[attended], obj_pos[target]) <= state.caregiver[0])
+        approved = end == END_FIRED and (attended == target or (
+            robot.caregiver_adapts  # the developmental caregiver's criterion
+            and separation_rad(obj_pos[attended], obj_pos[target]) <= state.caregiver[0]))
         if robot.caregiver_adapts:
             state.caregiver[0], state.caregiver[1] = caregiver_update(
                 approved, state.caregiver[0], state.caregiver[1], robot.criterion_level,
