@@ -41,11 +41,12 @@ __all__ = ["DevelopmentalAgent", "DevelopmentalOptions", "blur_into", "blur_px",
 class DevelopmentalOptions(TeacherOptions):
     """The developmental model's options: the teacher's, and the two developments (readings).
 
-    The claims tell its variants apart by where each development starts (``readings``).
+    The claims tell its variants apart by all six readings of the developments.
     """
 
-    readings: ClassVar[tuple[str, ...]] = (*TeacherOptions.readings, "criterion_start_deg",
-                                           "blur_start_px")
+    readings: ClassVar[tuple[str, ...]] = (
+        *TeacherOptions.readings, "criterion_start_deg", "criterion_level",
+        "criterion_window_trials", "criterion_shrink", "blur_start_px", "blur_sharp_steps")
 
     criterion_start_deg: float = param(
         20.0, "reading: the caregiver's first criterion: she approves a trial whose attended "
