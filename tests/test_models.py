@@ -275,3 +275,25 @@ def test_claim_gaze_following_emerges_from_the_basic_set(finals, holds):
     [claim] = [c for c in check_claims(config, curves, {"5": 0.9})
                if "emerges from the basic set" in c.claim]
     assert claim.holds is holds
+
+
+def test_the_environment_tells_the_developmental_caregiver_her_error():
+    """Through Gymnasium (EnvTrial) a trial ended on another object carries her angle error."""
+    import gymnasium as gym
+
+    from jointattention.env import EnvTrial
+    from jointattention.experiment.trial import run_trial
+
+    env = gym.make("JointAttentionFace-v1", n_objects=5)
+    agent, outcomes = _developmental_agent(), []
+    learn = agent.end_trial
+    agent.end_trial = lambda outcome: (outcomes.append(outcome), learn(outcome))[1]
+    trial = EnvTrial(env, seed=0)
+    while len([o for o in outcomes if o.fired]) < 20:
+        run_trial(trial, agent, trial.observation["face"])
+        trial = EnvTrial(env)
+    env.close()
+    fired = [o for o in outcomes if o.fired]
+    assert all(o.caregiver_error_rad is None for o in outcomes if not o.fired)
+    assert all((o.caregiver_error_rad == 0) == o.approved for o in fired)
+    assert any(o.caregiver_error_rad > 0 for o in fired)  # another object: graded, not 0

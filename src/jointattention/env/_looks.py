@@ -80,4 +80,11 @@ def info_of(trial: SceneTrial) -> dict:
         "attended": int(trial.attended), "target": int(trial.target),
         "limit_hit": bool(trial.limit_hit), "intrinsic_reward": float(fired),
         "external_reward": float(fired and trial.attended == trial.target),
+        "caregiver_error_rad": _error_of(trial),
     }
+
+
+def _error_of(trial: SceneTrial) -> float:
+    """How far from her target the robot looked, as the caregiver sees it (-1: not fired)."""
+    error = trial.outcome.caregiver_error_rad if trial.seen is not None else None
+    return -1.0 if error is None else float(error)

@@ -97,7 +97,9 @@ class JointAttentionEnv(gym.Env, EzPickle):
     (:func:`jointattention.env.detections_of` rebuilds it); ``"seen"``, the row the evaluator
     fired on (-1 if none); ``"limit_hit"``, ``"fired"``, ``"attended"`` (object id at the
     centre, -1 if none), ``"target"`` (the caregiver's target: the experimenter's knowledge,
-    not the robot's), and both rewards.
+    not the robot's), both rewards, and ``"caregiver_error_rad"``, how far from her target the
+    robot looked as she sees it (the angle at the head between the attended object and her
+    target; -1 until the evaluator fires), which the developmental model's caregiver grades.
 
     The episode's step is the trial loop's step function
     (:class:`~jointattention.experiment.trial.SceneTrial`); an agent written for the trial

@@ -81,7 +81,8 @@ class EnvTrial:
     @property
     def outcome(self) -> Outcome:
         """How the episode ended, as the robot knows it."""
-        seen = int(self.info["seen"])
+        seen, error = int(self.info["seen"]), float(self.info["caregiver_error_rad"])
         return Outcome(bool(self.info["fired"]), self.theta_rad, self.detections,
                        None if seen < 0 else seen,
-                       approved=bool(self.info["external_reward"]))  # fired on her target
+                       approved=bool(self.info["external_reward"]),  # fired on her target
+                       caregiver_error_rad=error if error >= 0 else None)

@@ -24,7 +24,7 @@ from ..agent.attention import attended_index
 from ..errors import ConfigError
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
 from ..world.fast import detect_into
-from ..world.kinematics import rotation_matrix
+from ..world.kinematics import rotation_matrix, separation_rad
 from ._looks import MAX_DETECTIONS, detection_rows
 from .joint_attention import JointAttentionEnv, _action, _refuse_options
 
@@ -212,7 +212,10 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
                 "seen": np.where(fired, self._seen, -1), "attended": self._attended.copy(),
                 "target": self._target.copy(), "limit_hit": self._limit_hit.copy(),
                 "intrinsic_reward": fired.astype(float),
-                "external_reward": (fired & (self._attended == self._target)).astype(float)}
+                "external_reward": (fired & (self._attended == self._target)).astype(float),
+                "caregiver_error_rad": np.array([
+                    separation_rad(self._pos[i, self._attended[i]], self._pos[i, self._target[i]])
+                    if fired[i] else -1.0 for i in range(k)])}
         return _with_masks(info, k)
 
     def close_extras(self, **kwargs) -> None:
