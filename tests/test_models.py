@@ -297,3 +297,14 @@ def test_the_environment_tells_the_developmental_caregiver_her_error():
     assert all(o.caregiver_error_rad is None for o in outcomes if not o.fired)
     assert all((o.caregiver_error_rad == 0) == o.approved for o in fired)
     assert any(o.caregiver_error_rad > 0 for o in fired)  # another object: graded, not 0
+
+
+def test_the_constant_one_claim_is_the_self_evaluating_robots_only():
+    """A taught model with the learning module alone is not held to "stays near chance"."""
+    config = load_config({"experiment": {"conditions": [
+        {"name": "t", "n_objects": 5,
+         "model": {"kind": "teacher", "gate": {"kind": "constant", "rate": 1.0}}},
+        {"name": "b", "n_objects": 5, "model": {"gate": {"kind": "constant", "rate": 1.0}}}]}})
+    claims = check_claims(config, _curves({"t": [0.6] * 3, "b": [0.1] * 3}), {"5": 0.9})
+    [claim] = [c for c in claims if "constant 1.0 stays near or below chance" in c.claim]
+    assert claim.holds and "model=teacher" not in claim.reading

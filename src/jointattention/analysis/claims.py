@@ -14,7 +14,8 @@ model of your own with a gate is checked like the paper's:
   constant rate, paired over seeds (common random numbers), lower 95% bound above zero.
 - **performance gate beats sigmoid / constant r** (5 objects, beyond the paper): the same
   rule; the performance gate's conditions are also checked for rising and the ceiling.
-- **constant 1.0 stays near or below chance** (5 objects): final success at most 1.25 x chance.
+- **constant 1.0 stays near or below chance** (5 objects, a self-evaluating model): final
+  success at most 1.25 x chance.
 - **shuffled faces stay at chance** (the control): final success at most 1.25 x chance.
 - **final success at least 0.9 of the ceiling** (1, 3 and 5 objects: the issue's aim).
 
@@ -30,6 +31,7 @@ import numpy as np
 
 from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from ..agent.models import MODELS
+from ..agent.teacher import TeacherOptions
 from ..config import Config, model_options
 from .metrics import final_success, mean_interval
 from .tables import Table
@@ -135,7 +137,9 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
             for s in sig5:
                 add(f"5 objects: sigmoid beats constant {rate}",
                     *_paired(finals[s.name], finals[c.name]))
-            if rate == 1.0:
+            if rate == 1.0 and not isinstance(model_options(config, c), TeacherOptions):
+                # the paper's claim of a self-evaluating robot; a taught one learns (the
+                # neighbours' claims)
                 add("5 objects: constant 1.0 stays near or below chance",
                     finals[c.name].mean() <= 1.25 * 0.2,
                     f"final {finals[c.name].mean():.3f}, chance 0.200")
