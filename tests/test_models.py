@@ -308,3 +308,16 @@ def test_the_constant_one_claim_is_the_self_evaluating_robots_only():
     claims = check_claims(config, _curves({"t": [0.6] * 3, "b": [0.1] * 3}), {"5": 0.9})
     [claim] = [c for c in claims if "constant 1.0 stays near or below chance" in c.claim]
     assert claim.holds and "model=teacher" not in claim.reading
+
+
+@pytest.mark.parametrize(("blurred", "holds"), [([0.8, 0.82, 0.79], True),
+                                                ([0.7, 0.71, 0.69], False)])
+def test_claim_visual_development_improves_accuracy(blurred, holds):
+    """It holds when the blurred-then-sharp model ends above its twin that always sees sharp."""
+    config = load_config({"experiment": {"conditions": [
+        {"name": "d", "n_objects": 5, "model": {"kind": "developmental"}},
+        {"name": "s", "n_objects": 5, "model": {"kind": "developmental", "blur_start_px": 0.0}}
+    ]}})
+    claims = check_claims(config, _curves({"d": blurred, "s": [0.7, 0.72, 0.71]}), {"5": 0.9})
+    [claim] = [c for c in claims if "visual development improves accuracy" in c.claim]
+    assert claim.holds is holds and claim.claim.startswith("d:")

@@ -12,7 +12,7 @@ The run's own claim ("horizontal before vertical", ``claims.md``) compares the t
 each 10,000-step bin; this script looks at the first steps, from the untrained module, every
 5,000 steps.
 
-Run from the repository: ``python docs/models/axes.py`` (about 1 min); it writes
+Run from the repository: ``python docs/models/axes.py`` (about 2 min); it writes
 ``docs/models/axes.md`` and ``axes.png``.
 """
 
@@ -28,7 +28,8 @@ from jointattention.experiment.cells import datasets_of
 from jointattention.experiment.probes import axis_errors_deg
 from jointattention.figures._save import new_figure, save_figure
 
-CONDITIONS = ("paper-n5", "teacher-n5", "developmental-n5", "developmental-sharp-n5")
+CONDITIONS = ("paper-n5", "teacher-n5", "developmental-n5", "developmental-sharp-n5",
+              "teacher-nogate-n5", "developmental-nogate-n5")
 SEEDS, EVERY_STEPS = 10, 5_000
 OUT = Path(__file__).parent
 
@@ -54,7 +55,9 @@ def main() -> None:
     rows = ["| condition | horizontal: untrained, final | vertical: untrained, final | "
             "halved at (median over seeds): horizontal, vertical | seeds: horizontal first, "
             "vertical first, same time |", "|---|---|---|---|---|"]
-    fig = new_figure(4.5 * len(CONDITIONS), 3.6)
+    cols = 3
+    rows_n = -(-len(CONDITIONS) // cols)
+    fig = new_figure(4.5 * cols, 3.6 * rows_n)
     for k, name in enumerate(CONDITIONS):
         e = errors[name]
         med = np.median(e, axis=0)
@@ -65,7 +68,7 @@ def main() -> None:
                     f"{med[-1, 1]:.1f}° | {np.nanmedian(halves[:, 0]):,.0f}, "
                     f"{np.nanmedian(halves[:, 1]):,.0f} | {h_first}, {v_first}, "
                     f"{SEEDS - h_first - v_first} |")
-        ax = fig.add_subplot(1, len(CONDITIONS), k + 1)
+        ax = fig.add_subplot(rows_n, cols, k + 1)
         for a, label in ((0, "horizontal (pan)"), (1, "vertical (tilt)")):
             ax.plot(steps, med[:, a], label=label)
             ax.fill_between(steps, *np.percentile(e[:, :, a], [25, 75], axis=0), alpha=0.2)

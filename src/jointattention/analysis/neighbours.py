@@ -1,7 +1,8 @@
 """The claims of the bootstrap model's neighbours, checked on a run (pure functions).
 
 README, *The models side by side*. Each model's claim is checked against its twin: the condition
-with the same objects and the same options the two models share.
+with the same objects and the same options the two models share. A claim names its condition
+(and its twin's), since conditions of one reading may differ by their gate.
 
 - **teacher at least bootstrap** (the supervised bound): the upper end of the paired 95%
   interval of (teacher - bootstrap) final success is at least zero (the data do not show the
@@ -9,6 +10,9 @@ with the same objects and the same options the two models share.
 - **developmental faster than teacher** (Nagai, Asada, Hosoda 2006: the adaptive evaluation
   speeds learning): the mean success over the whole learning time (the area under the success
   curve) beats the teacher twin's, paired lower 95% bound above zero.
+- **visual development improves accuracy** (the same paper): the developmental model's final
+  success beats its twin without the blur (``blur_start_px = 0``), paired lower 95% bound
+  above zero.
 - **horizontal before vertical** (the same paper), beyond what the geometry gives: a module
   that errs by the same small angle in every direction lands off the target mostly across the
   command, and the commands are mostly horizontal, so its horizontal error is only ``r`` times
@@ -25,7 +29,7 @@ with the same objects and the same options the two models share.
 
 from __future__ import annotations
 
-from dataclasses import fields
+from dataclasses import fields, replace
 
 import numpy as np
 
@@ -77,16 +81,24 @@ def neighbour_claims(config: Config, curves: dict,
                 ft, fb = _finals(curves[c.name][1]), _finals(curves[b.name][1])
                 _, _, upper = mean_interval((ft - fb)[:, None])
                 claims.append(Claim(
-                    reading, f"{n} objects: teacher at least bootstrap", bool(upper[0] >= 0),
+                    reading, f"{c.name}: teacher at least bootstrap ({b.name})",
+                    bool(upper[0] >= 0),
                     f"final {ft.mean():.3f} against {fb.mean():.3f}; paired difference "
                     f"{(ft - fb).mean():+.3f}, 95% upper bound {upper[0]:+.3f}"))
         if kind is DevelopmentalOptions:
             for t in _twins(config, options, TeacherOptions, o, n):
                 md, mt = curves[c.name][1].mean(axis=1), curves[t.name][1].mean(axis=1)
                 holds, evidence = _paired(md, mt)
-                claims.append(Claim(reading, f"{n} objects: developmental faster than teacher",
-                                    holds, "mean success over the learning time "
-                                    + evidence.removeprefix("final ")))
+                claims.append(Claim(reading, f"{c.name}: developmental faster than teacher "
+                                    f"({t.name})", holds, "mean success over the learning "
+                                    "time " + evidence.removeprefix("final ")))
+            if o.blur_start_px > 0:
+                sharp = replace(o, blur_start_px=0.0)
+                for s in (s for s in config.experiment.conditions if not s.shuffle_faces
+                          and s.n_objects == n and options[s.name] == sharp):
+                    claims.append(Claim(
+                        reading, f"{c.name}: visual development improves accuracy ({s.name})",
+                        *_paired(_finals(curves[c.name][1]), _finals(curves[s.name][1]))))
         if kind in (DevelopmentalOptions, TeacherOptions) and c.name in (axis_errors or {}):
             claims.append(_horizontal_first(c, reading, *axis_errors[c.name],
                                             geometry_ratio(config)))
@@ -96,7 +108,7 @@ def neighbour_claims(config: Config, curves: dict,
             above, rises = _paired_lower(final, np.full_like(final, chance)), _paired_lower(
                 final, first)
             claims.append(Claim(
-                reading, f"{n} objects: gaze following emerges from the basic set",
+                reading, f"{c.name}: gaze following emerges from the basic set",
                 above > 0 and rises > 0,
                 f"final {final.mean():.3f}, chance {chance:.3f}, first bin {first.mean():.3f}; "
                 f"95% lower bounds above chance {above:+.3f}, above the first bin {rises:+.3f}"))
@@ -110,7 +122,7 @@ def _horizontal_first(c, reading: str, pan: np.ndarray, tilt: np.ndarray,
     d = h - ratio * v
     _, _, upper = mean_interval(d[:, None])
     return Claim(
-        reading, f"{c.n_objects} objects: horizontal before vertical", bool(upper[0] < 0),
+        reading, f"{c.name}: horizontal before vertical", bool(upper[0] < 0),
         f"error over the learning time {h.mean():.2f}° horizontal, {v.mean():.2f}° vertical "
         f"(geometry alone: horizontal = {ratio:.2f} x vertical); horizontal - {ratio:.2f} x "
         f"vertical {d.mean():+.2f}°, below 0 in {(d < 0).sum()} of {len(d)} seeds, 95% upper "
