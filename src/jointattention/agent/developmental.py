@@ -161,19 +161,18 @@ class DevelopmentalAgent(TeacherAgent):
         seen = np.array([self.see(f) for f in np.asarray(face_windows)])
         return super().lm_commands(seen, thetas_rad)
 
-    def end_trial(self, outcome: Outcome) -> int:
-        """The caregiver grades the trial by her criterion; learn as the teacher if she approves.
+    def _judge(self, outcome: Outcome) -> bool:
+        """The caregiver grades the trial by her criterion, then updates it.
 
         She approves her target, or an object within her criterion of it (where the trial
-        tells her error), then updates her criterion (:func:`caregiver_update`).
+        tells her error), then updates her criterion (:func:`caregiver_update`). The teacher's
+        ``end_trial`` asks once per trial.
         """
         error = outcome.caregiver_error_rad
-        approved = bool(outcome.approved) or (
+        approved = super()._judge(outcome) or (
             outcome.fired and error is not None and error <= self.criterion_rad_)
         o = self.options
         self.criterion_rad_, self.approved_rate_ = caregiver_update(
             approved, self.criterion_rad_, self.approved_rate_, o.criterion_level,
             o.criterion_window_trials, o.criterion_shrink)
-        if not approved:
-            return 0
-        return super(TeacherAgent, self).end_trial(outcome)
+        return approved

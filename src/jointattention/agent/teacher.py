@@ -41,8 +41,12 @@ class TeacherOptions(BootstrapOptions):
 class TeacherAgent(BootstrapAgent):
     """The bootstrap agent that learns only from the trials the caregiver approves."""
 
+    def _judge(self, outcome: Outcome) -> bool:
+        """The caregiver judges the trial: whether the evaluator fired on her target."""
+        return bool(outcome.approved)
+
     def end_trial(self, outcome: Outcome) -> int:
-        """Learn as the bootstrap agent does, if the caregiver approved the trial."""
-        if not outcome.approved:
+        """Learn as the bootstrap agent does, if the caregiver approves the trial."""
+        if not self._judge(outcome):
             return 0
         return super().end_trial(outcome)

@@ -70,6 +70,8 @@ def neighbour_claims(config: Config, curves: dict,
                      axis_errors: AxisErrors | None = None) -> list[Claim]:
     """Every neighbour's claim the run's conditions allow (see the module docstring)."""
     options = {c.name: model_options(config, c) for c in config.experiment.conditions}
+    axis_errors = axis_errors or {}
+    ratio = geometry_ratio(config) if axis_errors else np.nan  # reads the data sets: once
     claims = []
     for c in config.experiment.conditions:
         o, kind = options[c.name], type(options[c.name])
@@ -99,9 +101,8 @@ def neighbour_claims(config: Config, curves: dict,
                     claims.append(Claim(
                         reading, f"{c.name}: visual development improves accuracy ({s.name})",
                         *_paired(_finals(curves[c.name][1]), _finals(curves[s.name][1]))))
-        if kind in (DevelopmentalOptions, TeacherOptions) and c.name in (axis_errors or {}):
-            claims.append(_horizontal_first(c, reading, *axis_errors[c.name],
-                                            geometry_ratio(config)))
+        if kind in (DevelopmentalOptions, TeacherOptions) and c.name in axis_errors:
+            claims.append(_horizontal_first(c, reading, *axis_errors[c.name], ratio))
         if MODELS.name_of(o) == "rl" and n > 1:
             final, first = _finals(curves[c.name][1]), curves[c.name][1][:, 0]
             chance = 1 / n

@@ -213,10 +213,16 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
                 "target": self._target.copy(), "limit_hit": self._limit_hit.copy(),
                 "intrinsic_reward": fired.astype(float),
                 "external_reward": (fired & (self._attended == self._target)).astype(float),
-                "caregiver_error_rad": np.array([
-                    separation_rad(self._pos[i, self._attended[i]], self._pos[i, self._target[i]])
-                    if fired[i] else -1.0 for i in range(k)])}
+                "caregiver_error_rad": self._caregiver_errors(fired)}
         return _with_masks(info, k)
+
+    def _caregiver_errors(self, fired: np.ndarray) -> np.ndarray:
+        """Per sub-environment, her error at the attended object (-1 where nothing fired)."""
+        error = np.full(self.num_envs, -1.0)
+        for i in np.flatnonzero(fired):  # only episodes that end: few per step
+            error[i] = separation_rad(self._pos[i, self._attended[i]],
+                                      self._pos[i, self._target[i]])
+        return error
 
     def close_extras(self, **kwargs) -> None:
         """Nothing to free: no renderer."""

@@ -22,7 +22,7 @@ from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
 from .compiled import CompiledCell, pack_world, unsupported
 from .oracle import OracleAgent
-from .probes import axis_errors_deg, median_error_deg
+from .probes import lm_errors_deg
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
 __all__ = ["body_of", "datasets_of", "engine_of", "evaluator", "make_agent", "measure_ceiling",
@@ -105,8 +105,8 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     module's median angle error over the data sets' faces at the first trial end past the
     bin (:func:`~.probes.median_error_deg`; NaN for a model without one), and its horizontal
     and vertical parts, ``lm_pan_error_deg`` and ``lm_tilt_error_deg``
-    (:func:`~.probes.axis_errors_deg`). ``progress`` gets
-    the learning time now and then; ``on_checkpoint(t, agent)`` is called
+    (:func:`~.probes.axis_errors_deg`; all three from one pass, :func:`~.probes.lm_errors_deg`).
+    ``progress`` gets the learning time now and then; ``on_checkpoint(t, agent)`` is called
     at the first trial end at or past each learning time ``t`` of ``checkpoints``; ``observer``
     sees each step (see :func:`~jointattention.experiment.trial.run_trial`; the python engine
     only). ``experiment.engine`` chooses the compiled engine or the step-by-step loop
@@ -128,9 +128,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
         while pending and t >= pending[0]:
             on_checkpoint(pending.pop(0), agent)
         while measured < len(bin_ends) and t >= bin_ends[measured]:
-            errors[measured] = median_error_deg(agent, ds)
-            if hasattr(agent, "lm_command"):
-                axes[:, measured] = axis_errors_deg(agent, ds)
+            errors[measured], axes[0, measured], axes[1, measured] = lm_errors_deg(agent, ds)
             measured += 1
 
     if engine_of(config, condition) == "compiled":

@@ -12,7 +12,7 @@ import numpy as np
 from ..datasets import CaregiverDatasets
 from ..world.kinematics import angle_rad
 
-__all__ = ["angle_deg", "angle_errors", "axis_errors_deg", "median_error_deg"]
+__all__ = ["angle_deg", "angle_errors", "axis_errors_deg", "lm_errors_deg", "median_error_deg"]
 
 
 def angle_deg(a, b) -> np.ndarray:
@@ -36,7 +36,12 @@ def axis_errors_deg(agent, ds: CaregiverDatasets) -> tuple[float, float]:
     are the horizontal and vertical errors (the developmental model's measure: Nagai, Asada,
     Hosoda 2006 report the horizontal learned before the vertical).
     """
-    u, c = _outputs(agent, ds), np.asarray(ds.command_rad, dtype=float)
+    return _axis_errors_of(_outputs(agent, ds), ds)
+
+
+def _axis_errors_of(u: np.ndarray, ds: CaregiverDatasets) -> tuple[float, float]:
+    """:func:`axis_errors_deg` of the module's outputs ``u`` (N, 2)."""
+    c = np.asarray(ds.command_rad, dtype=float)
     norm = np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-12)
     e = np.linalg.norm(c, axis=1, keepdims=True) * u / norm - c
     return tuple(float(np.median(np.rad2deg(np.abs(e[:, i])))) for i in (0, 1))
@@ -48,7 +53,11 @@ def angle_errors(agent, ds: CaregiverDatasets) -> np.ndarray:
     The output is taken at the face (``agent.lm_commands``, or ``agent.lm_command`` one face
     at a time), the command is the one that centres the target.
     """
-    out = _outputs(agent, ds)
+    return _angle_errors_of(_outputs(agent, ds), ds)
+
+
+def _angle_errors_of(out: np.ndarray, ds: CaregiverDatasets) -> np.ndarray:
+    """:func:`angle_errors` of the module's outputs ``out`` (N, 2)."""
     return np.array([angle_deg(o, c) for o, c in zip(out, ds.command_rad, strict=True)])
 
 
@@ -57,3 +66,14 @@ def median_error_deg(agent, ds: CaregiverDatasets) -> float:
     if not hasattr(agent, "lm_command"):
         return float("nan")
     return float(np.median(angle_errors(agent, ds)))
+
+
+def lm_errors_deg(agent, ds: CaregiverDatasets) -> tuple[float, float, float]:
+    """:func:`median_error_deg` and :func:`axis_errors_deg` from one pass of the module.
+
+    NaN for an agent without a learning module.
+    """
+    if not hasattr(agent, "lm_command"):
+        return float("nan"), float("nan"), float("nan")
+    out = _outputs(agent, ds)
+    return (float(np.median(_angle_errors_of(out, ds))), *_axis_errors_of(out, ds))
