@@ -21,12 +21,13 @@ from .learner import FaceStandardiser, LearningModule, accumulate, forward
 from .memory import MemoryOptions
 from .models import ModelOptions
 from .moves import learning_samples, lm_commands_into, random_step, scale_angle_into, unit_step
+from .population import PopulationOptions
 from .protocol import LM, RANDOM, VF, Body, Outcome
 
 __all__ = ["LEARNERS", "LEARNING_TARGETS", "BootstrapAgent", "BootstrapOptions"]
 
 LEARNING_TARGETS = ("final_direction", "object_direction", "executed_step")
-LEARNERS = ("backprop", "memory")
+LEARNERS = ("backprop", "memory", "population")
 
 
 @dataclass(frozen=True)
@@ -62,24 +63,27 @@ class BootstrapOptions(ModelOptions):
         choices=LEARNING_TARGETS)
     learner: str = param(
         "backprop", "the learning module: the paper's network trained by back-propagation, or "
-        "an episodic memory that recalls where objects were found for similar faces (beyond the "
-        "paper: README, Beyond the paper)", choices=LEARNERS)
+        "an episodic memory that recalls where objects were found for similar faces, or a "
+        "population code that learns where objects are found around a face and reads out its "
+        "mode (beyond the paper: README, Beyond the paper)", choices=LEARNERS)
     memory: MemoryOptions = param(factory=MemoryOptions,
                                   help="the episodic memory's options (learner = 'memory')")
+    population: PopulationOptions = param(
+        factory=PopulationOptions, help="the population code's options (learner = 'population')")
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.learner == "memory" and self.learning_target == "executed_step":
-            raise ConfigError("learning_target = 'executed_step': the memory learner keeps "
-                              "places, not steps; expected 'object_direction' or "
-                              "'final_direction' with learner = 'memory'")
+        if self.learner != "backprop" and self.learning_target == "executed_step":
+            raise ConfigError(f"learning_target = 'executed_step': the {self.learner} learner "
+                              "learns places, not steps; expected 'object_direction' or "
+                              f"'final_direction' with learner = '{self.learner}'")
 
     @property
     def label(self) -> str:
         """``bootstrap, <gate>``, or ``bootstrap + memory, <gate>`` with the memory learner."""
         label = super().label
         return label if self.learner == "backprop" else label.replace(
-            "bootstrap", "bootstrap + memory", 1)
+            "bootstrap", f"bootstrap + {self.learner}", 1)
 
     def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> BootstrapAgent:
         """The untrained bootstrap agent (with the memory learner if ``learner = 'memory'``)."""
@@ -87,6 +91,10 @@ class BootstrapOptions(ModelOptions):
             from .episodic import MemoryAgent  # it subclasses BootstrapAgent
 
             return MemoryAgent(self, agent, body, rng)
+        if self.learner == "population":
+            from .population_agent import PopulationAgent  # it subclasses BootstrapAgent
+
+            return PopulationAgent(self, agent, body, rng)
         return BootstrapAgent(self, agent, body, rng)
 
 
@@ -104,6 +112,11 @@ class BootstrapAgent:
 
     A trial is ``begin_trial``, then ``act`` at each step, then ``end_trial``; learning
     happens in ``end_trial`` if the internal evaluator fired.
+
+    Attributes:
+        learning: whether it learns (True); a frozen agent (False) acts as it would at its
+            learning time without changing anything of what it learned, nor its learning
+            time, so that it can be measured on other data sets.
     """
 
     def __init__(self, options: BootstrapOptions, agent: AgentConfig, body: Body,
@@ -120,6 +133,7 @@ class BootstrapAgent:
             momentum=options.momentum, init_scale=options.init_scale, rng=init_rng)
         self.faces = FaceStandardiser()
         self.learning_time_steps = 0
+        self.learning = True
         self.agreement_ = 0.0  # the performance gate's measure (PerformanceGate)
         self._trial_module: str | None = None
         self._thetas: list[np.ndarray] = []
@@ -140,6 +154,31 @@ class BootstrapAgent:
             return gate.rate_of(self.agreement_)
         t = self.learning_time_steps if learning_time_steps is None else learning_time_steps
         return gate.rate_at(t)
+
+    # -- what a model file keeps -----------------------------------------------------------
+    def saved_arrays(self) -> dict[str, np.ndarray]:
+        """What a model file keeps of the learned state, by member name (``agent/saved.py``)."""
+        net, faces = self.learner, self.faces
+        return {"w1": net.w1_, "b1": net.b1_, "w2": net.w2_, "b2": net.b2_,
+                "face_mean": faces.mean_, "face_m2": faces.m2_,
+                "face_n_seen": np.array(faces.n_seen_)}
+
+    def saved_shapes(self) -> dict[str, tuple[int, ...]]:
+        """The shape of each member of :meth:`saved_arrays` for this agent's options."""
+        net, n_pix = self.learner, self.body.face_size_px[0] * self.body.face_size_px[1]
+        return {"w1": net.w1_.shape, "b1": net.b1_.shape, "w2": net.w2_.shape,
+                "b2": net.b2_.shape, "face_mean": (n_pix,), "face_m2": (n_pix,),
+                "face_n_seen": ()}
+
+    def load_arrays(self, arrays: dict[str, np.ndarray]) -> None:
+        """Set the learned state from checked members of a model file (:meth:`saved_arrays`)."""
+        net, faces = self.learner, self.faces
+        net.w1_, net.b1_, net.w2_, net.b2_ = (arrays[k].astype(float)
+                                              for k in ("w1", "b1", "w2", "b2"))
+        net.velocity_ = [np.zeros_like(p) for p in net._params()]
+        faces.mean_ = arrays["face_mean"].astype(float)
+        faces.m2_ = arrays["face_m2"].astype(float)
+        faces.n_seen_ = int(arrays["face_n_seen"])
 
     # -- the learning module ---------------------------------------------------------------
     def _inputs(self, face_x: np.ndarray, thetas: np.ndarray) -> np.ndarray:
@@ -215,7 +254,8 @@ class BootstrapAgent:
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Start a trial looking at the caregiver, whose face window the robot keeps."""
         face = np.asarray(face_window, dtype=float).ravel()
-        self.faces.partial_fit(face)
+        if self.learning:
+            self.faces.partial_fit(face)
         self._face_x = self.faces.transform(face)
         self._face_acc = self._face_part(self._face_x)
         self._theta_start = np.asarray(theta_rad, dtype=float)
@@ -243,7 +283,8 @@ class BootstrapAgent:
             dtheta = np.array(random_step(self.move_rng, self.step_rad))
         self._thetas.append(np.asarray(theta_rad, dtype=float))
         self._steps.append(dtheta)
-        self.learning_time_steps += 1
+        if self.learning:
+            self.learning_time_steps += 1
         return dtheta, module
 
     def end_trial(self, outcome: Outcome) -> int:
@@ -251,7 +292,7 @@ class BootstrapAgent:
 
         Each step is taught toward :meth:`_aim` (or its own step, ``executed_step``).
         """
-        if not outcome.fired or not self._thetas:
+        if not self.learning or not outcome.fired or not self._thetas:
             return 0
         self._measure(outcome)
         thetas, executed = np.array(self._thetas), self.options.learning_target == "executed_step"

@@ -80,7 +80,7 @@ class MemoryAgent(BootstrapAgent):
         With ``memory.keep = "in_view"`` the places of the other objects in the last image are
         kept too, after the attended one's.
         """
-        if not outcome.fired or not self._thetas:
+        if not self.learning or not outcome.fired or not self._thetas:
             return 0
         self._measure(outcome)
         self.memory.store(self._code, self._aim(outcome))

@@ -75,6 +75,10 @@ class Agent(Protocol):
     Attributes:
         learning_time_steps: steps acted so far (the paper's learning time); the runner
             stops a cell when it reaches ``experiment.n_steps``.
+
+    A model that can be frozen (measured on other data sets without learning from them,
+    :func:`jointattention.experiment.evaluate.evaluate_agent`) has a ``learning`` attribute
+    too: set to False, its trials change nothing of what it learned, nor its learning time.
     """
 
     learning_time_steps: int

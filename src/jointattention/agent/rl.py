@@ -113,7 +113,8 @@ class RLAgent:
 
     Learned state: ``W_`` (n_directions, pixels) and ``b_`` (n_directions,), the shift values;
     ``q_stay_`` (max_steps + 1,), the stay values; ``place_habituation_`` (pan cells, tilt
-    cells).
+    cells). ``learning``: whether it learns (True); frozen (False), it acts on what it
+    learned and changes none of it (nor its learning time).
     """
 
     def __init__(self, options: RLOptions, agent: AgentConfig, body: Body,
@@ -130,6 +131,7 @@ class RLAgent:
         self.place_habituation_ = np.zeros(tuple(int(max(n, 1)) for n in n_cells))
         self.faces = FaceStandardiser()
         self.learning_time_steps = 0
+        self.learning = True
         angles = 2 * np.pi * np.arange(options.n_directions) / options.n_directions
         self.steps_rad = _readonly(math.radians(agent.lm_step_deg)
                                    * np.column_stack([np.cos(angles), np.sin(angles)]))
@@ -181,7 +183,8 @@ class RLAgent:
         softmax over the shift values alone (``cdf``): together, the softmax over all actions.
         """
         face = np.asarray(face_window, dtype=float).ravel()
-        self.faces.partial_fit(face)
+        if self.learning:
+            self.faces.partial_fit(face)
         self._x = self.faces.transform(face)
         self._q = self.W_ @ self._x + self.b_
         t, top = self.options.temperature, float(self._q.max())
@@ -196,7 +199,8 @@ class RLAgent:
 
     def act(self, detections: Detections, theta_rad) -> tuple[np.ndarray, str]:
         """One step: stay, shift (a softmax draw) or keep moving along the shift."""
-        self.learning_time_steps += 1
+        if self.learning:
+            self.learning_time_steps += 1
         if self._dir >= 0:
             self._n_moves += 1
             return self.steps_rad[self._dir], LM
@@ -214,6 +218,8 @@ class RLAgent:
 
         Reads only ``fired`` and the head angle at the end, never the caregiver's judgement.
         """
+        if not self.learning:
+            return
         o, k, d = self.options, self._k, self._dir
         r_end = self.object_reward_at(outcome.theta_rad) if outcome.fired else 0.0
         self.place_habituation_ *= o.place_recovery

@@ -1,31 +1,39 @@
 """Learned models in a file: saved after learning, loaded on a robot, never unpickled.
 
-On-disk format, schema version 1: one NumPy ``.npz`` archive whose members are plain arrays
-(loading one never runs code: :func:`~jointattention._readers.read_npz` refuses pickled
-members).
+On-disk format: one NumPy ``.npz`` archive whose members are plain arrays (loading one never
+runs code: :func:`~jointattention._readers.read_npz` refuses pickled members). Schema version
+1 holds the paper's network; version 2 (``learner = "population"``) adds the population code.
 
-==================  =======  ============  ==============================================
-member              dtype    shape         meaning
-==================  =======  ============  ==============================================
-``schema_version``  int      ()            ``1``
-``w1``              float64  (n_hid, n_in) input weights; ``n_in`` = face pixels + 2
-``b1``              float64  (n_hid,)      hidden biases
-``w2``              float64  (n_hid, 2)    output weights
-``b2``              float64  (2,)          output biases
-``face_mean``       float64  (n_in - 2,)   per-pixel mean of the faces seen (row-major H x W)
-``face_m2``         float64  (n_in - 2,)   per-pixel sum of squared deviations (Welford)
-``face_n_seen``     int      ()            faces seen (>= 1)
-``meta``            str      ()            JSON text, below
-==================  =======  ============  ==============================================
+==========================  =======  ============  ==========================================
+member                      dtype    shape         meaning
+==========================  =======  ============  ==========================================
+``schema_version``          int      ()            ``1``, or ``2`` with the population code
+``w1``                      float64  (n_hid, n_in) input weights; ``n_in`` = face pixels + 2
+``b1``                      float64  (n_hid,)      hidden biases
+``w2``                      float64  (n_hid, 2)    output weights
+``b2``                      float64  (2,)          output biases
+``face_mean``               float64  (n_in - 2,)   per-pixel mean of the faces seen (H x W)
+``face_m2``                 float64  (n_in - 2,)   per-pixel sum of squared deviations
+``face_n_seen``             int      ()            faces seen (>= 1)
+``population_w1``           float64  (h, n_feat)   version 2: the population code's input
+                                                   weights (face features and head angle)
+``population_b1``           float64  (h,)          version 2: its hidden biases
+``population_w2``           float64  (bins, h)     version 2: its output weights
+``population_b2``           float64  (bins,)       version 2: its output biases
+``population_hidden_mean``  float64  (h,)          version 2: the hidden units' running mean
+``meta``                    str      ()            JSON text, below
+==========================  =======  ============  ==========================================
 
 ``meta`` holds ``robot`` (:class:`Robot`: the body the model was learned on), ``model`` (its
-kind, ``bootstrap``, ``teacher`` or ``developmental`` (saved once it sees sharp faces),
-the condition, the learning time), ``config`` (the run's
-whole configuration as TOML, from which the model's options and the face standardiser's floor
-are read), ``datasets_sha256`` (of the data-set file it learned from) and ``generator`` (the
-package version). The inputs are the face window standardised by ``face_mean``/``face_m2``
-and the head angle scaled to [-1, 1] by the joint ranges; the output is a direction, one
-``lm_step_deg`` long (README, *From the simulator to a real head*).
+kind, ``bootstrap`` (with the back-propagation or the population learner), ``teacher`` or
+``developmental`` (saved once it sees sharp faces), the condition, the learning time),
+``config`` (the run's whole configuration as TOML, from which the model's options and the face
+standardiser's floor are read), ``datasets_sha256`` (of the data-set file it learned from)
+and ``generator`` (the package version). The network's inputs are the face window
+standardised by ``face_mean``/``face_m2`` and the head angle scaled to [-1, 1] by the joint
+ranges; the population code's are the features of :mod:`.face_features` and the scaled head
+angle. The output is a direction, one ``lm_step_deg`` long (README, *From the simulator to a
+real head*).
 """
 
 from __future__ import annotations
@@ -50,8 +58,8 @@ from .protocol import Body
 __all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
            "save_model"]
 
-SCHEMA_VERSION = 1
-_ARRAYS = ("w1", "b1", "w2", "b2", "face_mean", "face_m2", "face_n_seen")
+SCHEMA_VERSION = 2  # the newest; version 1 files (the paper's network) are still written
+_SAVED_LEARNERS = ("backprop", "population")
 
 
 @dataclass(frozen=True)
@@ -128,11 +136,11 @@ class LearnedModel:
 def check_savable(config: Config, condition: str) -> BootstrapOptions:
     """The options of ``condition``'s model if it can be saved, else one ConfigError line."""
     options = model_options(config, condition_named(config, condition))
-    if not isinstance(options, BootstrapOptions) or options.learner != "backprop":
+    if not isinstance(options, BootstrapOptions) or options.learner not in _SAVED_LEARNERS:
         raise ConfigError(f"condition {condition!r}: its model is "
                           f"{getattr(options, 'label', type(options).__name__)}; expected the "
                           "bootstrap model, the teacher or the developmental model, with "
-                          "learner = 'backprop' (the models saved)")
+                          "learner = 'backprop' or 'population' (the models saved)")
     return options
 
 
@@ -150,16 +158,14 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
                           f"{agent.blur_px():.2f} px at learning time "
                           f"{agent.learning_time_steps}); expected a learning time of at least "
                           f"blur_sharp_steps = {agent.options.blur_sharp_steps:g}")
-    net, faces = agent.learner, agent.faces
     meta = {"robot": asdict(Robot.of(config)),
             "model": {"kind": MODELS.name_of(options), "condition": condition,
                       "learning_time_steps": int(agent.learning_time_steps)},
             "config": to_toml(config), "datasets_sha256": datasets_sha256,
             "generator": f"jointattention {__version__}"}
-    return save_npz(path, {
-        "schema_version": np.array(SCHEMA_VERSION), "w1": net.w1_, "b1": net.b1_,
-        "w2": net.w2_, "b2": net.b2_, "face_mean": faces.mean_, "face_m2": faces.m2_,
-        "face_n_seen": np.array(faces.n_seen_), "meta": np.array(json.dumps(meta))})
+    version = 1 if options.learner == "backprop" else 2  # version 1 files stay as they were
+    return save_npz(path, {"schema_version": np.array(version), **agent.saved_arrays(),
+                           "meta": np.array(json.dumps(meta))})
 
 
 def _field(where: str, key: str, expected: str, got) -> FileError:
@@ -219,17 +225,13 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
     """
     where = str(path)
     archive = read_npz(path, "a model .npz file (jointattention train --out)")
-    missing = [k for k in ("schema_version", *_ARRAYS, "meta") if k not in archive]
+    missing = [k for k in ("schema_version", "meta") if k not in archive]
     if missing:
         raise FileError(f"{where}: field '{missing[0]}' is missing; expected a model file "
                         "(jointattention train --out)")
-    unknown = sorted(set(archive) - {"schema_version", *_ARRAYS, "meta"})
-    if unknown:
-        raise FileError(f"{where}: field '{unknown[0]}' is not part of model schema version "
-                        f"{SCHEMA_VERSION}")
-    version = _array(archive, where, "schema_version", (), "iu")
-    if int(version) != SCHEMA_VERSION:
-        raise _field(where, "schema_version", str(SCHEMA_VERSION), int(version))
+    version = int(_array(archive, where, "schema_version", (), "iu"))
+    if version not in (1, 2):
+        raise _field(where, "schema_version", "1 or 2", version)
     meta = _meta(archive, where)
     try:
         config = load_config(tomllib.loads(meta["config"]))
@@ -245,22 +247,25 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
         key = saved.differences(robot)[0]
         raise _field(where, f"meta.robot.{key}", f"{getattr(robot, key)} (this robot's)",
                      getattr(saved, key))
-    w, h = saved.face_size_px
-    n_hidden, n_pixels = options.n_hidden, w * h
+    if version != (1 if options.learner == "backprop" else 2):
+        raise _field(where, "schema_version", f"{2 - (options.learner == 'backprop')} (the "
+                     f"version of learner {options.learner!r})", version)
     agent = options.build(config.agent, saved.body, np.random.default_rng(0))
-    net, faces = agent.learner, agent.faces
-    net.w1_ = _array(archive, where, "w1", (n_hidden, n_pixels + 2)).astype(float)
-    net.b1_ = _array(archive, where, "b1", (n_hidden,)).astype(float)
-    net.w2_ = _array(archive, where, "w2", (n_hidden, 2)).astype(float)
-    net.b2_ = _array(archive, where, "b2", (2,)).astype(float)
-    net.velocity_ = [np.zeros_like(p) for p in net._params()]
-    faces.mean_ = _array(archive, where, "face_mean", (n_pixels,)).astype(float)
-    faces.m2_ = _array(archive, where, "face_m2", (n_pixels,)).astype(float)
-    if np.any(faces.m2_ < 0):
+    shapes = agent.saved_shapes()
+    missing = [k for k in shapes if k not in archive]
+    if missing:
+        raise FileError(f"{where}: field '{missing[0]}' is missing; expected a model file "
+                        "(jointattention train --out)")
+    unknown = sorted(set(archive) - {"schema_version", *shapes, "meta"})
+    if unknown:
+        raise FileError(f"{where}: field '{unknown[0]}' is not part of model schema version "
+                        f"{version}")
+    arrays = {k: _array(archive, where, k, shape, "iu" if k == "face_n_seen" else "f")
+              for k, shape in shapes.items()}
+    if np.any(arrays["face_m2"] < 0):
         raise _field(where, "face_m2", "sums of squares >= 0", "a negative value")
-    n_seen = _array(archive, where, "face_n_seen", (), "iu")
-    if not 1 <= int(n_seen) <= 2**62:
-        raise _field(where, "face_n_seen", "an integer >= 1", int(n_seen))
-    faces.n_seen_ = int(n_seen)
+    if not 1 <= int(arrays["face_n_seen"]) <= 2**62:
+        raise _field(where, "face_n_seen", "an integer >= 1", int(arrays["face_n_seen"]))
+    agent.load_arrays(arrays)
     agent.learning_time_steps = meta["model"]["learning_time_steps"]
     return LearnedModel(agent, config, meta["model"]["condition"], meta.get("datasets_sha256"))

@@ -47,6 +47,6 @@ class TeacherAgent(BootstrapAgent):
 
     def end_trial(self, outcome: Outcome) -> int:
         """Learn as the bootstrap agent does, if the caregiver approves the trial."""
-        if not self._judge(outcome):
+        if not self.learning or not self._judge(outcome):
             return 0
         return super().end_trial(outcome)

@@ -2,7 +2,8 @@
 
 Each command only parses its arguments and calls the library; the commands are registered by
 :mod:`.run` (reproduce, sweep, report, bench, config), :mod:`.vision` (parity, detect, gaze),
-:mod:`.world` (render, datasets) and :mod:`.robot` (train, follow, datasets import).
+:mod:`.world` (render, datasets), :mod:`.robot` (train, follow, datasets import) and
+:mod:`.evaluate` (evaluate).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import threading
 
 from .. import __version__
 from ..errors import JointAttentionError
-from . import robot, run, vision, world
+from . import evaluate, robot, run, vision, world
 
 __all__ = ["build_parser", "main"]
 
@@ -39,6 +40,7 @@ def build_parser() -> argparse.ArgumentParser:
     vision.add_commands(sub)
     world.add_commands(sub)
     robot.add_commands(sub)
+    evaluate.add_commands(sub)
     return parser
 
 

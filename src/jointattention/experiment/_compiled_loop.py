@@ -92,6 +92,7 @@ class LoopRobot(NamedTuple):
     blur_sharp_steps: float
     face_width_px: int
     face_height_px: int
+    learning: bool  # False: frozen, nothing learned and the learning time stands still
 
 
 class LoopState(NamedTuple):
@@ -147,8 +148,10 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
          move_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
 
-    Each trial is :func:`~.cells.random_scene`, a :class:`~.trial.SceneTrial` and
-    :func:`~.trial.run_trial` of a bootstrap agent, in that order of random draws.
+    A frozen robot (``robot.learning`` False) learns nothing and its learning time stands
+    still: it runs ``max_trials`` trials. Each trial is :func:`~.cells.random_scene`, a
+    :class:`~.trial.SceneTrial` and :func:`~.trial.run_trial` of a bootstrap agent, in that
+    order of random draws.
     """
     n, n_pix = world.n_objects, world.faces.shape[1]
     n_hidden = len(state.b1)
@@ -167,7 +170,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
     seen_face, blur_tmp = np.empty(n_pix), np.empty(n_pix)  # the face through the blur
     a1, a2, a3 = robot.weights[0], robot.weights[1], robot.weights[2]
     c = state.counters
-    while c[0] < until_steps and c[3] < max_trials:
+    while (c[0] < until_steps or not robot.learning) and c[3] < max_trials:
         start = c[0]
         # the scene (cells.random_scene, FastScene.sample)
         k = trials_rng.integers(0, len(world.faces))
@@ -193,8 +196,9 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             recalled = memory_recall(code, state.codes, state.aims, state.base, c[4],
                                      robot.memory_lo_rad, robot.memory_cell_rad, robot.memory_k,
                                      robot.memory_radius_rad, aim) >= 0
-        c[1] += 1
-        welford_update(face, state.mean, state.m2, c[1])
+        if robot.learning:
+            c[1] += 1
+            welford_update(face, state.mean, state.m2, c[1])
         standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
         face_acc[:] = 0.0
         accumulate(face_x, state.w1, 0, face_acc)
@@ -246,7 +250,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
                 d_pan, d_tilt = random_step(move_rng, robot.step_rad)
             thetas[n_steps, 0], thetas[n_steps, 1] = pan, tilt
             steps[n_steps, 0], steps[n_steps, 1] = d_pan, d_tilt
-            c[0] += 1
+            c[0] += robot.learning
             n_lm += module == _LM
             n_random += module == _RANDOM
             # the head moves, stopping at its joint limits (SceneTrial.step)
@@ -260,11 +264,12 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         approved = end == END_FIRED and (attended == target or (
             robot.caregiver_adapts  # the developmental caregiver's criterion
             and separation_rad(obj_pos[attended], obj_pos[target]) <= state.caregiver[0]))
-        if robot.caregiver_adapts:
+        if robot.caregiver_adapts and robot.learning:
             state.caregiver[0], state.caregiver[1] = caregiver_update(
                 approved, state.caregiver[0], state.caregiver[1], robot.criterion_level,
                 robot.criterion_window_trials, robot.criterion_shrink)
-        learns = end == END_FIRED and n_steps > 0 and (not robot.caregiver_judges or approved)
+        learns = (robot.learning and end == END_FIRED and n_steps > 0
+                  and (not robot.caregiver_judges or approved))
         if learns:
             v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
                                                 robot.gain_rad_per_px)

@@ -51,6 +51,8 @@ def unsupported(options: ModelOptions) -> str | None:
         what = f"model kind {MODELS.name_of(options)!r}"
     elif type(options.gate) not in (SigmoidGate, ConstantGate, PerformanceGate):
         what = f"gate kind {options.gate.label!r}"
+    elif options.learner == "population":
+        what = "learner 'population'"
     else:
         return None
     return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap, "
@@ -134,7 +136,7 @@ class CompiledCell:
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
             float(opts.learning_rate), float(opts.momentum),
             *_memory_inputs(memory, world.faces.shape[1]),
-            *_caregiver_inputs(opts, agent.body.face_size_px))
+            *_caregiver_inputs(opts, agent.body.face_size_px), bool(agent.learning))
         learner, faces = agent.learner, agent.faces
         if faces.n_seen_ == 0:
             faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])

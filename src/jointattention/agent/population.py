@@ -1,0 +1,246 @@
+"""A population-coded learning module: where, around the face, objects are found for a face.
+
+The paper's module regresses one direction on the face (squared error): with n objects it
+learns the *mean* of the directions the robot was taught, which with 10 objects points between
+the distractors (README, *Beyond the paper*). The episodic memory finds the *mode* instead, but
+it recalls the places of the faces it kept: a lookup that does not carry over to a caregiver
+it never saw.
+
+This module learns the whole distribution and reads out its mode, with a network that
+generalises. Its output is a population code (as in motor and head-direction cells): one unit
+per direction around the caregiver's face, ``n_bins`` of them on the circle. A softmax over
+them is trained by cross-entropy on the directions, from the face, of the places the robot
+found (each spread over nearby units by a von Mises kernel of ``label_width_deg``), so that it
+estimates p(direction | face). Distractors fall in every direction for every face; the
+caregiver's target falls in the direction she looks. The readout (``excess``) is the
+direction whose probability for this face most exceeds its probability for the average face
+(the module's own output at the running mean of its hidden units): the target, not the mean.
+
+Inputs are the robot's own features of the face window (:mod:`.face_features`) and the head
+angle at the face. Kernels :func:`population_forward`, :func:`population_update` and
+:func:`population_readout` are compiled; :class:`PopulationCode` is their scikit-learn-style
+wrapper (``partial_fit`` on inputs and directions, ``predict`` a direction).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._fields import Section, param
+from .._jit import jit
+
+__all__ = ["READOUTS", "PopulationCode", "PopulationOptions", "population_forward",
+           "population_readout", "population_update", "von_mises_into"]
+
+READOUTS = ("excess", "ratio", "mode")
+
+
+@dataclass(frozen=True)
+class PopulationOptions(Section):
+    """The population code's options (``[model.population]``, with ``learner = "population"``)."""
+
+    n_bins: int = param(72, "output units: directions around the face, evenly on the circle",
+                        lo=8, hi=720)
+    n_hidden: int = param(64, "hidden units (tanh) between the face features and the output",
+                          lo=1, hi=1024)
+    learning_rate: float = param(0.01, "step size of the cross-entropy gradient, per place "
+                                 "taught", lo=0, hi=10)
+    label_width_deg: float = param(
+        5.0, "s.d. of the von Mises kernel that spreads a taught direction over nearby units",
+        lo=0.1, hi=90)
+    features: str = param(
+        "pixels+hog", "the face's features: its contrast-normalised grey levels, a histogram "
+        "of its gradient orientations, or both", choices=("pixels+hog", "pixels", "hog"))
+    cell_px: int = param(5, "side of a cell of the gradient-orientation histogram (pixels)",
+                         lo=2, hi=64)
+    n_orientations: int = param(12, "signed orientation bins per histogram cell", lo=2, hi=36)
+    readout: str = param(
+        "excess", "how the direction is read out: where p(direction | face) most exceeds "
+        "p(direction | the average face) (excess), where its log does (ratio), or the plain "
+        "mode of p(direction | face) (mode: no base rate)", choices=READOUTS)
+    hidden_rate: float = param(0.01, "rate of the running mean of the hidden units over the "
+                               "faces taught (the average face of the readout)", lo=0, hi=1)
+    keep: str = param(
+        "in_view", "places taught when the evaluator fires: the attended object's, or every "
+        "object's in view then (the target is often in view when a distractor is attended)",
+        choices=("attended", "in_view"))
+    replay: int = param(4, "updates on trials drawn from the replay memory after each trial "
+                        "taught (0: none)", lo=0, hi=100)
+    replay_capacity: int = param(20_000, "trials the replay memory keeps (the oldest is "
+                                 "forgotten)", lo=1, hi=10_000_000)
+
+
+@jit
+def von_mises_into(psi_rad: float, kappa: float, weight: float, out) -> None:
+    """Add ``weight`` times a von Mises bump at ``psi_rad`` (summing to 1 over the units)."""
+    n = len(out)
+    total = 0.0
+    for b in range(n):
+        total += math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0))
+    for b in range(n):
+        out[b] += weight * math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0)) / total
+
+
+@jit
+def _softmax_into(z, p) -> None:
+    top = -np.inf
+    for b in range(len(z)):
+        top = max(top, z[b])
+    total = 0.0
+    for b in range(len(z)):
+        p[b] = math.exp(z[b] - top)
+        total += p[b]
+    for b in range(len(z)):
+        p[b] /= total
+
+
+@jit
+def _output_into(h, w2, b2, z) -> None:
+    """The output units' input ``z = w2 h + b2``."""
+    for b in range(len(z)):
+        s = b2[b]
+        row = w2[b]
+        for j in range(len(h)):
+            s += row[j] * h[j]
+        z[b] = s
+
+
+@jit
+def population_forward(x, w1, b1, w2, b2, h, p) -> None:
+    """Hidden units ``h = tanh(w1 x + b1)`` and the softmax ``p`` of ``w2 h + b2``."""
+    for j in range(len(h)):
+        s = b1[j]
+        row = w1[j]
+        for i in range(len(x)):
+            s += row[i] * x[i]
+        h[j] = math.tanh(s)
+    _output_into(h, w2, b2, p)
+    _softmax_into(p, p)
+
+
+@jit
+def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate: float, h, p,
+                      grad_h) -> None:
+    """One gradient step on the summed cross-entropy of ``n_taught`` places for input ``x``.
+
+    ``taught`` is the sum of their spread directions; the gradient at the output units' input
+    is ``n_taught p - taught``.
+    """
+    population_forward(x, w1, b1, w2, b2, h, p)
+    grad_h[:] = 0.0
+    for b in range(len(p)):
+        g = n_taught * p[b] - taught[b]
+        row = w2[b]
+        for j in range(len(h)):
+            grad_h[j] += g * row[j]
+            row[j] -= learning_rate * g * h[j]
+        b2[b] -= learning_rate * g
+    for j in range(len(h)):
+        g = grad_h[j] * (1.0 - h[j] * h[j]) * learning_rate
+        row = w1[j]
+        for i in range(len(x)):
+            row[i] -= g * x[i]
+        b1[j] -= g
+
+
+@jit
+def population_readout(score) -> tuple[float, float]:
+    """The direction (rad) of the largest ``score`` over the units, and that score.
+
+    The direction is the circular mean of the best unit and its two neighbours on each side,
+    weighted by how far their scores exceed the fifth best (finer than a unit).
+    """
+    n = len(score)
+    best = 0
+    for b in range(n):
+        if score[b] > score[best]:
+            best = b
+    floor = np.sort(score)[max(n - 5, 0)]
+    s = c = 0.0
+    for d in range(-2, 3):
+        b = (best + d) % n
+        w = max(score[b] - floor, 0.0) + 1e-12
+        angle = 2 * math.pi * b / n
+        s += w * math.sin(angle)
+        c += w * math.cos(angle)
+    return math.atan2(s, c), score[best]
+
+
+class PopulationCode:
+    """The population-coded network (see the module docstring).
+
+    Args:
+        n_in: input length (face features and the scaled head angle).
+        options: units, learning rate, label width, readout.
+        rng: draws the initial weights.
+
+    Learned state: ``w1_`` (n_hidden, n_in), ``b1_``, ``w2_`` (n_bins, n_hidden), ``b2_``,
+    ``hidden_mean_`` (n_hidden,: the running mean of the hidden units over the inputs taught)
+    and ``n_taught_`` (places taught).
+    """
+
+    def __init__(self, n_in: int, options: PopulationOptions, rng: np.random.Generator):
+        self.options = options
+        h, n = options.n_hidden, options.n_bins
+        self.w1_ = rng.normal(0.0, 1.0 / math.sqrt(n_in), (h, n_in))
+        self.b1_ = np.zeros(h)
+        self.w2_ = rng.normal(0.0, 1.0 / math.sqrt(h), (n, h))
+        self.b2_ = np.zeros(n)
+        self.hidden_mean_ = np.zeros(h)
+        self.n_taught_ = 0
+        self._h, self._p, self._grad_h = np.empty(h), np.empty(n), np.empty(h)
+        self._taught, self._z = np.empty(n), np.empty(n)
+
+    @property
+    def kappa(self) -> float:
+        """Concentration of the von Mises kernel of ``label_width_deg``."""
+        return 1.0 / math.radians(self.options.label_width_deg) ** 2
+
+    def probabilities(self, x: np.ndarray) -> np.ndarray:
+        """p(direction | input) over the units, for one input (n_in,)."""
+        population_forward(np.ascontiguousarray(x, dtype=float), self.w1_, self.b1_, self.w2_,
+                           self.b2_, self._h, self._p)
+        return self._p.copy()
+
+    def scores(self, x: np.ndarray) -> np.ndarray:
+        """The readout's score of each unit for one input (see ``options.readout``)."""
+        p = self.probabilities(x)
+        readout = self.options.readout
+        if readout == "mode":
+            return p
+        _output_into(self.hidden_mean_, self.w2_, self.b2_, self._z)
+        if readout == "ratio":  # log p - log p(average face): the normalisers do not matter
+            return self.w2_ @ self._h - self.w2_ @ self.hidden_mean_
+        _softmax_into(self._z, self._z)
+        return p - self._z
+
+    def direction(self, x: np.ndarray) -> tuple[float, float]:
+        """The readout direction (rad) for one input, and its score."""
+        return population_readout(self.scores(x))
+
+    def teach(self, x: np.ndarray, directions_rad) -> None:
+        """One update toward the places found in ``directions_rad`` (rad) for input ``x``."""
+        directions_rad = np.atleast_1d(np.asarray(directions_rad, dtype=float))
+        if len(directions_rad) == 0:
+            return
+        self._taught[:] = 0.0
+        for psi in directions_rad:
+            von_mises_into(float(psi), self.kappa, 1.0, self._taught)
+        population_update(np.ascontiguousarray(x, dtype=float), self._taught,
+                          float(len(directions_rad)), self.w1_, self.b1_, self.w2_, self.b2_,
+                          float(self.options.learning_rate), self._h, self._p, self._grad_h)
+        self.hidden_mean_ += self.options.hidden_rate * (self._h - self.hidden_mean_)
+        self.n_taught_ += len(directions_rad)
+
+    def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> PopulationCode:
+        """One update per row: inputs ``X`` (n, n_in), one direction (rad) each ``Y`` (n,)."""
+        for x, y in zip(np.atleast_2d(X), np.ravel(Y), strict=True):
+            self.teach(x, [y])
+        return self
+
+    def predict(self, X: np.ndarray) -> np.ndarray:
+        """The readout direction (rad) for each row of ``X`` (n, n_in), (n,)."""
+        return np.array([self.direction(x)[0] for x in np.atleast_2d(X)])

@@ -1,0 +1,171 @@
+"""The bootstrap agent with the population-coded learning module (``learner = "population"``).
+
+Visual attention, the evaluator, the gate and the readings are the paper's
+(:class:`~.bootstrap.BootstrapAgent`); the learning module is a
+:class:`~.population.PopulationCode` over the robot's own features of the face window
+(:mod:`.face_features`) and the head angle at the face. At the start of a trial it reads out,
+from the caregiver's face, the direction in which she looks; its command follows the line from
+the face in that direction, one step at a time (back toward the line if another module moved
+the head off it), as the oracle follows the true gaze line.
+
+A trial the evaluator ends teaches the direction, from the face, of the attended object's
+place (and, with ``keep = "in_view"``, of every other object in the last image). The trial
+is also kept in a replay memory (the face window, the head angle at the face and the
+directions taught), from which ``replay`` trials drawn at random are taught again after each
+trial: more updates from each trial the robot lived through.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import jit
+from .bootstrap import BootstrapAgent, BootstrapOptions
+from .face_features import face_features_into, n_features
+from .moves import scale_angle_into, unit_step
+from .population import PopulationCode
+from .protocol import Body, Outcome
+
+__all__ = ["PopulationAgent", "line_step"]
+
+
+@jit
+def line_step(start_pan, start_tilt, psi_rad, pan, tilt, step_rad) -> tuple[float, float]:
+    """One step along the line from ``start`` in direction ``psi_rad``, from the head angle now.
+
+    It aims one step beyond the head's projection on the line (never behind the start), so
+    a head on the line moves along it and a head off it turns back toward it.
+    """
+    u0, u1 = math.cos(psi_rad), math.sin(psi_rad)
+    s = max((pan - start_pan) * u0 + (tilt - start_tilt) * u1, 0.0) + step_rad
+    return unit_step(start_pan + s * u0 - pan, start_tilt + s * u1 - tilt, step_rad)
+
+
+class PopulationAgent(BootstrapAgent):
+    """The bootstrap agent whose learning module is a population code.
+
+    Args are :class:`~.bootstrap.BootstrapAgent`'s; ``rng`` is split once more, after the
+    bootstrap agent's streams, for the population code's initial weights and the replay draws.
+
+    Attributes:
+        population: the learning module.
+        direction_rad_: the direction read out for the current trial's face.
+        replay_faces_, replay_thetas_, replay_directions_, replay_counts_: the replay memory
+            (face windows, head angles at the face, directions taught, how many each).
+        n_kept_: trials kept in it so far (forgotten ones included).
+    """
+
+    MAX_PLACES = 20  # places taught per trial at most (objects in a scene: 20)
+
+    def __init__(self, options: BootstrapOptions, agent, body: Body, rng: np.random.Generator):
+        super().__init__(options, agent, body, rng)
+        init_rng, self.replay_rng = rng.spawn(2)
+        o = options.population
+        self._parts = (o.features != "hog", o.features != "pixels")
+        self.n_features = n_features(body.face_size_px, o.cell_px, o.n_orientations,
+                                     *self._parts)
+        self.population = PopulationCode(self.n_features + 2, o, init_rng)
+        self.direction_rad_ = 0.0
+        w, h = body.face_size_px
+        self.replay_faces_ = np.zeros((o.replay_capacity, h * w), np.uint8)
+        self.replay_thetas_ = np.zeros((o.replay_capacity, 2))
+        self.replay_directions_ = np.zeros((o.replay_capacity, self.MAX_PLACES))
+        self.replay_counts_ = np.zeros(o.replay_capacity, np.int64)
+        self.n_kept_ = 0
+
+    def saved_arrays(self) -> dict[str, np.ndarray]:
+        """The bootstrap agent's members and the population code's (``population_*``)."""
+        p = self.population
+        return {**super().saved_arrays(), "population_w1": p.w1_, "population_b1": p.b1_,
+                "population_w2": p.w2_, "population_b2": p.b2_,
+                "population_hidden_mean": p.hidden_mean_}
+
+    def saved_shapes(self) -> dict[str, tuple[int, ...]]:
+        """The shape of each member of :meth:`saved_arrays`."""
+        p = self.population
+        return {**super().saved_shapes(), "population_w1": p.w1_.shape,
+                "population_b1": p.b1_.shape, "population_w2": p.w2_.shape,
+                "population_b2": p.b2_.shape, "population_hidden_mean": p.hidden_mean_.shape}
+
+    def load_arrays(self, arrays: dict[str, np.ndarray]) -> None:
+        """Set the learned state from checked members of a model file."""
+        super().load_arrays(arrays)
+        p = self.population
+        p.w1_, p.b1_, p.w2_, p.b2_, p.hidden_mean_ = (
+            arrays[f"population_{k}"].astype(float)
+            for k in ("w1", "b1", "w2", "b2", "hidden_mean"))
+
+    def features(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
+        """The module's input: the face window's features and the head angle, scaled."""
+        o = self.options.population
+        w, h = self.body.face_size_px
+        x = np.empty(self.n_features + 2)
+        face_features_into(np.ascontiguousarray(face_window, dtype=float).ravel(), h, w,
+                           o.cell_px, o.n_orientations, *self._parts, x)
+        scale_angle_into(float(theta_rad[0]), float(theta_rad[1]), self.theta_mid_rad,
+                         self.theta_half_rad, x, self.n_features)
+        return x
+
+    def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
+        """The module's first step from the face, for a face window and the head angle there."""
+        psi, _ = self.population.direction(self.features(face_window, theta_rad))
+        return self.step_rad * np.array([math.cos(psi), math.sin(psi)])
+
+    def lm_commands(self, face_windows: np.ndarray, thetas_rad: np.ndarray) -> np.ndarray:
+        """:meth:`lm_command` for K face windows (K, H, W) and head angles (K, 2), (K, 2)."""
+        return np.array([self.lm_command(f, t) for f, t in zip(face_windows, thetas_rad,
+                                                                strict=True)]).reshape(-1, 2)
+
+    def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
+        """Read out the direction for the caregiver's face, then start as the paper does."""
+        self._face = np.asarray(face_window)
+        self._x = self.features(face_window, theta_rad)
+        self.direction_rad_, _ = self.population.direction(self._x)
+        super().begin_trial(face_window, theta_rad)
+
+    def _lm(self, face_part, theta_rad) -> np.ndarray:
+        """A step along the line from the face in the direction read out."""
+        s = self._theta_start
+        return np.array(line_step(s[0], s[1], self.direction_rad_, float(theta_rad[0]),
+                                  float(theta_rad[1]), self.step_rad))
+
+    def _lm_direction(self, theta_rad) -> np.ndarray:
+        return self._lm(None, theta_rad)
+
+    def end_trial(self, outcome: Outcome) -> int:
+        """Teach the directions of the places found if the evaluator fired; returns how many.
+
+        Then keep the trial in the replay memory and teach ``replay`` trials drawn from it.
+        """
+        if not self.learning or not outcome.fired or not self._thetas:
+            return 0
+        self._measure(outcome)
+        places = [self._aim(outcome)]
+        if self.options.population.keep == "in_view":
+            places += [self._place_of(outcome, i) for i in range(len(outcome.detections))
+                       if i != outcome.seen]
+        d = np.array(places[: self.MAX_PLACES]) - self._theta_start
+        directions = np.arctan2(d[:, 1], d[:, 0])
+        self.population.teach(self._x, directions)
+        self._keep(directions)
+        self._replay()
+        return len(directions)
+
+    def _keep(self, directions: np.ndarray) -> None:
+        """Keep the trial in the replay memory, forgetting the oldest when it is full."""
+        slot = self.n_kept_ % len(self.replay_counts_)
+        self.replay_faces_[slot] = np.clip(np.rint(self._face), 0, 255).ravel()
+        self.replay_thetas_[slot] = self._theta_start
+        self.replay_directions_[slot, : len(directions)] = directions
+        self.replay_counts_[slot] = len(directions)
+        self.n_kept_ += 1
+
+    def _replay(self) -> None:
+        """Teach ``replay`` trials drawn at random from the replay memory."""
+        n = min(self.n_kept_, len(self.replay_counts_))
+        w, h = self.body.face_size_px
+        for i in self.replay_rng.integers(n, size=self.options.population.replay):
+            x = self.features(self.replay_faces_[i].reshape(h, w), self.replay_thetas_[i])
+            self.population.teach(x, self.replay_directions_[i, : self.replay_counts_[i]])

@@ -1,0 +1,98 @@
+"""The command line's ``evaluate``: a saved model, frozen, on held-out data sets."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+from .._files import check_writable
+from ..errors import ArgumentError
+from ._common import int_in
+
+__all__ = ["add_commands"]
+
+COLUMNS = ("name", "n_sets", "n_identities", "n_objects", "n_trials", "success", "ceiling",
+           "fraction_of_ceiling", "median_error_deg", "p90_error_deg",
+           "share_identities_over_10deg")
+
+
+def _number(value):
+    """A JSON-safe value: NaN as null."""
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
+def _cmd_evaluate(args: argparse.Namespace) -> None:
+    from ..agent.saved import load_model
+    from ..datasets import load
+    from ..experiment.evaluate import evaluate_agent
+
+    if (args.datasets is None) == (args.caregivers is None):
+        raise ArgumentError("expected either --datasets FILE or --caregivers K (with --seed S): "
+                            "the held-out data sets to measure the model on")
+    out = None if args.out is None else check_writable(args.out, "folder")
+    model = load_model(args.model)
+    if args.datasets is not None:
+        ds, name = load(args.datasets), Path(args.datasets).name
+    else:
+        from tqdm import tqdm
+
+        from ..world.recording import held_out_datasets
+
+        n = args.caregivers * args.poses
+        with tqdm(total=n, desc="recording held-out data sets", unit="set",
+                  disable=args.quiet or args.json) as bar:
+            ds = held_out_datasets(model.config.world, args.caregivers, args.poses, args.seed,
+                                   progress=lambda i: bar.update(1))
+        name = f"{args.caregivers} unseen caregivers (held-out seed {args.seed})"
+    result = evaluate_agent(model.agent, ds, model.config, name=name, n_objects=args.objects,
+                            n_trials=args.trials, seed=args.seed).as_dict()
+    row = {k: _number(result[k]) for k in COLUMNS}
+    if out is not None:
+        from .._files import save_json, write_text
+
+        save_json(row, out / "evaluation.json")
+        write_text(out / "evaluation.csv", ",".join(COLUMNS) + "\n" + ",".join(
+            "" if row[k] is None else str(row[k]) for k in COLUMNS) + "\n")
+    if args.json:
+        print(json.dumps(row))
+        return
+    print(f"{args.model} on {name}: {row['n_sets']} data sets, {row['n_identities']} "
+          f"caregivers, {row['n_objects']} objects, {row['n_trials']} trials")
+    print(f"  success {row['success']:.3f} of a ceiling of {row['ceiling']:.3f}: "
+          f"{row['fraction_of_ceiling']:.2f} of the ceiling")
+    if row["median_error_deg"] is not None:
+        print(f"  angle error at the face: median {row['median_error_deg']:.1f} deg, 90th "
+              f"percentile {row['p90_error_deg']:.1f} deg; identities above 10 deg: "
+              f"{row['share_identities_over_10deg']:.2f}")
+    if out is not None:
+        print(out / "evaluation.json")
+
+
+def add_commands(sub) -> None:
+    """Register ``evaluate`` on the subparsers ``sub``."""
+    p = sub.add_parser(
+        "evaluate", help="a saved model, frozen, on held-out data sets",
+        description="Run a saved model, frozen (it learns nothing), on held-out data sets in "
+                    "the fast world with the trial rules of learning: its success, that set's "
+                    "oracle ceiling and the fraction of it, and the learning module's angle "
+                    "error at the faces (median, 90th percentile, share of identities whose "
+                    "median is above 10 deg).")
+    p.add_argument("model", metavar="MODEL", type=Path, help="a model file (train --out)")
+    p.add_argument("--datasets", metavar="FILE", help="held-out data sets (.npz)")
+    p.add_argument("--caregivers", type=int_in(1, 1000), metavar="K",
+                   help="instead: record K caregivers from the held-out stream (one no "
+                        "training recording uses) in the model's world, with rendering")
+    p.add_argument("--poses", type=int_in(1, 10_000), default=25,
+                   help="with --caregivers: data sets per caregiver (default: 25)")
+    p.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
+                   help="seed of the held-out recording and of the trials (default: 0)")
+    p.add_argument("--objects", type=int_in(1, 20), default=5,
+                   help="objects per trial, the target among them (default: 5)")
+    p.add_argument("--trials", type=int_in(1, 10**6), default=2000,
+                   help="trials of the model and of the oracle (default: 2000)")
+    p.add_argument("--out", help="folder for evaluation.csv and evaluation.json")
+    p.add_argument("--json", action="store_true", help="print one JSON object instead")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_evaluate)

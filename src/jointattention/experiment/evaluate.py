@@ -1,0 +1,185 @@
+"""Frozen models on other data sets: what a learned model carries over to poses and people.
+
+A number on the data sets a model learned from says how well it remembers. Here a learned
+agent is frozen (it learns nothing, its face statistics and its learning time stand still) and
+run on other data sets in the fast world, with the same scene sampler and trial rules as
+learning (:func:`~.cells.random_scene`, :class:`~.trial.SceneTrial`): its success, that set's
+oracle ceiling, and the learning module's angle error at the faces (:mod:`.probes`), overall
+and per caregiver identity.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._checks import check_int
+from ..config import Config
+from ..datasets import CaregiverDatasets
+from ..errors import ConfigError
+from ..rng import stream
+from ..world.kinematics import HeadKinematics
+from .cells import _trial_geometry, evaluator, random_scene
+from .compiled import CompiledCell, pack_world, unsupported
+from .oracle import OracleAgent
+from .probes import angle_errors
+from .trial import SceneTrial, run_trial
+
+__all__ = ["AIM_DEG", "Evaluation", "evaluate_agent", "freeze", "frozen_success",
+           "oracle_success"]
+
+AIM_DEG = 10.0  # an identity whose median error is above this is not followed
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """A frozen model on one data-set file (see the module docstring).
+
+    Attributes:
+        name: what the data sets are (``training``, ``new poses``, ``unseen caregivers``, a
+            file name).
+        n_sets: data sets; ``n_identities``: caregivers among them (1 if the file names none).
+        n_objects: objects per trial; ``n_trials``: trials run, by the model and the oracle.
+        success: the frozen model's share of trials ending on the caregiver's target.
+        ceiling: the oracle gaze-line follower's share on the same kind of trials.
+        median_error_deg, p90_error_deg: the learning module's angle error at the faces
+            (NaN for a model without one).
+        share_identities_over_10deg: the share of identities whose median error is above 10°.
+    """
+
+    name: str
+    n_sets: int
+    n_identities: int
+    n_objects: int
+    n_trials: int
+    success: float
+    ceiling: float
+    median_error_deg: float
+    p90_error_deg: float
+    share_identities_over_10deg: float
+
+    @property
+    def fraction_of_ceiling(self) -> float:
+        """Success as a fraction of the ceiling (NaN for a ceiling of 0)."""
+        return self.success / self.ceiling if self.ceiling > 0 else float("nan")
+
+    def as_dict(self) -> dict:
+        """The fields and ``fraction_of_ceiling``, as plain numbers (for JSON and CSV)."""
+        return {**dataclasses.asdict(self), "fraction_of_ceiling": self.fraction_of_ceiling}
+
+
+def freeze(agent):
+    """A copy of ``agent`` that learns nothing (``learning = False``); ``agent`` is untouched."""
+    if not hasattr(agent, "learning"):
+        raise ConfigError(f"{type(agent).__name__}: this model cannot be frozen (it has no "
+                          "'learning' switch); expected a model of the package's registry")
+    frozen = copy.deepcopy(agent)
+    frozen.learning = False
+    return frozen
+
+
+def frozen_success(agent, ds: CaregiverDatasets, config: Config, n_objects: int,
+                   n_trials: int, seed: int) -> float:
+    """The share of ``n_trials`` trials on ``ds`` that the frozen ``agent`` ends on the target.
+
+    The compiled engine runs the models it can (the same trials as step by step would be);
+    the rest run step by step. ``seed`` names the trials' stream.
+    """
+    frozen = freeze(agent)
+    rng = stream(seed, "evaluate", n_objects)
+    kin = HeadKinematics.from_config(config.world)
+    options = getattr(frozen, "options", None)
+    if options is not None and unsupported(options) is None:
+        geometry = [_trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+                    for k in range(len(ds))]
+        world = pack_world(config.world, ds, [g[0] for g in geometry],
+                           [g[1] for g in geometry], n_objects, False)
+        cell = CompiledCell(frozen, world, rng, stream(seed, "evaluate-shuffle"), n_trials)
+        cell.run_until(0)
+        return float(np.mean(cell.records()["success"]))
+    evaluate, wins = evaluator(config), 0
+    for _ in range(n_trials):
+        k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
+        trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                           max_steps=config.agent.max_steps, evaluate=evaluate)
+        wins += run_trial(trial, frozen, ds.face[k]).success
+    return wins / n_trials
+
+
+def oracle_success(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials: int,
+                   seed: int) -> float:
+    """The oracle gaze-line follower's share of ``n_trials`` trials on ``ds`` (its ceiling)."""
+    rng = stream(seed, "evaluate-ceiling", n_objects)
+    kin = HeadKinematics.from_config(config.world)
+    evaluate, step, wins = evaluator(config), np.deg2rad(config.agent.lm_step_deg), 0
+    for _ in range(n_trials):
+        k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
+        oracle = OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step)
+        trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                           max_steps=config.agent.max_steps, evaluate=evaluate)
+        wins += run_trial(trial, oracle, ds.face[k]).success
+    return wins / n_trials
+
+
+def _errors(agent, ds: CaregiverDatasets) -> tuple[float, float, float]:
+    """Median and 90th percentile angle error, and the share of identities above AIM_DEG."""
+    if not hasattr(agent, "lm_command"):
+        return float("nan"), float("nan"), float("nan")
+    e = angle_errors(agent, ds)
+    who = np.zeros(len(ds), int) if ds.caregiver is None else ds.caregiver
+    medians = np.array([np.median(e[who == i]) for i in np.unique(who)])
+    return (float(np.median(e)), float(np.percentile(e, 90)),
+            float(np.mean(medians > AIM_DEG)))
+
+
+def evaluate_agent(agent, ds: CaregiverDatasets, config: Config, *, name: str = "",
+                   n_objects: int = 5, n_trials: int = 2000, seed: int = 0,
+                   ceiling: float | None = None) -> Evaluation:
+    """The frozen ``agent`` of a run of ``config`` on the data sets ``ds`` (an Evaluation).
+
+    ``ceiling``: the set's oracle ceiling if known (it depends on the set, the object count,
+    the trials and the seed, not on the model), else measured here on ``n_trials`` trials.
+    """
+    check_int("n_objects", n_objects, 1, 20)
+    check_int("n_trials", n_trials, 1, 10**7)
+    check_int("seed", seed, 0, 2**63 - 1)
+    if not isinstance(ds, CaregiverDatasets):
+        raise ConfigError(f"datasets {ds!r}: expected CaregiverDatasets (jointattention."
+                          "load_datasets)")
+    if ds.window_size_px != tuple(agent.body.face_size_px):
+        raise ConfigError(f"{name or 'data sets'}: face windows of {ds.window_size_px[0]}x"
+                          f"{ds.window_size_px[1]} px; expected the model's "
+                          f"{agent.body.face_size_px[0]}x{agent.body.face_size_px[1]}")
+    if ceiling is None:
+        ceiling = oracle_success(ds, config, n_objects, n_trials, seed)
+    success = frozen_success(agent, ds, config, n_objects, n_trials, seed)
+    median, p90, share = _errors(freeze(agent), ds)
+    return Evaluation(name, len(ds), ds.n_caregivers or 1, n_objects, n_trials, success,
+                      float(ceiling), median, p90, share)
+
+
+def evaluate(model, datasets, *, name: str = "", n_objects: int = 5, n_trials: int = 2000,
+             seed: int = 0) -> Evaluation:
+    """A saved model, frozen, on data sets: :func:`evaluate_agent` for files.
+
+    ``model``: a :class:`~jointattention.agent.saved.LearnedModel` or a model file's path;
+    ``datasets``: :class:`~jointattention.datasets.CaregiverDatasets` or a data-set file's
+    path. ``name`` labels the result (default: the file's name).
+    """
+    from pathlib import Path
+
+    from ..agent.saved import LearnedModel, load_model
+    from ..datasets import load
+
+    if isinstance(model, (str, Path)):
+        model = load_model(model)
+    elif not isinstance(model, LearnedModel):
+        raise ConfigError(f"model {model!r}: expected a LearnedModel or a model file's path")
+    if isinstance(datasets, (str, Path)):
+        name = name or Path(datasets).name
+        datasets = load(datasets)
+    return evaluate_agent(model.agent, datasets, model.config, name=name, n_objects=n_objects,
+                          n_trials=n_trials, seed=seed)
