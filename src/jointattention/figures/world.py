@@ -93,7 +93,7 @@ def face_sheet(world: World, path: str | Path, pans_deg=(-40, -20, 0, 20, 40),
 
 
 def caregiver_sheet(world: World, path: str | Path, n: int = 64, columns: int = 8,
-                    zoom: int = 4) -> Path:
+                    zoom: int = 3) -> Path:
     """The faces of ``n`` identities of ``world``, one new scene each (its own identity first).
 
     Each tile is the robot's view of the face box in colour (``zoom`` times the face window's

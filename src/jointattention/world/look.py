@@ -103,5 +103,5 @@ def apply_sensor(image: np.ndarray, look: Look, rng: np.random.Generator) -> np.
         out = cv2.GaussianBlur(out, (0, 0), look.blur_sd_px)
     out *= look.gain
     if look.noise_sd > 0:
-        out += rng.normal(0, look.noise_sd, out.shape).astype(np.float32)
+        out += look.noise_sd * rng.standard_normal(out.shape, dtype=np.float32)
     return np.clip(np.rint(out), 0, 255).astype(np.uint8)
