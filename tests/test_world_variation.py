@@ -177,8 +177,11 @@ def test_identities_pose_the_data_sets(needs_gl):
         make_datasets(MANY, 5, seed=6, caregivers=2, identities=people)
 
 
-def test_caregivers_of_round_trips(tmp_path, needs_gl):
-    """The caregivers of a file pose new data sets, whose file names the same caregivers."""
+def test_caregivers_of_round_trips(tmp_path, needs_gl, capsys):
+    """The caregivers of a file pose new data sets, whose file names the same caregivers.
+
+    The command line refuses to pose them with the file's own seed and stream (its poses again).
+    """
     first = save(make_datasets(MANY, 4, seed=8, caregivers=2), tmp_path / "first.npz")
     people = caregivers_of(first, MANY)
     assert len(people) == 2 and people[0] == World(MANY, seed=8).caregiver
@@ -189,6 +192,11 @@ def test_caregivers_of_round_trips(tmp_path, needs_gl):
     assert main(["datasets", "make", "--config", "many-caregivers", "--n", "2", "--seed", "3",
                  "--caregivers-of", str(first), "--quiet", str(out)]) == 0
     assert caregivers_of(out, MANY) == people
+    again = ["datasets", "make", "--config", "many-caregivers", "--n", "2", "--seed", "8",
+             "--caregivers-of", str(first), "--quiet", str(tmp_path / "again.npz")]
+    assert main(again) == 2 and not (tmp_path / "again.npz").exists()
+    assert "its poses again; expected another --seed" in capsys.readouterr().err
+    assert main([*again[:-2], "--held-out", *again[-2:]]) == 0
 
 
 def test_caregivers_of_refuses_files_that_do_not_say(tmp_path):

@@ -32,7 +32,7 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
     from ..config import load_config
-    from ..datasets import save
+    from ..datasets import load, save
     from ..world.recording import HELD_OUT, caregivers_of, make_datasets
 
     config = load_config(args.config)
@@ -41,12 +41,17 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
     if args.caregivers > args.n:
         raise JointAttentionError(f"--caregivers {args.caregivers}: expected at most --n "
                                   f"({args.n}); each caregiver poses at least one data set")
-    identities = None
+    identities, stream = None, HELD_OUT if args.held_out else "world"
     if args.caregivers_of is not None:
         if args.caregivers != 1:
             raise JointAttentionError("--caregivers-of: the file's caregivers pose; expected no "
                                       "--caregivers")
         identities = caregivers_of(args.caregivers_of, config.world)
+        recorded = load(args.caregivers_of).meta
+        if recorded.get("seed") == args.seed and recorded.get("stream", "world") == stream:
+            raise JointAttentionError(f"--caregivers-of {args.caregivers_of}: recorded with seed "
+                                      f"{args.seed} in this stream, so these would be its poses "
+                                      "again; expected another --seed (or --held-out)")
         if len(identities) > args.n:
             raise JointAttentionError(f"--caregivers-of {args.caregivers_of}: "
                                       f"{len(identities)} caregivers; expected at most --n "
@@ -55,7 +60,7 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
     with tqdm(total=args.n, desc="data sets", unit="set", disable=args.quiet) as bar:
         ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1),
                            caregivers=args.caregivers, cut=args.cut,
-                           stream=HELD_OUT if args.held_out else "world", identities=identities)
+                           stream=stream, identities=identities)
     print(save(ds, args.out))
 
 
@@ -118,7 +123,8 @@ def add_commands(sub) -> None:
                         "for every seed")
     q.add_argument("--caregivers-of", metavar="FILE",
                    help="new poses of the caregivers of FILE (a data-set file recorded here, in "
-                        "the same world configuration): the N data sets split evenly among them")
+                        "the same world configuration, with another seed or stream): the N data "
+                        "sets split evenly among them")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
     q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
     q.set_defaults(func=_cmd_datasets_make)
