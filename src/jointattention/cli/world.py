@@ -14,7 +14,7 @@ __all__ = ["add_commands"]
 
 def _cmd_render(args: argparse.Namespace) -> None:
     from ..config import load_config
-    from ..figures.world import face_sheet, robot_view
+    from ..figures.world import caregiver_sheet, face_sheet, robot_view
     from ..world.simulator import World
 
     config = load_config(args.config)
@@ -24,14 +24,16 @@ def _cmd_render(args: argparse.Namespace) -> None:
     with World(config.world, seed=seed) as world:
         print(robot_view(world, out / "robot_view.png", d_th_px))
         print(face_sheet(world, out / "face_windows.png"))
+        if args.caregivers:
+            print(caregiver_sheet(world, out / "identities.png", args.caregivers))
 
 
 def _cmd_datasets_make(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
     from ..config import load_config
-    from ..datasets import save
-    from ..world.recording import make_datasets
+    from ..datasets import load, save
+    from ..world.recording import HELD_OUT, caregivers_of, make_datasets
 
     config = load_config(args.config)
     if not args.out.endswith(".npz"):
@@ -39,10 +41,26 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
     if args.caregivers > args.n:
         raise JointAttentionError(f"--caregivers {args.caregivers}: expected at most --n "
                                   f"({args.n}); each caregiver poses at least one data set")
+    identities, stream = None, HELD_OUT if args.held_out else "world"
+    if args.caregivers_of is not None:
+        if args.caregivers != 1:
+            raise JointAttentionError("--caregivers-of: the file's caregivers pose; expected no "
+                                      "--caregivers")
+        identities = caregivers_of(args.caregivers_of, config.world)
+        recorded = load(args.caregivers_of).meta
+        if recorded.get("seed") == args.seed and recorded.get("stream", "world") == stream:
+            raise JointAttentionError(f"--caregivers-of {args.caregivers_of}: recorded with seed "
+                                      f"{args.seed} in this stream, so these would be its poses "
+                                      "again; expected another --seed (or --held-out)")
+        if len(identities) > args.n:
+            raise JointAttentionError(f"--caregivers-of {args.caregivers_of}: "
+                                      f"{len(identities)} caregivers; expected at most --n "
+                                      f"({args.n}); each poses at least one data set")
     check_writable(args.out, "file", "OUT")
     with tqdm(total=args.n, desc="data sets", unit="set", disable=args.quiet) as bar:
         ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1),
-                           caregivers=args.caregivers, cut=args.cut)
+                           caregivers=args.caregivers, cut=args.cut,
+                           stream=stream, identities=identities)
     print(save(ds, args.out))
 
 
@@ -74,6 +92,9 @@ def add_commands(sub) -> None:
     p.add_argument("--seed", type=int_in(0, 2**63 - 1),
                    help="world seed (default: the configuration's)")
     p.add_argument("--out", default="runs/render", help="output folder (default: runs/render)")
+    p.add_argument("--caregivers", type=int_in(0, 1000), default=0, metavar="K",
+                   help="also write identities.png: the faces of K caregivers of the world, "
+                        "one new scene each (default: 0, none)")
     p.set_defaults(func=_cmd_render)
 
     p = sub.add_parser("datasets", help="make or check caregiver data sets",
@@ -96,6 +117,14 @@ def add_commands(sub) -> None:
                    help="where face windows are cut: around the head's projection (default, "
                         "the experimenter's knowledge) or around the face the robot's own "
                         "finder finds, as follow and datasets import cut them")
+    q.add_argument("--held-out", action="store_true",
+                   help="record from the held-out stream, which no training world draws from: "
+                        "its caregivers and poses are none of those recorded without the flag, "
+                        "for every seed")
+    q.add_argument("--caregivers-of", metavar="FILE",
+                   help="new poses of the caregivers of FILE (a data-set file recorded here, in "
+                        "the same world configuration, with another seed or stream): the N data "
+                        "sets split evenly among them")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
     q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
     q.set_defaults(func=_cmd_datasets_make)

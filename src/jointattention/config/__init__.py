@@ -7,10 +7,11 @@ the configuration (readable) and in radians in the code that uses them (``*_rad`
 A model's or a gate's options are a section of :func:`param` fields too (see
 ``docs/architecture.md``).
 
-Sections: ``[world]`` (what only the experimenter sets, :mod:`.world`), ``[agent]`` (the
-robot's shared mechanisms) and ``[detector]`` (:mod:`.agent`), ``[model]`` (what learns: a
-kind registered in :data:`~jointattention.agent.models.MODELS` and its options) and
-``[experiment]`` with its conditions (:mod:`.run`).
+Sections: ``[world]`` (what only the experimenter sets, :mod:`.world`; how it varies,
+:mod:`.variation`), ``[agent]`` (the robot's shared mechanisms) and ``[detector]``
+(:mod:`.agent`), ``[model]`` (what learns: a kind registered in
+:data:`~jointattention.agent.models.MODELS` and its options) and ``[experiment]`` with its
+conditions (:mod:`.run`).
 """
 
 from .._fields import param
@@ -31,8 +32,11 @@ from .world import (
     CaregiverConfig,
     FaceWindowConfig,
     HeadConfig,
+    IdentityConfig,
     LightingConfig,
     ObjectsConfig,
+    RoomConfig,
+    SensorConfig,
     WorldConfig,
 )
 
@@ -46,8 +50,11 @@ __all__ = [
     "ExperimentConfig",
     "FaceWindowConfig",
     "HeadConfig",
+    "IdentityConfig",
     "LightingConfig",
     "ObjectsConfig",
+    "RoomConfig",
+    "SensorConfig",
     "WorldConfig",
     "condition_named",
     "load_config",

@@ -1,22 +1,28 @@
 """The world's configuration: what only the experimenter sets.
 
-The camera, head, caregiver, objects, light and face window.
+The camera, head, caregiver, objects, light and face window; how caregivers, the room and the
+robot's image vary is in :mod:`.variation`.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 from .._fields import Section, param
 from ..errors import ConfigError
+from .variation import IdentityConfig, RoomConfig, SensorConfig
 
 __all__ = [
     "CameraConfig",
     "CaregiverConfig",
     "FaceWindowConfig",
     "HeadConfig",
+    "IdentityConfig",
     "LightingConfig",
     "ObjectsConfig",
+    "RoomConfig",
+    "SensorConfig",
     "WorldConfig",
 ]
 
@@ -65,6 +71,12 @@ class CaregiverConfig(Section):
         0.8, "fraction of the gaze rotation made by the head; the eyes make the rest", lo=0, hi=1
     )
     pose_noise_deg: float = param(2.0, "s.d. of the head's yaw and pitch error", lo=0, hi=20)
+    distance_spread_m: float = param(
+        0.0, "per identity: her own mean distance is distance_m plus a uniform offset within "
+        "+-this (0: every caregiver at distance_m)", lo=0, hi=2)
+    height_spread_m: float = param(
+        0.0, "per identity: her own head height (her stature) is height_m plus a uniform offset "
+        "within +-this", lo=0, hi=0.5)
 
 
 @dataclass(frozen=True)
@@ -103,6 +115,14 @@ class LightingConfig(Section):
         (0.55, 0.85), "range of the key light's diffuse intensity", lo=0, hi=1
     )
     position_jitter_m: float = param(0.5, "s.d. of the key light's position", lo=0, hi=3)
+    direction_jitter_deg: float = param(
+        0.0, "per scene: s.d. of the key light's direction in azimuth and in elevation about "
+        "its default (down, toward the caregiver)", lo=0, hi=60)
+    tint_range: tuple[float, float] = param(
+        (0.0, 0.0), "per scene: the key light's colour, from -1 (warm, like a bulb) through 0 "
+        "(white) to +1 (cool, like daylight)", lo=-1, hi=1)
+    ambient_range: tuple[float, float] = param(
+        (0.4, 0.4), "per scene: the ambient light's strength (grey, from every side)", lo=0, hi=1)
 
 
 @dataclass(frozen=True)
@@ -126,24 +146,25 @@ class WorldConfig(Section):
     objects: ObjectsConfig = ObjectsConfig()
     lighting: LightingConfig = LightingConfig()
     face_window: FaceWindowConfig = FaceWindowConfig()
+    identity: IdentityConfig = IdentityConfig()
+    room: RoomConfig = RoomConfig()
+    sensor: SensorConfig = SensorConfig()
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        for name, (lo, hi) in [
-            ("head.pan_limits_deg", self.head.pan_limits_deg),
-            ("head.tilt_limits_deg", self.head.tilt_limits_deg),
-            ("objects.radius_range_m", self.objects.radius_range_m),
-            ("objects.distance_range_m", self.objects.distance_range_m),
-            ("objects.pan_range_deg", self.objects.pan_range_deg),
-            ("objects.tilt_range_deg", self.objects.tilt_range_deg),
-            ("caregiver.head_scale_range", self.caregiver.head_scale_range),
-            ("lighting.intensity_range", self.lighting.intensity_range),
-        ]:
-            if lo > hi:
-                raise ConfigError(f"{name} = [{lo}, {hi}]: expected the low end first")
-        if self.objects.distance_range_m[1] >= self.caregiver.distance_m:
+        for section in dataclasses.fields(self):
+            part = getattr(self, section.name)
+            for f in dataclasses.fields(part):
+                value = getattr(part, f.name)
+                if ("_range" in f.name or "_limits" in f.name) and value[0] > value[1]:
+                    raise ConfigError(f"{section.name}.{f.name} = [{value[0]}, {value[1]}]: "
+                                      "expected the low end first")
+        cg = self.caregiver
+        if self.objects.distance_range_m[1] >= cg.distance_m - cg.distance_spread_m:
+            spread = f" - caregiver.distance_spread_m = {cg.distance_spread_m}" \
+                if cg.distance_spread_m else ""
             raise ConfigError(
                 f"objects.distance_range_m = {list(self.objects.distance_range_m)}: expected "
                 f"objects nearer than the caregiver (caregiver.distance_m = "
-                f"{self.caregiver.distance_m}), so that it can look at them"
+                f"{cg.distance_m}{spread}), so that it can look at them"
             )

@@ -1,4 +1,4 @@
-"""Pictures of the live world: the robot's view and a contact sheet of face windows."""
+"""Pictures of the live world: the robot's view and contact sheets of face windows."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ from ..world.scene import with_target
 from ..world.simulator import World
 from ._save import new_figure, save_figure
 
-__all__ = ["face_sheet", "robot_view"]
+__all__ = ["caregiver_sheet", "face_sheet", "robot_view"]
 
 WHITE, CYAN, YELLOW = (255, 255, 255), (40, 220, 255), (255, 230, 0)
 
@@ -90,3 +90,39 @@ def face_sheet(world: World, path: str | Path, pans_deg=(-40, -20, 0, 20, 40),
     fig.suptitle("face windows; the caregiver looks at a target in the direction shown "
                  "(as seen by the robot)", fontsize=8)
     return save_figure(fig, path)
+
+
+def caregiver_sheet(world: World, path: str | Path, n: int = 64, columns: int = 8,
+                    zoom: int = 3) -> Path:
+    """The faces of ``n`` identities of ``world``, one new scene each (its own identity first).
+
+    Each tile is the robot's view of the face box in colour (``zoom`` times the face window's
+    size) beside the grayscale face window that a recording keeps (shown ``zoom`` times
+    larger): light, room and camera effects as the scene drew them.
+    """
+    fw = world.config.face_window
+    size = (fw.width_px * zoom, fw.height_px * zoom)
+    rows = -(-n // columns)
+    sheet = np.full((rows * (size[1] + 4), columns * (2 * size[0] + 8), 3), 255, np.uint8)
+    for k in range(n):
+        if k:
+            world.reset(new_identity=True)
+        world.set_head_angle(world.face_angle_rad)
+        image = world.render()
+        centre, height = face_box(world)
+        crop = (int(round(height * fw.width_px / fw.height_px)), int(round(height)))
+        colour = cv2.resize(cv2.getRectSubPix(image, crop, tuple(float(x) for x in centre)),
+                            size, interpolation=cv2.INTER_AREA)
+        gray = cv2.resize(capture_face_window(world, image), size,
+                          interpolation=cv2.INTER_NEAREST)
+        r, c = divmod(k, columns)
+        y, x = r * (size[1] + 4), c * (2 * size[0] + 8)
+        sheet[y:y + size[1], x:x + size[0]] = colour
+        sheet[y:y + size[1], x + size[0]:x + 2 * size[0]] = gray[..., None]
+    fig = new_figure(sheet.shape[1] / 100, sheet.shape[0] / 100 + 0.3)
+    ax = fig.subplots()
+    ax.imshow(sheet, interpolation="nearest")
+    ax.set_axis_off()
+    ax.set_title(f"{n} caregivers: the robot's view of each face (colour) and the face window "
+                 "it keeps (grey)", fontsize=9)
+    return save_figure(fig, path, dpi=100)

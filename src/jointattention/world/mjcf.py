@@ -10,7 +10,8 @@ from __future__ import annotations
 from ..config import WorldConfig
 from .kinematics import HeadKinematics
 
-__all__ = ["CAREGIVER_PARTS", "HEAD_RADII_M", "build_mjcf"]
+__all__ = ["CAREGIVER_PARTS", "EYE_POS_M", "EYE_RADIUS_M", "HEADLIGHT_AMBIENT", "HEAD_RADII_M",
+           "KEY_LIGHT_DIR", "PUPIL_RADIUS_M", "PUPIL_RGB", "WALLS", "build_mjcf"]
 
 # The caregiver's head ellipsoid (half width, half depth, half height) at scale 1.
 HEAD_RADII_M = (0.075, 0.085, 0.105)
@@ -28,6 +29,10 @@ CAREGIVER_PARTS = {
 EYE_POS_M = {"l": (-0.03, -0.066, 0.017), "r": (0.03, -0.066, 0.017)}
 EYE_RADIUS_M = 0.0145
 PUPIL_RADIUS_M = 0.0075
+PUPIL_RGB = (0.06, 0.05, 0.05)  # the iris and pupil, one sphere: the default (darkest) iris
+HEADLIGHT_AMBIENT = 0.4  # the ambient light's default strength
+KEY_LIGHT_DIR = (-0.1, 0.3, -1.0)  # the key light's default direction
+WALLS = ("wall_back", "wall_left", "wall_right")
 
 
 def _vec(v) -> str:
@@ -52,7 +57,7 @@ def build_mjcf(world: WorldConfig) -> str:
         f'          <geom name="cg_eyeball_{s}" type="sphere" size="{EYE_RADIUS_M}"'
         f' rgba="0.95 0.95 0.93 1"/>\n'
         f'          <geom name="cg_pupil_{s}" type="sphere" size="{PUPIL_RADIUS_M}"'
-        f' pos="0 {-(EYE_RADIUS_M - PUPIL_RADIUS_M * 0.45):.6g} 0" rgba="0.06 0.05 0.05 1"/>\n'
+        f' pos="0 {-(EYE_RADIUS_M - PUPIL_RADIUS_M * 0.45):.6g} 0" rgba="{_vec(PUPIL_RGB)} 1"/>\n'
         f"        </body>"
         for s, pos in EYE_POS_M.items()
     )
@@ -68,7 +73,7 @@ def build_mjcf(world: WorldConfig) -> str:
   <option gravity="0 0 0"/>
   <visual>
     <global offwidth="{size}" offheight="{size}"/>
-    <headlight ambient="0.4 0.4 0.4" diffuse="0.25 0.25 0.25" specular="0 0 0"/>
+    <headlight ambient="{_vec([HEADLIGHT_AMBIENT] * 3)}" diffuse="0.25 0.25 0.25" specular="0 0 0"/>
     <quality shadowsize="0"/>
   </visual>
   <default>
@@ -80,7 +85,7 @@ def build_mjcf(world: WorldConfig) -> str:
     <material name="mat_room" specular="0" shininess="0"/>
   </asset>
   <worldbody>
-    <light name="key" pos="0.3 0.2 1.6" dir="-0.1 0.3 -1" diffuse="0.7 0.7 0.7"
+    <light name="key" pos="0.3 0.2 1.6" dir="{_vec(KEY_LIGHT_DIR)}" diffuse="0.7 0.7 0.7"
            specular="0.1 0.1 0.1" castshadow="false"/>
     <geom name="floor" type="plane" size="4 4 0.1" pos="0 0 -1.1" rgba="0.42 0.40 0.37 1"
           material="mat_room"/>

@@ -1,19 +1,32 @@
-"""Recording caregiver data sets from the simulated world (the paper's protocol)."""
+"""Recording caregiver data sets from the simulated world (the paper's protocol).
+
+Streams: a world draws its identities and scenes from the random stream named ``"world"`` of
+its seed; :data:`HELD_OUT` names a stream that no training world draws from, so recordings
+made from it hold caregivers and poses that no recording of the ``"world"`` stream holds, for
+every seed (``datasets make --held-out``).
+"""
 
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from pathlib import Path
 
 import numpy as np
 
 from .. import __version__
+from .. import rng as rngs
 from ..agent.faces import face_template, face_window, finder_for, window_of
 from ..config import Config, DetectorConfig, WorldConfig, to_toml
-from ..datasets import CaregiverDatasets
+from ..datasets import CaregiverDatasets, load
+from ..errors import DatasetError
+from .identity import Caregiver, caregiver_from_dict, sample_caregiver
 from .simulator import World
 
-__all__ = ["CUTS", "capture_face_window", "face_box", "make_datasets", "split_evenly"]
+__all__ = ["CUTS", "HELD_OUT", "capture_face_window", "caregivers_of", "face_box",
+           "make_datasets", "split_evenly"]
+
+HELD_OUT = "held-out"  # the stream of held-out recordings; no training world draws from it
 
 CUTS = ("box", "finder")  # where make_datasets cuts the face windows
 
@@ -65,7 +78,8 @@ def split_evenly(n: int, k: int) -> np.ndarray:
 
 def make_datasets(
     config: WorldConfig, n: int, seed: int, progress: Callable[[int], None] | None = None,
-    caregivers: int = 1, cut: str = "box",
+    caregivers: int = 1, cut: str = "box", *, stream: str = "world",
+    identities: Sequence[Caregiver] | None = None,
 ) -> CaregiverDatasets:
     """``n`` data sets, each from a new scene, posed by ``caregivers`` people.
 
@@ -82,11 +96,24 @@ def make_datasets(
     finds, with the mean of the recording's box windows as its template, as a robot's
     recordings are made (``datasets import``) and as ``follow`` and the closed loop cut their
     windows; data sets whose face it does not find are left out (``meta["without_face"]``).
+
+    ``stream``: the world's random stream (:class:`World`); another than ``"world"`` is kept in
+    ``meta["stream"]``. ``identities``: the data sets are posed by these caregivers instead,
+    split evenly in turn, in scenes drawn from the stream (new poses of known caregivers, e.g.
+    :func:`caregivers_of` a recording); ``meta["caregivers"]`` names them.
     """
     if cut not in CUTS:
         raise ValueError(f"cut {cut!r}: expected one of {', '.join(CUTS)}")
     if n < 1:
         raise ValueError(f"n = {n}: expected at least one data set")
+    if identities is not None:
+        identities = list(identities)
+        if not identities or not all(isinstance(c, Caregiver) for c in identities):
+            raise ValueError("identities: expected a non-empty list of Caregiver")
+        if caregivers != 1:
+            raise ValueError(f"caregivers = {caregivers} with identities: expected one or the "
+                             "other (the identities say how many caregivers pose)")
+        caregivers = len(identities)
     if not 1 <= caregivers <= n:
         raise ValueError(f"caregivers = {caregivers}: expected 1 to n = {n} (each caregiver "
                          "poses at least one data set)")
@@ -96,13 +123,16 @@ def make_datasets(
     command = np.empty((n, 2))
     target = np.empty((n, 3))
     who = split_evenly(n, caregivers)
-    identities, images = [], []
-    with World(config, seed=seed) as world:
+    people, images = [], []
+    with World(config, seed=seed, stream=stream) as world:
         for i in range(n):
             new_identity = i > 0 and who[i] != who[i - 1]
+            if identities is not None:
+                world.caregiver = identities[who[i]]
+                new_identity = False
             state = world.reset(new_identity=new_identity)
-            if i == 0 or new_identity:
-                identities.append(dataclasses.asdict(world.caregiver))
+            if i == 0 or who[i] != who[i - 1]:
+                people.append(dataclasses.asdict(world.caregiver))
             theta_face[i] = world.face_angle_rad
             world.set_head_angle(theta_face[i])
             image = world.render()
@@ -118,12 +148,54 @@ def make_datasets(
         "seed": seed,
         "world_config_toml": to_toml(Config(world=config)),
     }
+    if stream != "world":
+        meta["stream"] = stream
     if cut == "finder":
         keep = _cut_by_finder(images, faces, (fw.width_px, fw.height_px))
         faces, theta_face, command, target, who = (
             a[keep] for a in (faces, theta_face, command, target, who))
         meta.update(cut="finder", without_face=np.flatnonzero(~keep).tolist())
+    if identities is not None or caregivers > 1:
+        meta["caregivers"] = people
     if caregivers == 1:
         return CaregiverDatasets(faces, theta_face, command, target, meta)
-    meta["caregivers"] = identities
     return CaregiverDatasets(faces, theta_face, command, target, meta, caregiver=who)
+
+
+def caregivers_of(datasets: CaregiverDatasets | str | Path,
+                  world_config: WorldConfig) -> list[Caregiver]:
+    """The caregivers who posed ``datasets`` (or the data-set file of that name), in order.
+
+    From ``meta["caregivers"]`` where the data sets name them (several caregivers, or given
+    identities); else the one identity of ``World(world_config, seed=meta["seed"],
+    stream=meta.get("stream", "world"))``, drawn here without building the world.
+    ``world_config`` must be the world they were recorded in. Give them to
+    ``make_datasets(..., identities=...)`` for new poses of the same people. Data sets that do
+    not say who posed them (a robot's recording) raise :class:`DatasetError`.
+    """
+    where = "data sets"
+    if not isinstance(datasets, CaregiverDatasets):
+        where, datasets = str(datasets), load(datasets)
+    meta = datasets.meta
+    if "caregivers" in meta:
+        people = meta["caregivers"]
+        if not isinstance(people, list) or not people:
+            raise DatasetError(f"{where}: meta 'caregivers': expected a list of identities")
+        out = []
+        for i, person in enumerate(people):
+            try:
+                out.append(caregiver_from_dict(person))
+            except ValueError as err:
+                raise DatasetError(f"{where}: meta 'caregivers'[{i}]: {err}") from None
+        if datasets.caregiver is not None and int(datasets.caregiver.max()) >= len(out):
+            raise DatasetError(f"{where}: field 'caregiver' names caregiver "
+                               f"{int(datasets.caregiver.max())}; meta 'caregivers' has "
+                               f"{len(out)}")
+        return out
+    seed, stream = meta.get("seed"), meta.get("stream", "world")
+    if datasets.n_caregivers not in (None, 1) or isinstance(seed, bool) \
+            or not isinstance(seed, int) or seed < 0 or not isinstance(stream, str) or not stream:
+        raise DatasetError(f"{where}: the data sets do not say who posed them (expected meta "
+                           "'caregivers', or the 'seed' of jointattention datasets make); a "
+                           "robot's recording names no simulated caregiver")
+    return [sample_caregiver(world_config, rngs.stream(seed, stream))]  # the world's first draw

@@ -2,6 +2,8 @@
 
 A :class:`SceneState` is a complete, immutable description of one scene; the simulator shows
 it, the fast projection projects it, and ground truth (the caregiver's target) lives in it.
+Identities are :mod:`.identity`'s (``Caregiver`` and ``sample_caregiver`` are named here too);
+the light's colour, the room's and the robot's image effects are :mod:`.look`'s.
 """
 
 from __future__ import annotations
@@ -12,7 +14,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..config import WorldConfig
-from .mjcf import HEAD_RADII_M
+from .identity import Caregiver, sample_caregiver
+from .look import Look, sample_look
 from .placement import sample_objects
 
 __all__ = [
@@ -26,35 +29,6 @@ __all__ = [
     "with_new_distractors",
     "with_target",
 ]
-
-_SKIN_TONES = np.array(
-    [
-        [0.96, 0.80, 0.69],
-        [0.87, 0.67, 0.53],
-        [0.71, 0.51, 0.38],
-        [0.55, 0.38, 0.26],
-        [0.38, 0.26, 0.18],
-    ]
-)
-_HAIR_COLOURS = np.array(
-    [
-        [0.08, 0.06, 0.05],
-        [0.28, 0.18, 0.10],
-        [0.55, 0.42, 0.25],
-        [0.62, 0.60, 0.58],
-        [0.45, 0.20, 0.10],
-    ]
-)
-
-
-@dataclass(frozen=True)
-class Caregiver:
-    """Who the caregiver is: head size and colours (its identity)."""
-
-    head_scale: float
-    skin_rgb: tuple[float, float, float]
-    hair_rgb: tuple[float, float, float]
-    shirt_rgb: tuple[float, float, float]
 
 
 @dataclass(frozen=True)
@@ -71,6 +45,7 @@ class SceneState:
     target_index: int  # the object the caregiver attends to
     light_pos_m: np.ndarray  # (3,)
     light_intensity: float
+    look: Look = Look()  # light colour and direction, ambient, room, image effects
 
     @property
     def n_objects(self) -> int:
@@ -85,7 +60,7 @@ class SceneState:
     @property
     def face_radius_m(self) -> float:
         """Half the apparent height of the head (the face window is cropped from it)."""
-        return HEAD_RADII_M[2] * self.caregiver.head_scale
+        return self.caregiver.face_radius_m
 
 
 def gaze_angles(from_m, to_m) -> np.ndarray:
@@ -93,21 +68,6 @@ def gaze_angles(from_m, to_m) -> np.ndarray:
     v = np.asarray(to_m, float) - np.asarray(from_m, float)
     v = v / np.linalg.norm(v)
     return np.array([np.arctan2(v[0], -v[1]), -np.arcsin(v[2])])
-
-
-def sample_caregiver(world: WorldConfig, rng: np.random.Generator) -> Caregiver:
-    """A caregiver identity: head size, skin, hair and shirt colours."""
-    lo, hi = world.caregiver.head_scale_range
-    skin = _SKIN_TONES[rng.integers(len(_SKIN_TONES))] * rng.uniform(0.93, 1.05)
-    hair = _HAIR_COLOURS[rng.integers(len(_HAIR_COLOURS))]
-    # Dull shirt: low saturation, so that only the objects are bright colours.
-    shirt = colorsys.hsv_to_rgb(rng.uniform(), rng.uniform(0.1, 0.3), rng.uniform(0.3, 0.6))
-    return Caregiver(
-        head_scale=float(rng.uniform(lo, hi)),
-        skin_rgb=tuple(float(x) for x in np.clip(skin, 0, 1)),
-        hair_rgb=tuple(float(x) for x in hair),
-        shirt_rgb=tuple(float(x) for x in shirt),
-    )
 
 
 def sample_scene(
@@ -120,13 +80,17 @@ def sample_scene(
     cg = world.caregiver
     n = world.objects.n_objects if n_objects is None else n_objects
     caregiver = caregiver if caregiver is not None else sample_caregiver(world, rng)
-    head_pos = np.array([0.0, cg.distance_m, cg.height_m]) + rng.normal(0, cg.position_noise_m, 3)
-    face_radius = HEAD_RADII_M[2] * caregiver.head_scale
+    # Her own place: offsets of exactly 0 leave the default world's numbers as they were.
+    place = [0.0, cg.distance_m + caregiver.distance_offset_m,
+             cg.height_m + caregiver.height_offset_m]
+    head_pos = np.array(place) + rng.normal(0, cg.position_noise_m, 3)
+    face_radius = caregiver.face_radius_m
     obj_pos, obj_rad = sample_objects(world, head_pos, face_radius, rng, n)
     rgb = _object_colours(n, rng)
     target = int(rng.integers(n))
     gaze = gaze_angles(head_pos, obj_pos[target])
     head = cg.head_turn_fraction * gaze + rng.normal(0, np.deg2rad(cg.pose_noise_deg), 2)
+    light = _light(world, rng)
     return SceneState(
         caregiver=caregiver,
         head_pos_m=head_pos,
@@ -136,7 +100,8 @@ def sample_scene(
         object_radius_m=obj_rad,
         object_rgb=rgb,
         target_index=target,
-        **_light(world, rng),
+        **light,
+        look=sample_look(world, rng),  # after the light: its draws come last
     )
 
 
@@ -159,14 +124,17 @@ def scene_with(world: WorldConfig, caregiver: Caregiver, head_pos_m, object_pos_
     """A scene of given geometry, the caregiver looking at the target.
 
     The geometry is a trial's objects and the caregiver's head where a data set has it; the
-    caregiver looks without pose noise; ``rng`` draws the objects' colours and the light.
+    caregiver looks without pose noise; ``rng`` draws the objects' colours, the light and the
+    look.
     """
     head_pos_m = np.asarray(head_pos_m, float)
     object_pos_m = np.asarray(object_pos_m, float)
     head, eyes = _look_at(world, head_pos_m, object_pos_m[target_index])
+    colours = _object_colours(len(object_pos_m), rng)
+    light = _light(world, rng)
     return SceneState(caregiver, head_pos_m, head, eyes, object_pos_m,
-                      np.asarray(object_radius_m, float), _object_colours(len(object_pos_m), rng),
-                      int(target_index), **_light(world, rng))
+                      np.asarray(object_radius_m, float), colours, int(target_index), **light,
+                      look=sample_look(world, rng))
 
 
 def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneState:

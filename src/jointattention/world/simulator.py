@@ -9,10 +9,13 @@ from ..agent.attention import attended_object
 from ..config import WorldConfig
 from ..errors import RenderingUnavailable
 from . import _gl
+from .face import BODIES, head_colours, head_parts
 from .fast import FastScene
+from .identity import sample_caregiver
 from .kinematics import HeadKinematics
-from .mjcf import build_mjcf
-from .scene import SceneState, sample_caregiver, sample_scene
+from .look import apply_sensor
+from .mjcf import WALLS, build_mjcf
+from .scene import SceneState, sample_scene
 
 __all__ = ["World"]
 
@@ -32,25 +35,34 @@ class World:
     Args:
         config: the world's geometry, camera and variation ranges.
         seed: the seed of the world's own random stream (scenes, identities).
+        stream: the name of that stream (:func:`jointattention.rng.stream`): ``"world"``, or
+            ``"held-out"`` for caregivers and poses that no training world draws.
 
     The caregiver's identity is drawn once from the seed; :meth:`reset` draws a new scene
-    (objects, target, gaze, light) each call. Rendering starts lazily, so a world used only
-    for fast projection needs no OpenGL. The first world imports MuJoCo, after choosing its
-    off-screen OpenGL backend (``MUJOCO_GL``: EGL, else OSMesa) unless the user set it.
+    (objects, target, gaze, light, look) each call. Rendering starts lazily, so a world used
+    only for fast projection needs no OpenGL. The first world imports MuJoCo, after choosing
+    its off-screen OpenGL backend (``MUJOCO_GL``: EGL, else OSMesa) unless the user set it.
     """
 
-    def __init__(self, config: WorldConfig | None = None, *, seed: int = 0):
+    def __init__(self, config: WorldConfig | None = None, *, seed: int = 0,
+                 stream: str = "world"):
+        if not isinstance(stream, str) or not stream:
+            raise ValueError(f"stream = {stream!r}: expected a stream's name")
         self.config = config if config is not None else WorldConfig()
         self.kinematics = HeadKinematics.from_config(self.config)
         mujoco = _gl.mujoco()
         self.model = mujoco.MjModel.from_xml_string(build_mjcf(self.config))
         self.data = mujoco.MjData(self.model)
-        self.rng = rngs.stream(seed, "world")
+        self.stream = stream
+        self.rng = rngs.stream(seed, stream)
         self.caregiver = sample_caregiver(self.config, self.rng)
         self._renderer = None
         self._base_size = self.model.geom_size.copy()
         self._base_pos = self.model.body_pos.copy()
         self._base_geom_pos = self.model.geom_pos.copy()
+        self._base_rgba = self.model.geom_rgba.copy()
+        self._base_light_dir = self.model.light_dir.copy()
+        self._noise = np.random.default_rng(0)  # the sensor noise of the scene's images
         self.state: SceneState = sample_scene(self.config, self.rng, self.caregiver)
         self.set_scene(self.state)
 
@@ -71,29 +83,26 @@ class World:
                 f"{self.config.objects.n_objects}"
             )
         self.state = state
-        cg = state.caregiver
+        cg, look = state.caregiver, state.look
+        for name, part in head_parts(cg).items():
+            if name in BODIES:
+                b = m.body(name).id
+                m.body_pos[b] = self._base_pos[b] * part.pos + part.offset_m
+            else:
+                g = m.geom(name).id
+                m.geom_size[g] = self._base_size[g] * part.size
+                m.geom_pos[g] = self._base_geom_pos[g] * part.pos + part.offset_m
+        for name, rgb in head_colours(cg).items():
+            m.geom_rgba[m.geom(name).id] = (*rgb, 1)
+        for names, factors in ((WALLS, look.wall_rgb), (("floor",), look.floor_rgb)):
+            for g in (m.geom(name).id for name in names):
+                m.geom_rgba[g, :3] = np.clip(self._base_rgba[g, :3] * factors, 0, 1)
         head = m.body("cg_head")
-        head_geoms = np.flatnonzero(m.geom_bodyid == head.id)
-        eye_bodies = [m.body(f"cg_eye_{s}").id for s in "lr"]
-        for g in head_geoms:
-            m.geom_size[g] = self._base_size[g] * cg.head_scale
-            m.geom_pos[g] = self._base_geom_pos[g] * cg.head_scale
-        for b in eye_bodies:
-            m.body_pos[b] = self._base_pos[b] * cg.head_scale
-            for g in np.flatnonzero(m.geom_bodyid == b):
-                m.geom_size[g] = self._base_size[g] * cg.head_scale
-                m.geom_pos[g] = self._base_geom_pos[g] * cg.head_scale
-        m.geom_rgba[m.geom("cg_skin").id] = (*cg.skin_rgb, 1)
-        m.geom_rgba[m.geom("cg_nose").id] = (*(np.array(cg.skin_rgb) * 0.9), 1)
-        m.geom_rgba[m.geom("cg_mouth").id] = (*(np.array(cg.skin_rgb) * [0.6, 0.3, 0.3]), 1)
-        for name in ("cg_hair", "cg_brow_l", "cg_brow_r"):
-            m.geom_rgba[m.geom(name).id] = (*cg.hair_rgb, 1)
-        m.geom_rgba[m.geom("cg_torso").id] = (*cg.shirt_rgb, 1)
-        m.geom_rgba[m.geom("cg_neck").id] = (*cg.skin_rgb, 1)
         d.mocap_pos[m.body_mocapid[head.id]] = state.head_pos_m
         d.mocap_quat[m.body_mocapid[head.id]] = _quat_yaw_pitch(*state.head_yaw_pitch_rad)
         torso = m.body("cg_torso").id
-        d.mocap_pos[m.body_mocapid[torso]] = state.head_pos_m + [0, 0.05, -0.64 * cg.head_scale]
+        drop = -0.64 * cg.head_scale * cg.head_height
+        d.mocap_pos[m.body_mocapid[torso]] = state.head_pos_m + [0, 0.05, drop]
         eye_quat = _quat_yaw_pitch(*state.eye_yaw_pitch_rad)
         for s in "lr":
             d.qpos[m.jnt_qposadr[m.joint(f"cg_eye_{s}").id] :][:4] = eye_quat
@@ -105,7 +114,11 @@ class World:
             m.geom_rgba[geom] = (*state.object_rgb[i], 1)
         light = m.light("key").id
         m.light_pos[light] = state.light_pos_m
-        m.light_diffuse[light] = state.light_intensity
+        m.light_diffuse[light] = state.light_intensity * np.array(look.light_rgb)
+        m.light_dir[light] = self._base_light_dir[light] if look.light_dir is None \
+            else look.light_dir
+        m.vis.headlight.ambient[:] = look.ambient
+        self._noise = np.random.default_rng(look.noise_seed)
         self._forward()
 
     # -- the robot's head ----------------------------------------------------------------------
@@ -141,7 +154,12 @@ class World:
                          np.zeros(s.n_objects))
 
     def render(self, camera: str = "eye", *, segmentation: bool = False) -> np.ndarray:
-        """The image of ``camera``: RGB uint8 (H, W, 3), or geom ids (H, W) if ``segmentation``."""
+        """The image of ``camera``: RGB uint8 (H, W, 3), or geom ids (H, W) if ``segmentation``.
+
+        The robot's camera (``"eye"``) gives its colour image through the scene's sensor effects
+        (blur, gain, noise: :func:`~jointattention.world.look.apply_sensor`); segmentation and
+        the other cameras are the render as it is.
+        """
         r = self._get_renderer()
         if segmentation:
             r.enable_segmentation_rendering()
@@ -150,7 +168,11 @@ class World:
             img = r.render()
         finally:
             r.disable_segmentation_rendering()
-        return img[..., 0].copy() if segmentation else img.copy()
+        if segmentation:
+            return img[..., 0].copy()
+        if camera == "eye":
+            return apply_sensor(img.copy(), self.state.look, self._noise)
+        return img.copy()
 
     def object_geom_ids(self) -> np.ndarray:
         """The MuJoCo geom id of each object (to read segmentation images)."""
