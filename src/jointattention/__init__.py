@@ -9,7 +9,7 @@ The layout is described in ``docs/architecture.md``.
 
 import importlib
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 _EXPORTS = {
     "Agent": "jointattention.agent.protocol:Agent",

@@ -44,7 +44,8 @@ from ._files import save_npz
 from ._readers import read_npz
 from .errors import DatasetError, FileError
 
-__all__ = ["SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load", "save"]
+__all__ = ["SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load", "save",
+           "shipped_file"]
 
 SCHEMA_VERSION = 2  # the newest; version 1 is version 2 without ``caregiver``
 _REQUIRED = ("schema_version", "face", "theta_face_rad", "command_rad")
@@ -190,7 +191,12 @@ def load(path: str | Path) -> CaregiverDatasets:
     return CaregiverDatasets(**fields)
 
 
+def shipped_file() -> Path:
+    """The file of the 125 data sets shipped with the package."""
+    with resources.as_file(resources.files("jointattention.data") / "caregiver_125.npz") as p:
+        return Path(p)  # an installed package is a folder: the path stays valid
+
+
 def default_datasets() -> CaregiverDatasets:
     """The 125 data sets shipped with the package (made by ``jointattention datasets make``)."""
-    with resources.as_file(resources.files("jointattention.data") / "caregiver_125.npz") as p:
-        return load(p)
+    return load(shipped_file())

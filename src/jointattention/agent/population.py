@@ -46,7 +46,7 @@ class PopulationOptions(Section):
                         lo=8, hi=720)
     n_hidden: int = param(64, "hidden units (tanh) between the face features and the output",
                           lo=1, hi=1024)
-    learning_rate: float = param(0.01, "step size of the cross-entropy gradient, per place "
+    learning_rate: float = param(0.02, "step size of the cross-entropy gradient, per place "
                                  "taught", lo=0, hi=10)
     label_width_deg: float = param(
         5.0, "s.d. of the von Mises kernel that spreads a taught direction over nearby units",
@@ -67,7 +67,7 @@ class PopulationOptions(Section):
         "in_view", "places taught when the evaluator fires: the attended object's, or every "
         "object's in view then (the target is often in view when a distractor is attended)",
         choices=("attended", "in_view"))
-    replay: int = param(4, "updates on trials drawn from the replay memory after each trial "
+    replay: int = param(8, "updates on trials drawn from the replay memory after each trial "
                         "taught (0: none)", lo=0, hi=100)
     replay_capacity: int = param(20_000, "trials the replay memory keeps (the oldest is "
                                  "forgotten)", lo=1, hi=10_000_000)

@@ -28,12 +28,13 @@ member                      dtype    shape         meaning
 kind, ``bootstrap`` (with the back-propagation or the population learner), ``teacher`` or
 ``developmental`` (saved once it sees sharp faces), the condition, the learning time),
 ``config`` (the run's whole configuration as TOML, from which the model's options and the face
-standardiser's floor are read), ``datasets_sha256`` (of the data-set file it learned from)
-and ``generator`` (the package version). The network's inputs are the face window
-standardised by ``face_mean``/``face_m2`` and the head angle scaled to [-1, 1] by the joint
-ranges; the population code's are the features of :mod:`.face_features` and the scaled head
-angle. The output is a direction, one ``lm_step_deg`` long (README, *From the simulator to a
-real head*).
+standardiser's floor are read), ``datasets_sha256`` (of the data-set file it learned from),
+``generator`` (the package version) and, if measured, ``held_out`` (its frozen success and
+errors on its training sets, new poses and unseen caregivers at the end of learning). The
+network's inputs are the face window standardised by ``face_mean``/``face_m2`` and the head
+angle scaled to [-1, 1] by the joint ranges; the population code's are the features of
+:mod:`.face_features` and the scaled head angle. The output is a direction, one
+``lm_step_deg`` long (README, *From the simulator to a real head*).
 """
 
 from __future__ import annotations
@@ -112,6 +113,7 @@ class LearnedModel:
     config: Config
     condition: str
     datasets_sha256: str | None = None
+    held_out: dict | None = None  # {kind: {measure: value}} at the end of learning, if measured
 
     @property
     def robot(self) -> Robot:
@@ -130,7 +132,7 @@ class LearnedModel:
     def save(self, path: str | Path) -> Path:
         """Write the model to ``path`` (.npz) atomically (see the module docstring)."""
         return save_model(self.agent, path, config=self.config, condition=self.condition,
-                          datasets_sha256=self.datasets_sha256)
+                          datasets_sha256=self.datasets_sha256, held_out=self.held_out)
 
 
 def check_savable(config: Config, condition: str) -> BootstrapOptions:
@@ -145,8 +147,11 @@ def check_savable(config: Config, condition: str) -> BootstrapOptions:
 
 
 def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condition: str,
-               datasets_sha256: str | None = None) -> Path:
-    """Write a learned agent of ``config``'s condition ``condition`` to ``path`` (.npz)."""
+               datasets_sha256: str | None = None, held_out: dict | None = None) -> Path:
+    """Write a learned agent of ``config``'s condition ``condition`` to ``path`` (.npz).
+
+    ``held_out``: its held-out measures, kept in ``meta`` as they are (JSON).
+    """
     path = Path(path)
     if path.suffix != ".npz":
         raise FileError(f"{path}: expected a model file name ending in .npz")
@@ -162,7 +167,8 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
             "model": {"kind": MODELS.name_of(options), "condition": condition,
                       "learning_time_steps": int(agent.learning_time_steps)},
             "config": to_toml(config), "datasets_sha256": datasets_sha256,
-            "generator": f"jointattention {__version__}"}
+            "generator": f"jointattention {__version__}",
+            **({} if held_out is None else {"held_out": held_out})}
     version = 1 if options.learner == "backprop" else 2  # version 1 files stay as they were
     return save_npz(path, {"schema_version": np.array(version), **agent.saved_arrays(),
                            "meta": np.array(json.dumps(meta))})
@@ -268,4 +274,6 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
         raise _field(where, "face_n_seen", "an integer >= 1", int(arrays["face_n_seen"]))
     agent.load_arrays(arrays)
     agent.learning_time_steps = meta["model"]["learning_time_steps"]
-    return LearnedModel(agent, config, meta["model"]["condition"], meta.get("datasets_sha256"))
+    held_out = meta.get("held_out")
+    return LearnedModel(agent, config, meta["model"]["condition"], meta.get("datasets_sha256"),
+                        held_out if isinstance(held_out, dict) else None)

@@ -48,14 +48,20 @@ def condition_axis_errors(out: Path, config: Config) -> dict:
     return errors
 
 
-def final_table(config: Config, curves: Curves, ceilings: dict[str, float]) -> Table:
+def final_table(config: Config, curves: Curves, ceilings: dict[str, float],
+                held_out: dict | None = None, held_out_ceilings: dict | None = None) -> Table:
     """The table of final success, one row per condition.
 
     Chance, the oracle ceiling, final success (mean of the last 10% of bins; s.d. over seeds), its
-    fraction of the ceiling and the time to 90% of it.
+    fraction of the ceiling and the time to 90% of it. With ``held_out`` (as from
+    :func:`~.held_out.held_out_curves`) and its ceilings, two more columns: the frozen model's
+    success on new poses and on unseen caregivers at the end, as fractions of their ceilings
+    (empty for a condition not measured).
     """
     columns = ("condition", "n_objects", "chance", "ceiling", "final_success",
                "final_sd_over_seeds", "fraction_of_ceiling", "steps_to_90pct_of_final")
+    if held_out:
+        columns += ("new_poses_fraction", "unseen_caregivers_fraction")
     rows = []
     for c in config.experiment.conditions:
         per_seed = curves[c.name][1]
@@ -64,7 +70,19 @@ def final_table(config: Config, curves: Curves, ceilings: dict[str, float]) -> T
         finals = [final_success(s) for s in per_seed]
         ceiling = ceilings.get(str(c.n_objects), float("nan"))
         sd = float(np.std(finals, ddof=1)) if len(finals) > 1 else 0.0
-        rows.append((c.name, c.n_objects, round(1 / c.n_objects, 3), round(ceiling, 3),
-                     round(final, 3), round(sd, 3), round(final / ceiling, 3),
-                     time_to_fraction(mean, config.experiment.bin_steps)))
+        row = (c.name, c.n_objects, round(1 / c.n_objects, 3), round(ceiling, 3),
+               round(final, 3), round(sd, 3), round(final / ceiling, 3),
+               time_to_fraction(mean, config.experiment.bin_steps))
+        if held_out:
+            row += _held_out_fractions(held_out.get(c.name), held_out_ceilings, c.n_objects)
+        rows.append(row)
     return Table(columns, rows)
+
+
+def _held_out_fractions(held, ceilings: dict, n_objects: int) -> tuple:
+    """Final frozen success on new poses and unseen caregivers over their ceilings."""
+    if held is None:
+        return "", ""
+    success = held[1]["success"][:, :, -1].mean(axis=0)  # per kind, mean over seeds
+    return tuple(round(float(success[j]) / ceilings.get(kind, {}).get(str(n_objects), np.nan), 3)
+                 for j, kind in ((1, "new poses"), (2, "unseen caregivers")))

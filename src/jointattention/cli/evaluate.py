@@ -38,7 +38,7 @@ def _cmd_evaluate(args: argparse.Namespace) -> None:
     else:
         from tqdm import tqdm
 
-        from ..world.recording import held_out_datasets
+        from ..experiment.held_out import held_out_datasets
 
         n = args.caregivers * args.poses
         with tqdm(total=n, desc="recording held-out data sets", unit="set",

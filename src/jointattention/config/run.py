@@ -26,6 +26,8 @@ __all__ = [
     "ConditionConfig",
     "Config",
     "ExperimentConfig",
+    "HeldOutConfig",
+    "RecordingConfig",
     "condition_named",
     "load_config",
     "model_options",
@@ -63,6 +65,33 @@ class ConditionConfig(Section):
 
 
 @dataclass(frozen=True)
+class HeldOutConfig(Section):
+    """Held-out data sets each cell's model is measured on, frozen, beside its training sets.
+
+    Three kinds: the training sets themselves, new poses of the training caregivers, and
+    caregivers it never saw, both recorded from the world's held-out stream (one no training
+    recording uses). For the shipped training sets the package ships both held-out files.
+    """
+
+    n_trials: int = param(500, "trials of the frozen model on each kind of data set at each "
+                          "checkpoint (0: no held-out measure)", lo=0, hi=10**6)
+    n_checkpoints: int = param(5, "learning times at which they are measured, evenly spaced, "
+                               "the last at the end of learning", lo=1, hi=1000)
+    poses: str = param("", "data-set file of new poses of the training caregivers (empty: the "
+                       "shipped one for the shipped data sets, else recorded by each worker "
+                       "from the held-out stream, which needs off-screen OpenGL)")
+    caregivers: str = param("", "data-set file of caregivers the model never saw (empty: as "
+                            "for poses)")
+    n_poses: int = param(250, "new poses recorded when poses is empty (the training "
+                         "caregivers in turn)", lo=1, hi=100_000)
+    n_caregivers: int = param(16, "unseen caregivers recorded when caregivers is empty", lo=1,
+                              hi=1000)
+    poses_per_caregiver: int = param(25, "data sets of each unseen caregiver recorded", lo=1,
+                                     hi=10_000)
+    seed: int = param(0, "seed of the held-out recordings", lo=0, hi=2**63 - 1)
+
+
+@dataclass(frozen=True)
 class ExperimentConfig(Section):
     """How long to learn, how many seeds, how the robot sees, and the conditions."""
 
@@ -84,6 +113,7 @@ class ExperimentConfig(Section):
     n_ceiling_trials: int = param(
         4000, "trials of the oracle that measure each object count's ceiling", lo=1,
         hi=10**7)
+    held_out: HeldOutConfig = HeldOutConfig()
     conditions: tuple[ConditionConfig, ...] = param(
         (ConditionConfig(),), "the conditions to run (at least one)")
 
@@ -96,6 +126,18 @@ class ExperimentConfig(Section):
         """The learning time at which each learning-time bin ends (the last one at n_steps)."""
         n_bins = int(np.ceil(self.n_steps / self.bin_steps))
         return np.minimum(np.arange(1, n_bins + 1) * self.bin_steps, self.n_steps)
+
+
+@dataclass(frozen=True)
+class RecordingConfig(Section):
+    """Training sets the run records itself in its world, instead of reading ``datasets``."""
+
+    caregivers: int = param(0, "caregivers to record (0: read the datasets file instead)", lo=0,
+                            hi=10_000)
+    poses_per_caregiver: int = param(125, "data sets posed by each caregiver", lo=1,
+                                     hi=100_000)
+    seed: int = param(1, "world seed of the recording (0 is the shipped data sets' seed)",
+                      lo=0, hi=2**63 - 1)
 
 
 @dataclass(frozen=True)
@@ -113,9 +155,14 @@ class Config(Section):
     experiment: ExperimentConfig = ExperimentConfig()
     datasets: str = param(
         "", "data-set file of the caregiver (empty: the 125 shipped with the package)")
+    recording: RecordingConfig = RecordingConfig()
 
     def __post_init__(self) -> None:
         super().__post_init__()
+        if self.datasets and self.recording.caregivers:
+            raise ConfigError(f"datasets = {self.datasets!r} and recording.caregivers = "
+                              f"{self.recording.caregivers}: expected one source of training "
+                              "sets (a file, or caregivers recorded by the run)")
         names = [c.name for c in self.experiment.conditions]
         for i, c in enumerate(self.experiment.conditions):
             if c.name in names[:i]:

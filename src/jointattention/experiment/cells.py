@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from functools import partial
+from pathlib import Path
 
 import numpy as np
 
@@ -16,24 +17,38 @@ from .._checks import check_int
 from ..agent.attention import attended_object
 from ..agent.protocol import Agent, Body
 from ..config import ConditionConfig, Config, model_options
-from ..datasets import CaregiverDatasets, default_datasets, load
+from ..datasets import CaregiverDatasets, default_datasets, load, shipped_file
 from ..rng import stream
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
 from .compiled import CompiledCell, pack_world, unsupported
 from .oracle import OracleAgent
 from .probes import lm_errors_deg
+from .recorded import training_file
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
-__all__ = ["body_of", "datasets_of", "engine_of", "evaluator", "make_agent", "measure_ceiling",
-           "random_scene", "run_cell"]
+__all__ = ["body_of", "datasets_file", "datasets_of", "engine_of", "evaluator", "make_agent",
+           "measure_ceiling", "random_scene", "run_cell"]
 
 _CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learning steps)
 
 
+def datasets_file(config: Config) -> Path:
+    """The file of the run's training sets: ``config.datasets``, the recording, or the shipped.
+
+    A ``[recording]`` is made on first use and kept (:mod:`.recorded`).
+    """
+    if config.datasets:
+        return Path(config.datasets)
+    recorded = training_file(config)
+    return recorded if recorded is not None else shipped_file()
+
+
 def datasets_of(config: Config) -> CaregiverDatasets:
-    """The run's caregiver data sets: ``config.datasets``, or the shipped ones."""
-    return load(config.datasets) if config.datasets else default_datasets()
+    """The run's caregiver data sets: ``config.datasets``, its recording, or the shipped ones."""
+    if not config.datasets and not config.recording.caregivers:
+        return default_datasets()
+    return load(datasets_file(config))
 
 
 def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance_m: float):

@@ -21,10 +21,13 @@ from ..agent.saved import check_savable
 from ..analysis.claims import Claim, check_claims, claims_table
 from ..analysis.curves import condition_axis_errors, condition_curves, final_table
 from ..analysis.diagnostics import condition_diagnostics, diagnostics_table
+from ..analysis.held_out import held_out_claims, held_out_curves, held_out_table
 from ..config import Config
 from ..errors import JointAttentionError
 from .backends import CellJob, check_backend, run_jobs
-from .cells import measure_ceiling, run_cell
+from .cells import measure_ceiling
+from .evaluate import oracle_success
+from .held_out import held_out_sets, run_cell_measured
 from .preflight import MAX_CELLS, check_runs
 from .results import cell_path, load_cell, prepare_run_dir, write_trials_csv
 from .training import model_path, run_cell_saving_model
@@ -57,7 +60,7 @@ def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
     """Every cell's job, after running those not in ``out`` yet; and how many ran."""
     check_backend(backend, address, workers)
     exp = config.experiment
-    run, also_done = run_cell, None
+    run, also_done = run_cell_measured, None
     if save_models:
         for c in exp.conditions:  # every model must be one that is saved: refused up front
             check_savable(config, c.name)
@@ -73,6 +76,33 @@ def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
     ran = run_jobs(run, jobs, workers=workers, backend=backend, address=address,
                    progress=progress, also_done=also_done)
     return jobs, ran
+
+
+def _held_out_ceilings(config: Config, path: Path, progress) -> dict[str, dict[str, float]]:
+    """The oracle ceilings of the held-out sets, {kind: {str(n): ceiling}}: read or measured.
+
+    Measured with the trials of the held-out measures (:func:`~.evaluate.oracle_success`,
+    ``experiment.n_ceiling_trials`` of them); {} if the run measures no held-out sets.
+    """
+    if not config.experiment.held_out.n_trials:
+        return {}
+    counts = sorted({c.n_objects for c in config.experiment.conditions})
+    if path.exists():
+        try:
+            ceilings = read_json(path, "the held-out ceilings of a run folder")
+            if all(type(ceilings.get(k, {}).get(str(n))) in (int, float)
+                   for k in held_out_sets(config) for n in counts):
+                return ceilings
+            _log.warning("%s: no ceiling for some set or object count; measured again", path)
+        except JointAttentionError as err:
+            _log.warning("%s; measured again", err)
+    if progress is not None:
+        progress("ceilings")
+    n = config.experiment.n_ceiling_trials
+    ceilings = {kind: {str(k): oracle_success(ds, config, k, n, config.seed) for k in counts}
+                for kind, ds in held_out_sets(config).items()}
+    save_json(ceilings, path)
+    return ceilings
 
 
 def _ceilings(config: Config, path: Path, progress) -> dict[str, float]:
@@ -117,14 +147,17 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json``, the oracle
     ceilings (``ceilings.json``, measured once), ``trials.csv``, the figures
     (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md``,
-    ``claims.csv``/``.md``, and the diagnostics per learning-time bin
-    (``diagnostics.csv``/``.md``/``.png``, :mod:`jointattention.analysis.diagnostics`).
+    ``claims.csv``/``.md``, the diagnostics per learning-time bin
+    (``diagnostics.csv``/``.md``/``.png``, :mod:`jointattention.analysis.diagnostics`), and
+    what the models carry over to held-out data sets (``held_out_ceilings.json``,
+    ``held_out.csv``/``.md``/``.png``, :mod:`jointattention.analysis.held_out`).
     ``progress`` hears the runner's messages (see
     :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``. Nothing is
     written unless the run passes :func:`~.preflight.check_runs` (at most ``max_cells``).
     ``save_models``: see :func:`run_experiment`.
     """
     from ..figures.diagnostics import diagnostics_figure  # matplotlib only when drawn
+    from ..figures.held_out import held_out_figure
     from ..figures.paper import write_figures
 
     out = Path(out)
@@ -136,12 +169,18 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     save_json({"wall_min": round(wall_min, 2), "workers": workers, "cells_run": cells_run,
                "cells_total": len(cells)}, out / "timing.json")
     ceilings = _ceilings(config, out / "ceilings.json", progress)
+    held_ceilings = _held_out_ceilings(config, out / "held_out_ceilings.json", progress)
     curves = condition_curves(out, config)
+    held = held_out_curves(out, config)
     claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config))
+    claims += held_out_claims(config, held, held_ceilings)
     diagnostics = condition_diagnostics(out, config)
     files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
-             *final_table(config, curves, ceilings).write(out / "table"),
+             *final_table(config, curves, ceilings, held, held_ceilings).write(out / "table"),
              *claims_table(claims).write(out / "claims"),
              *diagnostics_table(diagnostics).write(out / "diagnostics"),
              diagnostics_figure(diagnostics, out / "diagnostics.png")]
+    if held:
+        files += [*held_out_table(config, held, held_ceilings).write(out / "held_out"),
+                  held_out_figure(config, held, held_ceilings, out / "held_out.png")]
     return RunResult(out, files, claims, cells_run, len(cells), wall_min)

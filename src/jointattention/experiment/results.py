@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import csv
 import platform
-from importlib import metadata, resources
+from importlib import metadata
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +20,7 @@ from .._files import atomic_path, check_writable, save_json, save_npz, write_tex
 from .._readers import read_json, read_npz, sha256_of
 from ..config import Config, load_config, to_toml
 from ..errors import FileError, JointAttentionError
+from .cells import datasets_file
 from .trial import RECORD
 
 __all__ = ["cell_path", "check_run_dir", "datasets_sha256", "load_cell", "prepare_run_dir",
@@ -40,11 +41,8 @@ def versions() -> dict:
 
 
 def datasets_sha256(config: Config) -> str:
-    """The SHA-256 of the content of the run's data-set file (the shipped one if not set)."""
-    if config.datasets:
-        return sha256_of(config.datasets)
-    with resources.as_file(resources.files("jointattention.data") / "caregiver_125.npz") as p:
-        return sha256_of(p)
+    """The SHA-256 of the content of the run's data-set file (:func:`~.cells.datasets_file`)."""
+    return sha256_of(datasets_file(config))
 
 
 def check_run_dir(out: Path, config: Config) -> None:
@@ -104,6 +102,10 @@ def save_cell(path: Path, records: dict[str, np.ndarray]) -> None:
 
 
 _PER_BIN = ("lm_error_deg", "lm_pan_error_deg", "lm_tilt_error_deg")  # the last two optional
+# the held-out measures (experiment/held_out.py): optional, and all or none
+_HELD_OUT = ("held_out_steps", "held_out_success", "held_out_median_error_deg",
+             "held_out_p90_error_deg", "held_out_share_over_10deg",
+             "held_out_blank_spread_deg", "held_out_mirror_flip_share")
 
 
 def load_cell(path: Path) -> dict[str, np.ndarray]:
@@ -111,17 +113,26 @@ def load_cell(path: Path) -> dict[str, np.ndarray]:
 
     Whole: the columns of :data:`~.trial.RECORD`, one row per trial each and of its type, and
     ``lm_error_deg`` (one value per learning-time bin); ``lm_pan_error_deg`` and
-    ``lm_tilt_error_deg`` too, except in cells written before they were measured.
+    ``lm_tilt_error_deg`` too, except in cells written before they were measured; and all or
+    none of the held-out measures (``held_out_steps`` and one (3, checkpoints) array each).
     """
     records = read_npz(path, "a cell's records (cells/*.npz)")
     expected = {**{k: np.dtype(t) for k, (t, _) in RECORD.items()},
-                **{k: np.dtype(np.float64) for k in _PER_BIN}}
-    odd = sorted((set(expected) ^ set(records)) - set(_PER_BIN[1:]))
-    if odd:
-        raise FileError(f"{path}: column {odd[0]!r} missing or unknown; expected the columns "
-                        f"{', '.join(expected)}")
+                **{k: np.dtype(np.float64) for k in (*_PER_BIN, *_HELD_OUT)},
+                "held_out_steps": np.dtype(np.int64)}
+    odd = sorted((set(expected) ^ set(records)) - {*_PER_BIN[1:], *_HELD_OUT})
+    held_out = [k for k in _HELD_OUT if k in records]
+    if odd or held_out not in ([], list(_HELD_OUT)):
+        missing = odd[0] if odd else next(k for k in _HELD_OUT if k not in records)
+        raise FileError(f"{path}: column {missing!r} missing or unknown; expected the columns "
+                        f"{', '.join(k for k in expected if k not in _HELD_OUT)} (and all or "
+                        "none of the held-out measures)")
     shapes = {r.shape for k, r in records.items() if k in RECORD}
-    typed = all(r.dtype == expected[k] and r.ndim == 1 for k, r in records.items())
+    ndim = {k: 1 + (k in _HELD_OUT[1:]) for k in expected}
+    typed = all(r.dtype == expected[k] and r.ndim == ndim[k] for k, r in records.items())
+    if held_out and typed:
+        n = len(records["held_out_steps"])
+        typed = all(records[k].shape == (3, n) for k in _HELD_OUT[1:])
     if len(shapes) != 1 or not typed:
         raise FileError(f"{path}: columns of other shapes or types; expected one row per trial "
                         "in each column of its type")

@@ -9,7 +9,7 @@ import numpy as np
 
 from ..agent.saved import LearnedModel, check_savable, save_model
 from ..config import ConditionConfig, Config, condition_named
-from .cells import run_cell
+from .held_out import final_held_out, run_cell_measured
 from .results import datasets_sha256
 
 __all__ = ["model_path", "run_cell_saving_model", "train"]
@@ -17,11 +17,9 @@ __all__ = ["model_path", "run_cell_saving_model", "train"]
 
 def _learn(config: Config, condition: ConditionConfig, seed_index: int,
            progress: Callable[[int], None] | None = None):
-    """The cell's records and its agent at the end of learning."""
+    """The cell's records (with its held-out measures) and its agent at the end of learning."""
     learned = []
-    records = run_cell(config, condition, seed_index, progress,
-                       checkpoints=[config.experiment.n_steps],
-                       on_checkpoint=lambda t, agent: learned.append(agent))
+    records = run_cell_measured(config, condition, seed_index, progress, on_end=learned.append)
     return records, learned[-1]
 
 
@@ -29,13 +27,15 @@ def train(config: Config, condition: str, seed_index: int = 0,
           progress: Callable[[int], None] | None = None) -> LearnedModel:
     """Learn one cell (``experiment.n_steps`` steps) and return its learned model.
 
-    Only the bootstrap model and the teacher, with the back-propagation learner, are saved
-    (checked first).
+    Only the bootstrap model, the teacher and the developmental model, with the
+    back-propagation or the population learner, are saved (checked first). The model's
+    ``held_out`` holds its held-out measures at the end of learning (:mod:`.held_out`).
     """
     cond = condition_named(config, condition)
     check_savable(config, condition)  # before learning, not after
-    _, agent = _learn(config, cond, seed_index, progress)
-    return LearnedModel(agent, config, condition, datasets_sha256(config))
+    records, agent = _learn(config, cond, seed_index, progress)
+    return LearnedModel(agent, config, condition, datasets_sha256(config),
+                        final_held_out(records))
 
 
 def model_path(models_dir: Path, condition: str, seed_index: int) -> Path:

@@ -1,0 +1,49 @@
+"""Controls on held-out faces: what a model does with a face that carries no gaze, or a mirror.
+
+A module that follows the caregiver's gaze must point one way for a blank face (no gaze to
+read: a uniform grey window, the mean grey of the data sets) and must flip its horizontal
+command for a mirrored face (the window mirrored left to right and the head angle's pan
+negated: the mirrored caregiver looks to the other side). The shuffled-faces control (faces
+paired with other trials' targets) is a condition of a run (``shuffle_faces``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..datasets import CaregiverDatasets
+
+__all__ = ["blank_spread_deg", "mirror_flip_share"]
+
+
+def _directions(agent, faces: np.ndarray, thetas: np.ndarray) -> np.ndarray:
+    out = agent.lm_commands(faces, thetas)
+    return np.arctan2(out[:, 1], out[:, 0])
+
+
+def blank_spread_deg(agent, ds: CaregiverDatasets) -> float:
+    """Circular s.d. (deg) of the module's directions for a blank face at each set's head angle.
+
+    A blank face (every pixel the data sets' mean grey) at the head angles of the data sets:
+    near 0 if the module points one way for a face without gaze.
+    """
+    blank = np.full_like(ds.face, int(round(float(ds.face.mean()))))
+    psi = _directions(agent, blank, ds.theta_face_rad)
+    r = np.hypot(np.cos(psi).mean(), np.sin(psi).mean())
+    return float(np.rad2deg(np.sqrt(-2 * np.log(max(r, 1e-12)))))
+
+
+def mirror_flip_share(agent, ds: CaregiverDatasets, min_pan_deg: float = 10.0) -> float:
+    """The share of data sets whose horizontal command flips sign for the mirrored face.
+
+    Among the data sets whose command to the target turns the head by more than
+    ``min_pan_deg`` sideways (the side is clear); the mirrored face is the window flipped left
+    to right at the head angle with its pan negated.
+    """
+    side = np.abs(np.rad2deg(ds.command_rad[:, 0])) > min_pan_deg
+    faces, thetas = ds.face[side], ds.theta_face_rad[side]
+    mirrored = np.ascontiguousarray(faces[:, :, ::-1])
+    flip = thetas * [-1.0, 1.0]
+    pan = agent.lm_commands(faces, thetas)[:, 0]
+    pan_mirrored = agent.lm_commands(mirrored, flip)[:, 0]
+    return float(np.mean(np.sign(pan) == -np.sign(pan_mirrored)))

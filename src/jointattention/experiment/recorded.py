@@ -1,0 +1,64 @@
+"""Data sets a run records itself, kept in a cache so that each is recorded once per machine.
+
+A configuration may record its training sets (``[recording]``: K caregivers of the run's
+world) instead of naming a file, and runs record their held-out sets
+(:mod:`.held_out`). Recording renders every data set (off-screen OpenGL); the result depends
+only on the world's configuration, the counts, the seed, the stream and the package version,
+so it is kept under a name made from them: ``$JOINTATTENTION_CACHE`` (default
+``~/.cache/jointattention``) ``/datasets/<hash>.npz``, written atomically (two processes
+recording the same file both write whole files).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import os
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from .. import __version__
+from ..config import Config, WorldConfig, to_toml
+from ..datasets import save
+
+__all__ = ["cache_dir", "recorded_file", "training_file"]
+
+
+def cache_dir() -> Path:
+    """Where recorded data sets are kept."""
+    base = os.environ.get("JOINTATTENTION_CACHE") or Path(
+        os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "jointattention"
+    return Path(base) / "datasets"
+
+
+def recorded_file(world: WorldConfig, n: int, seed: int, *, caregivers: int = 1,
+                  stream: str = "world", identities: Sequence | None = None,
+                  progress: Callable[[int], None] | None = None) -> Path:
+    """The file of ``make_datasets(world, n, seed, ...)``'s data sets: from the cache, or made.
+
+    See :func:`jointattention.world.recording.make_datasets` for the arguments.
+    """
+    people = None if identities is None else [dataclasses.asdict(c) for c in identities]
+    key = json.dumps({"world": to_toml(Config(world=world)), "n": n, "seed": seed,
+                      "caregivers": caregivers, "stream": stream, "identities": people,
+                      "version": __version__}, sort_keys=True)
+    path = cache_dir() / f"{hashlib.sha256(key.encode()).hexdigest()[:24]}.npz"
+    if not path.is_file():
+        from ..world.recording import make_datasets  # rendering: only when recording
+
+        ds = make_datasets(world, n, seed, progress, caregivers=caregivers if identities is None
+                           else 1, stream=stream, identities=identities)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        save(ds, path)
+    return path
+
+
+def training_file(config: Config) -> Path | None:
+    """The file of the run's recorded training sets (``[recording]``), None if it records none."""
+    r = config.recording
+    if not r.caregivers:
+        return None
+    return recorded_file(config.world, r.caregivers * r.poses_per_caregiver, r.seed,
+                         caregivers=r.caregivers)
+

@@ -1,0 +1,158 @@
+"""The population-coded learner: its features, its readout, its line, its file, frozen agents."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from jointattention.agent.bootstrap import BootstrapOptions
+from jointattention.agent.face_features import face_features, n_features
+from jointattention.agent.population import PopulationCode, PopulationOptions
+from jointattention.agent.population_agent import PopulationAgent, line_step
+from jointattention.agent.protocol import Body
+from jointattention.agent.saved import LearnedModel, load_model
+from jointattention.config import AgentConfig, ConditionConfig, load_config
+from jointattention.datasets import default_datasets
+from jointattention.experiment.cells import run_cell
+from jointattention.experiment.evaluate import freeze, frozen_success
+from jointattention.experiment.probes import angle_errors
+
+BODY = Body(image_size_px=(320, 240), joint_limits_rad=((-1.0, 1.0), (-0.8, 0.6)),
+            face_size_px=(30, 25))
+
+
+def _agent(**population) -> PopulationAgent:
+    options = BootstrapOptions(learner="population", vf_fallback="sweep",
+                               population=PopulationOptions(**population))
+    return options.build(AgentConfig(), BODY, np.random.default_rng(0))
+
+
+@given(gain=st.floats(0.3, 3.0), offset=st.floats(-60, 60))
+@settings(max_examples=25, deadline=None)
+def test_features_ignore_the_window_s_brightness_and_contrast(gain, offset):
+    """A face lit brighter or with more contrast gives the same features (both parts)."""
+    face = default_datasets().face[3].astype(float)
+    x = face_features(face)
+    y = face_features(face * gain + offset)
+    assert np.allclose(x, y, atol=1e-9)
+
+
+def test_features_have_the_documented_length_and_unit_parts():
+    """Pixels and histogram each have unit length; the length is n_features's."""
+    faces = default_datasets().face[:4]
+    x = face_features(faces, 5, 12)
+    assert x.shape == (4, n_features((30, 25), 5, 12))
+    assert np.allclose(np.linalg.norm(x[:, :750], axis=1), 1)
+    assert np.allclose(np.linalg.norm(x[:, 750:], axis=1), 1)
+    assert face_features(faces, hog=False).shape == (4, 750)
+
+
+def test_the_readout_finds_the_mode_beyond_the_base_rate_not_the_mean():
+    """Taught 1 target in 5 among directions every face shares, the code points at the target.
+
+    Two kinds of face look at 60° and at 200°; four in five taught directions are drawn around
+    the circle for every face (the distractors). The mean of what each face is taught points
+    elsewhere; the readout points within 10° of each face's own direction.
+    """
+    rng = np.random.default_rng(4)
+    code = PopulationCode(8, PopulationOptions(n_hidden=16, learning_rate=0.05),
+                          np.random.default_rng(5))
+    faces = np.eye(8)[[0, 1]] + 0.0
+    truth = np.deg2rad([60.0, 200.0])
+    for _ in range(6000):
+        k = rng.integers(2)
+        psi = truth[k] if rng.random() < 0.2 else rng.vonmises(np.deg2rad(-30), 1.0)
+        code.teach(faces[k], [psi])
+    out = code.predict(faces)
+    error = np.rad2deg(np.abs((out - truth + np.pi) % (2 * np.pi) - np.pi))
+    assert np.all(error < 10), error
+
+
+@given(psi=st.floats(-math.pi, math.pi), s=st.floats(0, 0.5), off=st.floats(-0.2, 0.2))
+@settings(max_examples=50, deadline=None)
+def test_the_line_step_follows_the_line_and_returns_to_it(psi, s, off):
+    """A step is one step long; from off the line it comes nearer to it, on it it moves along."""
+    u, n = np.array([math.cos(psi), math.sin(psi)]), np.array([-math.sin(psi), math.cos(psi)])
+    theta = s * u + off * n
+    step = np.array(line_step(0.0, 0.0, psi, theta[0], theta[1], 0.02))
+    assert np.linalg.norm(step) == pytest.approx(0.02)
+    after = theta + step
+    assert abs(after @ n) <= abs(off) + 1e-12
+    if abs(off) < 1e-9:
+        assert step @ u == pytest.approx(0.02)
+
+
+def test_a_frozen_agent_changes_nothing_it_learned():
+    """Trials of a frozen copy change nothing it learned; the original still learns."""
+    config = load_config({"experiment": {"n_steps": 4000, "n_seeds": 1, "bin_steps": 1000,
+                                         "engine": "python", "held_out": {"n_trials": 0}}})
+    learned = []
+    run_cell(config, ConditionConfig(n_objects=3, model={"learner": "population",
+                                                         "vf_fallback": "sweep"}), 0,
+             checkpoints=[4000], on_checkpoint=lambda t, a: learned.append(a))
+    agent = learned[-1]
+    frozen = freeze(agent)
+    before = {k: v.copy() for k, v in frozen.saved_arrays().items()}
+    time = frozen.learning_time_steps
+    frozen_success(frozen, default_datasets(), config, 3, 50, 0)
+    assert all(np.array_equal(before[k], v) for k, v in frozen.saved_arrays().items())
+    assert frozen.learning_time_steps == time and agent.learning
+
+
+def test_the_population_model_round_trips_through_its_file(tmp_path):
+    """Saved and loaded, the population model gives the same commands (schema version 2)."""
+    config = load_config({"experiment": {"n_steps": 3000, "n_seeds": 1, "bin_steps": 1000,
+                                         "engine": "auto", "held_out": {"n_trials": 0},
+                                         "conditions": [{"name": "pop", "n_objects": 3,
+                                                         "model": {"learner": "population"}}]}})
+    from jointattention.experiment.training import train
+
+    model = train(config, "pop")
+    path = model.save(tmp_path / "pop.npz")
+    loaded = load_model(path)
+    ds = default_datasets()
+    assert isinstance(loaded, LearnedModel) and isinstance(loaded.agent, PopulationAgent)
+    assert np.array_equal(angle_errors(model.agent, ds), angle_errors(loaded.agent, ds))
+    assert int(np.load(path)["schema_version"]) == 2
+
+
+def test_the_compiled_and_the_step_by_step_frozen_trials_agree():
+    """A frozen paper-model agent succeeds on the same trials alike in both engines."""
+    config = load_config({"experiment": {"n_steps": 20000, "n_seeds": 1, "bin_steps": 5000,
+                                         "held_out": {"n_trials": 0}}})
+    learned = []
+    run_cell(config, ConditionConfig(), 0, checkpoints=[20000],
+             on_checkpoint=lambda t, a: learned.append(a))
+    agent, ds = learned[-1], default_datasets()
+    compiled = frozen_success(agent, ds, config, 5, 300, 7)
+    python = frozen_success(_as_python(agent), ds, config, 5, 300, 7)
+    assert compiled == python
+
+
+class _Wrapped:
+    """The agent as a model the compiled engine does not know (so that it runs step by step)."""
+
+    options = None  # no options: frozen_success runs it step by step
+
+    def __init__(self, agent):
+        self.agent, self.learning = agent, agent.learning
+
+    def __getattr__(self, name):
+        return getattr(self.agent, name)
+
+    def __deepcopy__(self, memo):
+        import copy
+
+        return _Wrapped(copy.deepcopy(self.agent, memo))
+
+    def begin_trial(self, face, theta):
+        self.agent.learning = self.learning
+        self.agent.begin_trial(face, theta)
+
+
+def _as_python(agent):
+    return _Wrapped(agent)
