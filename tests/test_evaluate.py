@@ -163,3 +163,21 @@ def test_a_configuration_has_one_source_of_training_sets():
     """A data-set file and a recording together are refused, naming both."""
     with pytest.raises(ConfigError, match="one source of training sets"):
         load_config({"datasets": "x.npz", "recording": {"caregivers": 4}})
+
+
+def test_a_recorded_run_measures_new_poses_of_its_own_caregivers(needs_gl, tmp_path,
+                                                                  monkeypatch):
+    """With [recording], new poses are of the recorded caregivers, unseen ones are others."""
+    monkeypatch.setenv("JOINTATTENTION_CACHE", str(tmp_path))
+    config = load_config({**QUICK, "recording": {"caregivers": 2, "poses_per_caregiver": 3,
+                                                 "seed": 5},
+                          "experiment": {**QUICK["experiment"], "held_out": {
+                              "n_poses": 4, "n_caregivers": 2, "poses_per_caregiver": 2}}})
+    sets = held_out_sets(config)
+    world = config.world
+    trained = caregivers_of(sets["training"], world)
+    assert len(sets["training"]) == 6 and len(trained) == 2
+    assert set(map(repr, caregivers_of(sets["new poses"], world))) == set(map(repr, trained))
+    assert not set(map(repr, caregivers_of(sets["unseen caregivers"], world))) & set(
+        map(repr, trained))
+    assert len(list((tmp_path / "datasets").glob("*.npz"))) == 3  # each recorded once, kept

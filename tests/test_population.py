@@ -66,7 +66,7 @@ def test_the_readout_finds_the_mode_beyond_the_base_rate_not_the_mean():
     for _ in range(6000):
         k = rng.integers(2)
         psi = truth[k] if rng.random() < 0.2 else rng.vonmises(np.deg2rad(-30), 1.0)
-        code.teach(faces[k], [psi])
+        code.partial_fit(faces[k][None], [psi])
     out = code.predict(faces)
     error = np.rad2deg(np.abs((out - truth + np.pi) % (2 * np.pi) - np.pi))
     assert np.all(error < 10), error

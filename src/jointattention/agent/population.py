@@ -44,7 +44,7 @@ class PopulationOptions(Section):
 
     n_bins: int = param(72, "output units: directions around the face, evenly on the circle",
                         lo=8, hi=720)
-    n_hidden: int = param(64, "hidden units (tanh) between the face features and the output",
+    n_hidden: int = param(128, "hidden units (tanh) between the face features and the output",
                           lo=1, hi=1024)
     learning_rate: float = param(0.02, "step size of the cross-entropy gradient, per place "
                                  "taught", lo=0, hi=10)
@@ -61,6 +61,10 @@ class PopulationOptions(Section):
         "excess", "how the direction is read out: where p(direction | face) most exceeds "
         "p(direction | the average face) (excess), where its log does (ratio), or the plain "
         "mode of p(direction | face) (mode: no base rate)", choices=READOUTS)
+    average_rate: float = param(
+        0.002, "rate of the running average of the weights, per trial taught, that the "
+        "readout uses (Polyak averaging: the noise of the last steps averaged out; 0: the "
+        "weights themselves)", lo=0, hi=1)
     hidden_rate: float = param(0.01, "rate of the running mean of the hidden units over the "
                                "faces taught (the average face of the readout)", lo=0, hi=1)
     keep: str = param(
@@ -178,6 +182,7 @@ class PopulationCode:
         rng: draws the initial weights.
 
     Learned state: ``w1_`` (n_hidden, n_in), ``b1_``, ``w2_`` (n_bins, n_hidden), ``b2_``,
+    ``averaged_`` (their running averages, which the readout uses; :meth:`average`),
     ``hidden_mean_`` (n_hidden,: the running mean of the hidden units over the inputs taught)
     and ``n_taught_`` (places taught).
     """
@@ -189,6 +194,7 @@ class PopulationCode:
         self.b1_ = np.zeros(h)
         self.w2_ = rng.normal(0.0, 1.0 / math.sqrt(h), (n, h))
         self.b2_ = np.zeros(n)
+        self.averaged_ = [self.w1_.copy(), self.b1_.copy(), self.w2_.copy(), self.b2_.copy()]
         self.hidden_mean_ = np.zeros(h)
         self.n_taught_ = 0
         self._h, self._p, self._grad_h = np.empty(h), np.empty(n), np.empty(h)
@@ -199,10 +205,22 @@ class PopulationCode:
         """Concentration of the von Mises kernel of ``label_width_deg``."""
         return 1.0 / math.radians(self.options.label_width_deg) ** 2
 
+    def _readout_weights(self) -> list[np.ndarray]:
+        """The weights the readout uses: the running averages, or the weights themselves."""
+        if self.options.average_rate > 0:
+            return self.averaged_
+        return [self.w1_, self.b1_, self.w2_, self.b2_]
+
+    def average(self) -> None:
+        """Move the running averages of the weights toward the weights (once per trial)."""
+        rate = self.options.average_rate
+        for a, w in zip(self.averaged_, (self.w1_, self.b1_, self.w2_, self.b2_), strict=True):
+            a += rate * (w - a)
+
     def probabilities(self, x: np.ndarray) -> np.ndarray:
-        """p(direction | input) over the units, for one input (n_in,)."""
-        population_forward(np.ascontiguousarray(x, dtype=float), self.w1_, self.b1_, self.w2_,
-                           self.b2_, self._h, self._p)
+        """p(direction | input) over the units, for one input (n_in,), by the readout weights."""
+        population_forward(np.ascontiguousarray(x, dtype=float), *self._readout_weights(),
+                           self._h, self._p)
         return self._p.copy()
 
     def scores(self, x: np.ndarray) -> np.ndarray:
@@ -211,9 +229,10 @@ class PopulationCode:
         readout = self.options.readout
         if readout == "mode":
             return p
-        _output_into(self.hidden_mean_, self.w2_, self.b2_, self._z)
+        _, _, w2, b2 = self._readout_weights()
+        _output_into(self.hidden_mean_, w2, b2, self._z)
         if readout == "ratio":  # log p - log p(average face): the normalisers do not matter
-            return self.w2_ @ self._h - self.w2_ @ self.hidden_mean_
+            return w2 @ self._h - w2 @ self.hidden_mean_
         _softmax_into(self._z, self._z)
         return p - self._z
 
@@ -236,9 +255,13 @@ class PopulationCode:
         self.n_taught_ += len(directions_rad)
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> PopulationCode:
-        """One update per row: inputs ``X`` (n, n_in), one direction (rad) each ``Y`` (n,)."""
+        """One update per row: inputs ``X`` (n, n_in), one direction (rad) each ``Y`` (n,).
+
+        The running averages move once per row.
+        """
         for x, y in zip(np.atleast_2d(X), np.ravel(Y), strict=True):
             self.teach(x, [y])
+            self.average()
         return self
 
     def predict(self, X: np.ndarray) -> np.ndarray:

@@ -76,11 +76,15 @@ class PopulationAgent(BootstrapAgent):
         self.n_kept_ = 0
 
     def saved_arrays(self) -> dict[str, np.ndarray]:
-        """The bootstrap agent's members and the population code's (``population_*``)."""
-        p = self.population
-        return {**super().saved_arrays(), "population_w1": p.w1_, "population_b1": p.b1_,
-                "population_w2": p.w2_, "population_b2": p.b2_,
-                "population_hidden_mean": p.hidden_mean_}
+        """The bootstrap agent's members and the population code's (``population_*``).
+
+        The population code's weights are those its readout uses (the running averages, with
+        ``average_rate`` > 0): a model file holds what the module does, not how it learns.
+        """
+        w1, b1, w2, b2 = self.population._readout_weights()
+        return {**super().saved_arrays(), "population_w1": w1, "population_b1": b1,
+                "population_w2": w2, "population_b2": b2,
+                "population_hidden_mean": self.population.hidden_mean_}
 
     def saved_shapes(self) -> dict[str, tuple[int, ...]]:
         """The shape of each member of :meth:`saved_arrays`."""
@@ -96,6 +100,7 @@ class PopulationAgent(BootstrapAgent):
         p.w1_, p.b1_, p.w2_, p.b2_, p.hidden_mean_ = (
             arrays[f"population_{k}"].astype(float)
             for k in ("w1", "b1", "w2", "b2", "hidden_mean"))
+        p.averaged_ = [a.copy() for a in (p.w1_, p.b1_, p.w2_, p.b2_)]
 
     def features(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
         """The module's input: the face window's features and the head angle, scaled."""
@@ -151,6 +156,7 @@ class PopulationAgent(BootstrapAgent):
         self.population.teach(self._x, directions)
         self._keep(directions)
         self._replay()
+        self.population.average()
         return len(directions)
 
     def _keep(self, directions: np.ndarray) -> None:

@@ -106,7 +106,7 @@ def _held_out(config: Config) -> dict[str, CaregiverDatasets]:
                                                        held_out.caregivers)):
         if path:
             sets[kind] = load(path)
-        elif not datasets:
+        elif not datasets and not config.recording.caregivers:  # the shipped training sets
             sets[kind] = shipped_held_out(kind)
         else:
             simulated = _simulated(training, config) if simulated is None else simulated

@@ -31,12 +31,13 @@ from .._fields import from_mapping, to_mapping
 from .._files import check_writable
 from .._readers import read_toml
 from ..analysis.curves import condition_curves
+from ..analysis.held_out import held_out_curves
 from ..analysis.metrics import final_success, mean_interval
 from ..analysis.tables import Table
 from ..config import Config, load_config
 from ..errors import ConfigError, FileError
 from .backends import CellJob, check_backend, run_jobs
-from .cells import run_cell
+from .held_out import run_cell_measured
 from .preflight import MAX_CELLS, check_runs
 from .results import cell_path, prepare_run_dir
 
@@ -160,26 +161,40 @@ def run_sweep(sweep: Sweep, out: str | Path, *, workers: int = 1, backend: str =
                max_cells=max_cells)
     for name, config in sweep.points.items():
         prepare_run_dir(out / name, config)
-    run_jobs(run_cell, _jobs(sweep, out), workers=workers, backend=backend, address=address,
-             progress=progress, label=lambda j: (f"{j.path.parent.parent.name} "
-                                                 f"{j.condition.name} seed {j.seed_index}"))
+    run_jobs(run_cell_measured, _jobs(sweep, out), workers=workers, backend=backend,
+             address=address, progress=progress,
+             label=lambda j: f"{j.path.parent.parent.name} {j.condition.name} seed {j.seed_index}")
     return summarise(sweep, out)
 
 
 def summarise(sweep: Sweep, out: Path) -> list[dict]:
     """Final success per point and condition, written to ``summary.csv`` and ``.md``.
 
-    The mean and 95% interval over seeds, rounded to 3 decimals; the files go in ``out``.
+    The mean and 95% interval over seeds, rounded to 3 decimals; and, for cells measured on
+    held-out sets (:mod:`.held_out`), the frozen model's success at the end on new poses and on
+    unseen caregivers and its median angle error there (means over seeds; empty if not
+    measured). The files go in ``out``.
     """
     rows = []
     for name, config in sweep.points.items():
+        held = held_out_curves(out / name, config)
         for c, (_, per_seed) in condition_curves(out / name, config).items():
             finals = [final_success(curve) for curve in per_seed]
             mean, lo, hi = (round(float(v[0]), 3)
                             for v in mean_interval(np.array(finals)[:, None]))
             rows.append({"point": name, **dict(zip(sweep.keys, sweep.values[name], strict=True)),
                          "condition": c, "seeds": len(finals), "final_success": mean,
-                         "ci_low": lo, "ci_high": hi})
+                         "ci_low": lo, "ci_high": hi, **_held_out_summary(held.get(c))})
     columns = list(rows[0]) if rows else ["point"]
     Table(columns, [[r[k] for k in columns] for r in rows]).write(Path(out) / "summary")
     return rows
+
+
+def _held_out_summary(held) -> dict:
+    """The frozen model's final success on new poses and unseen caregivers, and its error."""
+    keys = ("new_poses_success", "unseen_success", "unseen_median_error_deg")
+    if held is None:
+        return dict.fromkeys(keys, "")
+    m = held[1]
+    values = (m["success"][:, 1, -1], m["success"][:, 2, -1], m["median_error_deg"][:, 2, -1])
+    return {k: round(float(np.mean(v)), 3) for k, v in zip(keys, values, strict=True)}

@@ -27,9 +27,13 @@ _FIGURES = {
     "diagnostics.png": "Diagnostics per learning-time bin: the share of learning situations on "
                        "the caregiver's target, the learning module's error, who moved the head, "
                        "how trials ended (diagnostics.csv).",
+    "held_out.png": "Generalisation: each condition's model, frozen, on its training sets, new "
+                    "poses of its caregivers and caregivers it never saw, as fractions of each "
+                    "set's ceiling, against learning time (held_out.csv).",
 }
 _CONFIG = "a run's configuration (TOML)"
 _TABLES = {"claims": "The paper's claims, checked", "table": "Final success per condition",
+           "held_out": "Generalisation: training sets, new poses, unseen caregivers (frozen)",
            "summary": "Sweep summary"}
 _STYLE = """
 body { font-family: sans-serif; max-width: 70em; margin: 2em auto; padding: 0 1em;
