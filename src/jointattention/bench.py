@@ -170,6 +170,8 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     against its bound: one forward and backward pass of the learning module alone, in compiled
     code.
     """
+    import dataclasses
+
     from .config import load_config
 
     config = load_config("quick")
@@ -185,6 +187,8 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     models = load_config("models")
     rl = _cell_rate(models, next(c for c in models.experiment.conditions if c.name == "rl-n5"),
                     n_steps=100_000)
+    population = _cell_rate(config, dataclasses.replace(cond, model={
+        "learner": "population", "vf_fallback": "sweep"}), n_steps=100_000, engine="auto")
     step_us, bound_us = 1e6 / compiled, _update_us()
     return [("agent steps, compiled engine, learning (quick n5-sigmoid)", compiled, "steps/s"),
             ("agent steps, python engine, learning (same cell)", python, "steps/s"),
@@ -192,6 +196,8 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
             ("agent steps, compiled engine, memory learner (beyond memory-n5)", memory,
              "steps/s"),
             ("agent steps, python engine, RL learner (models rl-n5, 1e5 steps)", rl, "steps/s"),
+            ("agent steps, python engine, population learner (quick n5, 1e5 steps)", population,
+             "steps/s"),
             ("compiled / python engine", compiled / python, "x"),
             ("compiled / rendered", compiled / rendered, "x"),
             ("one compiled step (mean over the cell)", step_us, "us"),
@@ -249,8 +255,8 @@ def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, f
     """Estimated wall time of each shipped preset.
 
     Its agent-steps over ``workers`` processes, each cell at the rate of its engine, perception
-    or learner (``rates``: "compiled", "python", "rendered", "memory", "rl"); ``reproduce`` records
-    the measured time.
+    or learner (``rates``: "compiled", "python", "rendered", "memory", "rl", "population");
+    ``reproduce`` records the measured time (held-out measures and recordings not estimated).
     """
     from .agent.models import MODELS
     from .config import load_config, model_options, preset_names
@@ -263,8 +269,8 @@ def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, f
         for c in exp.conditions:
             kind = "rendered" if exp.perception == "rendered" else engine_of(config, c)
             options = model_options(config, c)
-            if getattr(options, "learner", "") == "memory":
-                kind = "memory"
+            if getattr(options, "learner", "") in ("memory", "population"):
+                kind = options.learner
             elif MODELS.name_of(options) == "rl":
                 kind = "rl"
             minutes += exp.n_seeds * exp.n_steps / rates[kind] / 60

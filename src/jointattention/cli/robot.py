@@ -166,9 +166,22 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     text = "\n".join(rows) + (f"\n\nSuccess of {args.model} (learning time "
                               f"{model.agent.learning_time_steps:,} steps), "
                               f"{(time.perf_counter() - start) / 60:.1f} min.\n")
+    text += _held_out_lines(model.held_out)
     print(text, end="")
     if args.out:
         write_text(args.out, text)
+
+
+def _held_out_lines(held_out: dict | None) -> str:
+    """What a model file says of its model on held-out sets at the end of its learning."""
+    if not held_out:
+        return "The model file holds no held-out measures (learned before version 0.3).\n"
+    lines = ["The model when it was learned, frozen, in the fast world (its held-out measures):"]
+    for kind, m in held_out.items():
+        error = m.get("median_error_deg")
+        lines.append(f"- {kind}: success {m.get('success', float('nan')):.3f}"
+                     + ("" if error is None else f", median angle error {error:.1f}°"))
+    return "\n".join(lines) + "\n"
 
 
 def _cmd_datasets_import(args: argparse.Namespace) -> None:

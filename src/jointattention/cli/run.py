@@ -70,8 +70,8 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         load_config(preset)  # an unknown preset is refused before anything runs
     rows = compile_times() + run_world_benchmarks(load_config(args.config).world)
     agent = run_agent_benchmark()
-    rates = dict(zip(("compiled", "python", "rendered", "memory", "rl"),
-                     (r[1] for r in agent[:5]), strict=True))
+    rates = dict(zip(("compiled", "python", "rendered", "memory", "rl", "population"),
+                     (r[1] for r in agent[:6]), strict=True))
     rows += run_env_benchmark() + run_follow_benchmark() + agent + preset_estimates(
         rates, n_workers)
     for preset in args.run:

@@ -6,7 +6,9 @@ world) instead of naming a file, and runs record their held-out sets
 only on the world's configuration, the counts, the seed, the stream and the package version,
 so it is kept under a name made from them: ``$JOINTATTENTION_CACHE`` (default
 ``~/.cache/jointattention``) ``/datasets/<hash>.npz``, written atomically (two processes
-recording the same file both write whole files).
+recording the same file both write whole files). A run records them in its own process
+before its cells (:func:`~.held_out.held_out_sets`), so that worker processes only read them:
+a process forked after its parent rendered cannot render.
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from .. import __version__
-from ..config import Config, WorldConfig, to_toml
+from .._fields import to_mapping
+from ..config import Config, WorldConfig
 from ..datasets import save
 
 __all__ = ["cache_dir", "recorded_file", "training_file"]
@@ -40,7 +43,7 @@ def recorded_file(world: WorldConfig, n: int, seed: int, *, caregivers: int = 1,
     See :func:`jointattention.world.recording.make_datasets` for the arguments.
     """
     people = None if identities is None else [dataclasses.asdict(c) for c in identities]
-    key = json.dumps({"world": to_toml(Config(world=world)), "n": n, "seed": seed,
+    key = json.dumps({"world": to_mapping(world), "n": n, "seed": seed,
                       "caregivers": caregivers, "stream": stream, "identities": people,
                       "version": __version__}, sort_keys=True)
     path = cache_dir() / f"{hashlib.sha256(key.encode()).hexdigest()[:24]}.npz"

@@ -71,6 +71,8 @@ def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
 
     check_runs({out: config}, max_cells=max_cells)  # before anything is written
     prepare_run_dir(out, config)
+    if exp.held_out.n_trials:
+        held_out_sets(config)  # recorded here, if at all: the workers read them
     jobs = [CellJob(config, c, i, cell_path(out, c.name, i))
             for c in exp.conditions for i in range(exp.n_seeds)]
     ran = run_jobs(run, jobs, workers=workers, backend=backend, address=address,

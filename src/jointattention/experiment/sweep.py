@@ -37,7 +37,7 @@ from ..analysis.tables import Table
 from ..config import Config, load_config
 from ..errors import ConfigError, FileError
 from .backends import CellJob, check_backend, run_jobs
-from .held_out import run_cell_measured
+from .held_out import held_out_sets, run_cell_measured
 from .preflight import MAX_CELLS, check_runs
 from .results import cell_path, prepare_run_dir
 
@@ -161,6 +161,8 @@ def run_sweep(sweep: Sweep, out: str | Path, *, workers: int = 1, backend: str =
                max_cells=max_cells)
     for name, config in sweep.points.items():
         prepare_run_dir(out / name, config)
+        if config.experiment.held_out.n_trials:
+            held_out_sets(config)  # recorded here, if at all: the workers read them
     run_jobs(run_cell_measured, _jobs(sweep, out), workers=workers, backend=backend,
              address=address, progress=progress,
              label=lambda j: f"{j.path.parent.parent.name} {j.condition.name} seed {j.seed_index}")
