@@ -103,12 +103,14 @@ def test_a_frozen_agent_changes_nothing_it_learned():
     assert frozen.learning_time_steps == time and agent.learning
 
 
-def test_the_population_model_round_trips_through_its_file(tmp_path):
+@pytest.mark.parametrize("standardise", [False, True])
+def test_the_population_model_round_trips_through_its_file(tmp_path, standardise):
     """Saved and loaded, the population model gives the same commands (schema version 2)."""
+    model = {"learner": "population", "population": {"standardise": standardise}}
     config = load_config({"experiment": {"n_steps": 3000, "n_seeds": 1, "bin_steps": 1000,
                                          "engine": "auto", "held_out": {"n_trials": 0},
                                          "conditions": [{"name": "pop", "n_objects": 3,
-                                                         "model": {"learner": "population"}}]}})
+                                                         "model": model}]}})
     from jointattention.experiment.training import train
 
     model = train(config, "pop")

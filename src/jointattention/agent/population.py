@@ -57,6 +57,9 @@ class PopulationOptions(Section):
     cell_px: int = param(5, "side of a cell of the gradient-orientation histogram (pixels)",
                          lo=2, hi=64)
     n_orientations: int = param(12, "signed orientation bins per histogram cell", lo=2, hi=36)
+    standardise: bool = param(
+        False, "centre and scale each feature by its running mean and s.d. over the faces "
+        "seen (the histogram's features are all positive: uncentred inputs slow learning)")
     readout: str = param(
         "excess", "how the direction is read out: where p(direction | face) most exceeds "
         "p(direction | the average face) (excess), where its log does (ratio), or the plain "

@@ -24,6 +24,7 @@ import numpy as np
 from .._jit import jit
 from .bootstrap import BootstrapAgent, BootstrapOptions
 from .face_features import face_features_into, n_features
+from .learner import FaceStandardiser, standardise
 from .moves import scale_angle_into, unit_step
 from .population import PopulationCode
 from .protocol import Body, Outcome
@@ -67,6 +68,7 @@ class PopulationAgent(BootstrapAgent):
         self.n_features = n_features(body.face_size_px, o.cell_px, o.n_orientations,
                                      *self._parts)
         self.population = PopulationCode(self.n_features + 2, o, init_rng)
+        self.feature_stats = FaceStandardiser(min_std=1e-3)  # with ``standardise``
         self.direction_rad_ = 0.0
         w, h = body.face_size_px
         self.replay_faces_ = np.zeros((o.replay_capacity, h * w), np.uint8)
@@ -82,16 +84,23 @@ class PopulationAgent(BootstrapAgent):
         ``average_rate`` > 0): a model file holds what the module does, not how it learns.
         """
         w1, b1, w2, b2 = self.population._readout_weights()
+        f = self.feature_stats
         return {**super().saved_arrays(), "population_w1": w1, "population_b1": b1,
                 "population_w2": w2, "population_b2": b2,
-                "population_hidden_mean": self.population.hidden_mean_}
+                "population_hidden_mean": self.population.hidden_mean_,
+                **({"population_feature_mean": f.mean_, "population_feature_m2": f.m2_,
+                    "population_feature_n_seen": np.array(f.n_seen_)}
+                   if self.options.population.standardise else {})}
 
     def saved_shapes(self) -> dict[str, tuple[int, ...]]:
         """The shape of each member of :meth:`saved_arrays`."""
-        p = self.population
+        p, n = self.population, self.n_features
         return {**super().saved_shapes(), "population_w1": p.w1_.shape,
                 "population_b1": p.b1_.shape, "population_w2": p.w2_.shape,
-                "population_b2": p.b2_.shape, "population_hidden_mean": p.hidden_mean_.shape}
+                "population_b2": p.b2_.shape, "population_hidden_mean": p.hidden_mean_.shape,
+                **({"population_feature_mean": (n,), "population_feature_m2": (n,),
+                    "population_feature_n_seen": ()} if self.options.population.standardise
+                   else {})}
 
     def load_arrays(self, arrays: dict[str, np.ndarray]) -> None:
         """Set the learned state from checked members of a model file."""
@@ -101,6 +110,19 @@ class PopulationAgent(BootstrapAgent):
             arrays[f"population_{k}"].astype(float)
             for k in ("w1", "b1", "w2", "b2", "hidden_mean"))
         p.averaged_ = [a.copy() for a in (p.w1_, p.b1_, p.w2_, p.b2_)]
+        if self.options.population.standardise:
+            f = self.feature_stats
+            f.mean_ = arrays["population_feature_mean"].astype(float)
+            f.m2_ = arrays["population_feature_m2"].astype(float)
+            f.n_seen_ = int(arrays["population_feature_n_seen"])
+
+    def _raw_features(self, face_window: np.ndarray) -> np.ndarray:
+        o = self.options.population
+        w, h = self.body.face_size_px
+        x = np.empty(self.n_features)
+        face_features_into(np.ascontiguousarray(face_window, dtype=float).ravel(), h, w,
+                           o.cell_px, o.n_orientations, *self._parts, x)
+        return x
 
     def features(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
         """The module's input: the face window's features and the head angle, scaled."""
@@ -109,6 +131,10 @@ class PopulationAgent(BootstrapAgent):
         x = np.empty(self.n_features + 2)
         face_features_into(np.ascontiguousarray(face_window, dtype=float).ravel(), h, w,
                            o.cell_px, o.n_orientations, *self._parts, x)
+        if o.standardise and self.feature_stats.n_seen_:
+            f = self.feature_stats
+            standardise(x[: self.n_features].copy(), f.mean_, f.m2_, f.n_seen_, f.min_std,
+                        x[: self.n_features])
         scale_angle_into(float(theta_rad[0]), float(theta_rad[1]), self.theta_mid_rad,
                          self.theta_half_rad, x, self.n_features)
         return x
@@ -126,6 +152,8 @@ class PopulationAgent(BootstrapAgent):
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Read out the direction for the caregiver's face, then start as the paper does."""
         self._face = np.asarray(face_window)
+        if self.options.population.standardise and self.learning:
+            self.feature_stats.partial_fit(self._raw_features(face_window))
         self._x = self.features(face_window, theta_rad)
         self.direction_rad_, _ = self.population.direction(self._x)
         super().begin_trial(face_window, theta_rad)

@@ -21,6 +21,9 @@ member                      dtype    shape         meaning
 ``population_w2``           float64  (bins, h)     version 2: its output weights
 ``population_b2``           float64  (bins,)       version 2: its output biases
 ``population_hidden_mean``  float64  (h,)          version 2: the hidden units' running mean
+``population_feature_*``    float64  (n_feat - 2,) version 2 with ``standardise``: the face
+                                                   features' running mean, ``_m2`` and
+                                                   ``_n_seen`` (int, ())
 ``meta``                    str      ()            JSON text, below
 ==========================  =======  ============  ==========================================
 
@@ -266,7 +269,7 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
     if unknown:
         raise FileError(f"{where}: field '{unknown[0]}' is not part of model schema version "
                         f"{version}")
-    arrays = {k: _array(archive, where, k, shape, "iu" if k == "face_n_seen" else "f")
+    arrays = {k: _array(archive, where, k, shape, "iu" if k.endswith("n_seen") else "f")
               for k, shape in shapes.items()}
     if np.any(arrays["face_m2"] < 0):
         raise _field(where, "face_m2", "sums of squares >= 0", "a negative value")
