@@ -105,13 +105,16 @@ def test_bench_estimates_every_preset():
     """The wall-time estimate covers each preset at the rate of its engine, perception or learner.
 
     The rendered preset is scaled by the rendered rate only; the memory learner's cells (the
-    beyond preset) by the memory rate, the reinforcement learner's (models) by its own.
+    beyond preset) by the memory rate, the reinforcement learner's (models) and the population
+    learner's (generalise) by their own.
     """
     from jointattention.bench import preset_estimates
     from jointattention.config import preset_names
 
-    rates = {"compiled": 1e5, "python": 1e4, "rendered": 50.0, "memory": 1e4, "rl": 1e4}
-    fast = preset_estimates({**rates, "compiled": 2e5, "memory": 2e4, "rl": 2e4}, 2)
+    rates = {"compiled": 1e5, "python": 1e4, "rendered": 50.0, "memory": 1e4, "rl": 1e4,
+             "population": 1e4}
+    fast = preset_estimates({**rates, "compiled": 2e5, "memory": 2e4, "rl": 2e4,
+                             "population": 2e4}, 2)
     slow = preset_estimates(rates, 2)
     assert [r[0].split(":")[0] for r in slow] == [f"preset {n}" for n in preset_names()]
     for (name, a, unit), (_, b, _) in zip(slow, fast, strict=True):

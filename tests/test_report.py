@@ -32,10 +32,12 @@ def run(tmp_path_factory):
 def test_report_holds_everything_inline(run):
     """The page holds every figure, table and setting inline and refers to nothing else.
 
-    Figures as data URIs, the tables, the configuration and the versions.
+    Figures as data URIs (the held-out figure among them), the tables, the configuration and
+    the versions.
     """
     page = write_report(run).read_text()
-    assert page.count('src="data:image/png;base64,') == len(list(run.glob("*.png"))) == 4
+    assert page.count('src="data:image/png;base64,') == len(list(run.glob("*.png"))) == 5
+    assert "Generalisation: training sets, new poses, unseen caregivers" in page
     assert "Diagnostics per learning-time bin" in page
     assert "The paper&#x27;s claims, checked" in page and "n5-sigmoid" in page
     assert "n_steps = 300" in page and "mujoco" in page

@@ -136,10 +136,13 @@ def measure_held_out(agent, config: Config, n_objects: int) -> np.ndarray:
     """The :data:`MEASURES` of the frozen ``agent`` on each kind: (len(MEASURES), len(KINDS)).
 
     ``experiment.held_out.n_trials`` trials per kind, drawn from the run's seed (the same
-    trials for every cell and checkpoint).
+    trials for every cell and checkpoint). A model with no ``learning`` switch cannot be
+    frozen: it is not measured (all NaN), since its trials would change what it learned.
     """
     h = config.experiment.held_out
     out = np.full((len(MEASURES), len(KINDS)), np.nan)
+    if not hasattr(agent, "learning"):
+        return out
     frozen = freeze(agent)
     sets = held_out_sets(config)
     for j, kind in enumerate(KINDS):
