@@ -81,9 +81,9 @@ def held_out_table(config: Config, curves: HeldOut, ceilings: dict) -> Table:
 
 
 def held_out_claims(config: Config, curves: HeldOut, ceilings: dict) -> list[Claim]:
-    """Per measured condition (shuffled-faces controls and unmeasured models apart): does it
-    follow people it never saw?
+    """Per measured condition: does it follow people it never saw?
 
+    Shuffled-faces controls and models that cannot be frozen (not measured) get no claim.
     The rule (:data:`AIM`): on unseen caregivers, frozen success at least 0.9 of that set's
     ceiling, a median angle error at most 4° and at most 5% of identities above 10°, as means
     over seeds.
