@@ -30,7 +30,8 @@ def blank_spread_deg(agent, ds: CaregiverDatasets) -> float:
     blank = np.full_like(ds.face, int(round(float(ds.face.mean()))))
     psi = _directions(agent, blank, ds.theta_face_rad)
     r = np.hypot(np.cos(psi).mean(), np.sin(psi).mean())
-    return float(np.rad2deg(np.sqrt(-2 * np.log(max(r, 1e-12)))))
+    r = min(max(r, 1e-12), 1.0)  # identical directions can round r above 1
+    return float(np.rad2deg(np.sqrt(-2 * np.log(r))))
 
 
 def mirror_flip_share(agent, ds: CaregiverDatasets, min_pan_deg: float = 10.0) -> float:
