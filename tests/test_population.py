@@ -122,6 +122,28 @@ def test_the_population_model_round_trips_through_its_file(tmp_path, standardise
     assert int(np.load(path)["schema_version"]) == 2
 
 
+def test_a_saved_population_model_follows_gaze_on_a_rendered_frame(tmp_path, needs_gl):
+    """GazeFollower with a population model file: the command is the model's for the window."""
+    from jointattention.agent.follower import GazeFollower
+    from jointattention.experiment.training import train
+    from jointattention.world.simulator import World
+
+    config = load_config({"experiment": {"n_steps": 2000, "n_seeds": 1, "bin_steps": 1000,
+                                         "engine": "auto", "held_out": {"n_trials": 0},
+                                         "conditions": [{"name": "pop", "n_objects": 3, "model":
+                                                         {"learner": "population"}}]}})
+    path = train(config, "pop").save(tmp_path / "pop.npz")
+    follower = GazeFollower.load(path)
+    with World(config.world, seed=0) as world:
+        world.reset()
+        world.set_head_angle(world.face_angle_rad)
+        look = follower.look(world.render(), world.face_angle_rad)
+    assert look is not None and isinstance(follower.model.agent, PopulationAgent)
+    np.testing.assert_allclose(look.command_rad, follower.model.agent.lm_command(
+        look.window, world.face_angle_rad))
+    assert np.hypot(*look.command_rad) == pytest.approx(np.deg2rad(config.agent.lm_step_deg))
+
+
 def test_the_compiled_and_the_step_by_step_frozen_trials_agree():
     """A frozen paper-model agent succeeds on the same trials alike in both engines."""
     config = load_config({"experiment": {"n_steps": 20000, "n_seeds": 1, "bin_steps": 5000,
