@@ -203,3 +203,38 @@ def test_closed_loop_runs_a_saved_model_through_images(saved, tmp_path, capsys, 
     assert main(["closed-loop", str(path), "--objects", "1", "--trials", "2",
                  "--out", str(tmp_path / "cl.md")]) == 0
     assert "| 1 | 2 |" in (tmp_path / "cl.md").read_text()
+
+
+def test_a_wrong_window_or_angle_is_refused_before_the_kernels(saved):
+    """lm_command refuses windows of another size or type and bad angles; nothing crashes.
+
+    Run in a subprocess: a kernel reading past its arrays would end it with a signal.
+    """
+    import subprocess
+    import sys
+
+    _, path = saved
+    code = f"""
+import numpy as np
+from jointattention.agent.saved import load_model
+from jointattention.errors import ArgumentError
+m = load_model({str(path)!r})
+w, h = m.robot.face_size_px
+cases = [(np.zeros((1000, 1000)), (0, 0)), (np.zeros((40, 40)), (0, 0)),
+         (np.zeros((10, 10)), (0, 0)), (np.zeros((h, w, 3)), (0, 0)),
+         (np.full((h, w), np.nan), (0, 0)), (np.zeros((h, w), object), (0, 0)),
+         (np.zeros((h, w)), (np.nan, 0)), (np.zeros((h, w)), (0, 0, 0)), (np.zeros((h, w)), "ab")]
+for window, theta in cases:
+    try:
+        m.lm_command(window, theta)
+        print("accepted")
+    except ArgumentError as err:
+        print("refused", str(err).split(":")[0])
+print("ok", np.hypot(*m.lm_command(np.zeros((h, w), np.uint8), (0.1, -0.1))) > 0)
+"""
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stdout.splitlines()
+    assert lines[:6] == ["refused face_window"] * 6
+    assert lines[6:9] == ["refused theta_rad"] * 3 and lines[9] == "ok True"

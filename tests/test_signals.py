@@ -67,7 +67,7 @@ def reference(tmp_path_factory) -> Path:
 @pytest.mark.parametrize(("signum", "status"), [(signal.SIGTERM, 143), (signal.SIGINT, 130),
                                                 (signal.SIGKILL, -9)])
 def test_a_signal_leaves_no_worker_and_a_rerun_is_identical(reference, signum, status):
-    """After the signal no worker is left; re-running ends with cells equal byte for byte."""
+    """The run stops within 2 s, no worker is left, and a re-run's cells are equal byte for byte."""
     tmp, out = reference, f"cut-{signum}"
     proc = _reproduce(tmp, out)
     workers: set[int] = set()
@@ -78,7 +78,9 @@ def test_a_signal_leaves_no_worker_and_a_rerun_is_identical(reference, signum, s
     workers |= _children(proc.pid)
     assert workers, "the run started no worker processes"
     proc.send_signal(signum)
+    sent = time.monotonic()
     assert proc.wait(60) == status, proc.stderr.read()
+    assert time.monotonic() - sent <= 2.0, "the run took more than 2 s to stop"
     if signum != signal.SIGKILL:
         assert "Traceback" not in proc.stderr.read()
     deadline = time.monotonic() + 10  # the kernel ends orphans of SIGKILL promptly

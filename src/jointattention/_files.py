@@ -17,7 +17,15 @@ import numpy as np
 
 from .errors import FileError
 
-__all__ = ["atomic_path", "check_writable", "save_json", "save_npz", "write_text"]
+try:
+    import fcntl
+except ImportError:  # not POSIX: runs are not locked
+    fcntl = None
+
+__all__ = ["LOCK_NAME", "atomic_path", "check_writable", "folder_lock", "remove_stale_tmp",
+           "save_json", "save_npz", "write_text"]
+
+LOCK_NAME = ".jointattention.lock"  # the empty file a run folder is locked by
 
 
 def check_writable(path: str | Path, kind: str = "folder", what: str = "--out") -> Path:
@@ -87,3 +95,36 @@ def save_npz(path: str | Path, arrays: dict) -> Path:
 def save_json(data: dict, path: str | Path) -> Path:
     """Write ``data`` as indented, key-sorted JSON to ``path`` atomically."""
     return write_text(path, json.dumps(data, indent=2, sort_keys=True) + "\n")
+
+
+@contextmanager
+def folder_lock(out: str | Path) -> Iterator[Path]:
+    """Hold the folder ``out`` for one run: any other run into it is refused while held.
+
+    An advisory ``flock`` on ``out/.jointattention.lock``, which stays (empty); it holds
+    across processes and across calls in one process, and ends with the process, however it
+    ends. ``out`` is made if missing: call this after every check.
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    fd = os.open(out / LOCK_NAME, os.O_RDWR | os.O_CREAT, 0o666)
+    try:
+        if fcntl is not None:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                raise FileError(f"{out}: another run is writing into this folder now; expected "
+                                "one run per folder (wait for it, or choose another --out)"
+                                ) from None
+        yield out
+    finally:
+        os.close(fd)  # releases the lock
+
+
+def remove_stale_tmp(folder: str | Path) -> None:
+    """Remove the temporary files that a killed writer left in ``folder`` (:func:`atomic_path`).
+
+    Only under :func:`folder_lock`: no other writer can be using them.
+    """
+    for stale in Path(folder).glob(".*.tmp"):
+        stale.unlink(missing_ok=True)

@@ -11,6 +11,7 @@ import hashlib
 import io
 import json
 import os
+import stat
 import tomllib
 import warnings
 import zipfile
@@ -21,11 +22,13 @@ import numpy as np
 from ._checks import short_repr
 from .errors import FileError
 
-__all__ = ["MAX_IMAGE_PIXELS", "MAX_TEXT_BYTES", "read_bytes", "read_image", "read_json",
-           "read_npz", "read_text", "read_toml", "sha256_of"]
+__all__ = ["MAX_IMAGE_PIXELS", "MAX_NPZ_BYTES", "MAX_NPZ_MEMBERS", "MAX_TEXT_BYTES", "read_bytes",
+           "read_image", "read_json", "read_npz", "read_text", "read_toml", "sha256_of"]
 
 MAX_TEXT_BYTES = 16 * 2**20  # configurations, specs and run files are kilobytes
 MAX_IMAGE_PIXELS = 100_000_000  # a 100-megapixel photograph; larger headers are refused
+MAX_NPZ_BYTES = 2**30  # an archive's arrays, in total, as its directory declares them
+MAX_NPZ_MEMBERS = 1024  # the package writes at most a few dozen arrays per archive
 
 
 def _open_error(path: Path, err: OSError, what: str) -> FileError:
@@ -33,13 +36,21 @@ def _open_error(path: Path, err: OSError, what: str) -> FileError:
     return FileError(f"{path}: cannot read it ({reason}); expected {what}")
 
 
+def _regular_size(path: Path, what: str) -> int:
+    """The size of ``path`` if it is a regular file (not a folder, FIFO or device)."""
+    mode = path.stat().st_mode
+    if stat.S_ISDIR(mode):
+        raise IsADirectoryError(21, "is a folder")
+    if not stat.S_ISREG(mode):  # /dev/zero or a FIFO would be read without end
+        raise FileError(f"{path}: not a regular file (a device, FIFO or socket); expected {what}")
+    return path.stat().st_size
+
+
 def read_bytes(path: str | Path, what: str, max_bytes: int) -> bytes:
     """The bytes of ``path`` (a regular file of at most ``max_bytes``); ``what`` it should be."""
     path = Path(path)
     try:
-        size = path.stat().st_size
-        if os.path.isdir(path):
-            raise IsADirectoryError(21, "is a folder")
+        size = _regular_size(path, what)
         if size > max_bytes:
             raise FileError(f"{path}: {size:,} bytes; expected {what} of at most "
                             f"{max_bytes:,} bytes")
@@ -98,21 +109,45 @@ def _read_member(z: zipfile.ZipFile, info: zipfile.ZipInfo, max_bytes: int) -> n
     return np.frombuffer(data, dtype=dtype).reshape(shape, order=order).copy(order="K")
 
 
-def read_npz(path: str | Path, what: str, max_bytes: int = 2**31) -> dict[str, np.ndarray]:
+def _check_directory(z: zipfile.ZipFile, max_bytes: int) -> None:
+    """Refuse an archive by its directory alone, before any member is read."""
+    infos = z.infolist()
+    if len(infos) > MAX_NPZ_MEMBERS:
+        raise ValueError(f"{len(infos):,} members; expected at most {MAX_NPZ_MEMBERS:,}")
+    names = [i.filename for i in infos]
+    for name in names:
+        if not name.endswith(".npy"):
+            raise ValueError(f"member {short_repr(name)} is not a NumPy array (.npy)")
+    if len(set(names)) != len(names):
+        raise ValueError("a member name occurs twice")
+    total = sum(i.file_size for i in infos)
+    if total > max_bytes:
+        raise ValueError(f"its members unpack to {total:,} bytes; expected at most "
+                         f"{max_bytes:,} (MAX_NPZ_BYTES)")
+
+
+def read_npz(path: str | Path, what: str, max_bytes: int = MAX_NPZ_BYTES) -> dict[str, np.ndarray]:
     """The arrays of the NumPy ``.npz`` archive ``path``, each fully read and checked.
 
-    A member whose header claims more bytes than it holds, or than ``max_bytes``, is refused
-    before anything is allocated; object arrays (pickles) are never loaded.
+    The archive's directory is checked first (a regular file; at most :data:`MAX_NPZ_MEMBERS`
+    members, all ``.npy``, named once, unpacking to at most ``max_bytes`` in total); a member
+    whose header claims more bytes than it holds is refused before anything is allocated;
+    object arrays (pickles) are never loaded.
     """
     path = Path(path)
     arrays, member = {}, ""
     try:
+        _regular_size(path, what)
         with zipfile.ZipFile(path) as z:
+            try:
+                _check_directory(z, max_bytes)
+            except ValueError as err:
+                raise FileError(f"{path}: {err}; expected {what}") from None
             for info in z.infolist():
                 member = info.filename
-                if not member.endswith(".npy"):
-                    raise ValueError("not a NumPy array")
                 arrays[member.removesuffix(".npy")] = _read_member(z, info, max_bytes)
+    except FileError:
+        raise
     except zipfile.BadZipFile as err:
         raise FileError(f"{path}: not a readable .npz archive ({err}); expected {what}") from None
     except OSError as err:
@@ -166,6 +201,7 @@ def sha256_of(path: str | Path) -> str:
     """The SHA-256 of a file's content, in hex."""
     digest = hashlib.sha256()
     try:
+        _regular_size(Path(path), "a readable file")
         with open(path, "rb") as f:
             for block in iter(lambda: f.read(2**20), b""):
                 digest.update(block)

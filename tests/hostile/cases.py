@@ -420,6 +420,42 @@ def huge_member_npz() -> bytes:
     return buf.getvalue()
 
 
+def declared_size_npz(n_bytes: int, n_members: int = 1) -> bytes:
+    """A data-set archive with ``n_members`` extra members, each declaring ``n_bytes``.
+
+    Its directory makes a bomb's claim without the bomb: each member's data are 64 bytes.
+    """
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
+        for k, v in small_arrays(5).items():
+            member = io.BytesIO()
+            np.save(member, v)
+            z.writestr(f"{k}.npy", member.getvalue())
+        for i in range(n_members):
+            z.writestr(f"bomb{i}.npy", npy_header("|u1", (n_bytes,)) + b"\0" * 64)
+    data = bytearray(buf.getvalue())
+    at = 0
+    while (at := data.find(b"PK\x01\x02", at)) >= 0:  # central directory entries
+        name_len = struct.unpack_from("<H", data, at + 28)[0]
+        if data[at + 46:at + 46 + name_len].startswith(b"bomb"):
+            struct.pack_into("<I", data, at + 24, n_bytes)  # uncompressed size
+        at += 46
+    return bytes(data)
+
+
+def many_members_npz(n: int = 2000) -> bytes:
+    """A data-set archive with ``n`` extra one-byte members."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
+        for k, v in small_arrays(5).items():
+            member = io.BytesIO()
+            np.save(member, v)
+            z.writestr(f"{k}.npy", member.getvalue())
+        for i in range(n):
+            z.writestr(f"x{i}.npy", npy_bytes(np.zeros(1, np.uint8)))
+    return buf.getvalue()
+
+
 def pickled_member_npz() -> bytes:
     """A data-set archive whose ``face`` member is a pickled object array."""
     arrays = small_arrays(5)
@@ -881,6 +917,9 @@ CORRUPT_DATASETS: dict[str, Callable[[], bytes | None]] = {
     "npy-renamed": lambda: npy_bytes(small_arrays()["face"]),
     "random-bytes": random_bytes,
     "huge-member-header": huge_member_npz,
+    "member-declares-2gib": lambda: declared_size_npz(2**31 - 1),
+    "members-declare-4gib": lambda: declared_size_npz(2**29, 8),
+    "2000-members": many_members_npz,
     "pickled-member": pickled_member_npz,
     "text": lambda: b"these are not data sets\n",
     "directory": lambda: None,
@@ -918,6 +957,29 @@ for _tag in ("truncated", "bad-crc", "huge-member-header", "pickled-member"):
                  {"c.toml": tiny_toml(top='datasets = "bad.npz"'), "bad.npz": m()},
                  _config_argv("reproduce"))(tmp))(CORRUPT_DATASETS[_tag]),
              names="bad.npz"))
+
+
+
+def _special_file(kind: str, argv: Callable[[str], Invocation]) -> Callable[[Path], Invocation]:
+    """A ``make`` that gives a device (``/dev/zero``) or a FIFO where a file belongs."""
+    def make(tmp: Path) -> Invocation:
+        write_files(tmp, {"img.png": png_bytes()})
+        if kind == "device":
+            return argv("/dev/zero")
+        os.mkfifo(tmp / "special.npz")  # reading it would block for ever
+        return argv("special.npz")
+    return make
+
+
+for _kind, _name in (("device", "/dev/zero"), ("fifo", "special.npz")):
+    add(Case(f"follow-model-{_kind}", "corrupt-files",
+             _special_file(_kind, lambda p: ["follow", p, "img.png", "--out", "out"]),
+             names=_name))
+    add(Case(f"datasets-check-{_kind}", "corrupt-files",
+             _special_file(_kind, lambda p: ["datasets", "check", p]), names=_name))
+    add(Case(f"api-load-model-{_kind}", "corrupt-files",
+             _special_file(_kind, lambda p: f"import jointattention as ja\nja.load_model({p!r})"),
+             names=_name))
 
 CELL = "run/cells/n1__seed000.npz"
 

@@ -54,7 +54,7 @@ from .. import __version__
 from .._files import save_npz
 from .._readers import read_npz
 from ..config import Config, condition_named, load_config, model_options, to_toml
-from ..errors import ConfigError, FileError
+from ..errors import ArgumentError, ConfigError, FileError
 from .bootstrap import BootstrapAgent, BootstrapOptions
 from .models import MODELS
 from .protocol import Body
@@ -124,8 +124,24 @@ class LearnedModel:
         return Robot.of(self.config)
 
     def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
-        """The learning module's (dpan, dtilt) in radians, one step long, for a face window."""
-        return self.agent.lm_command(face_window, theta_rad)
+        """The learning module's (dpan, dtilt) in radians, one step long, for a face window.
+
+        ``face_window``: (H, W) grey levels of the robot's face window size; ``theta_rad``: the
+        head's (pan, tilt) at the face. Anything else is refused (ArgumentError) before the
+        compiled kernels, which read the window by the learned size, see it.
+        """
+        w, h = self.robot.face_size_px
+        window = np.asarray(face_window)
+        if window.shape != (h, w) or window.dtype.kind not in "uif":
+            raise ArgumentError(f"face_window: shape {window.shape}, dtype {window.dtype}; "
+                                f"expected ({h}, {w}) grey levels, the model's face window")
+        if not np.isfinite(window).all():
+            raise ArgumentError("face_window: expected finite grey levels")
+        theta = np.asarray(theta_rad)
+        if theta.shape != (2,) or theta.dtype.kind not in "uif" or not np.isfinite(theta).all():
+            raise ArgumentError(f"theta_rad: {theta_rad!r}; expected two finite angles (pan, "
+                                "tilt) in radians")
+        return self.agent.lm_command(window, theta.astype(float))
 
     def face_template(self) -> np.ndarray:
         """The mean of the faces it learned from, (H, W) uint8: a template to find them."""

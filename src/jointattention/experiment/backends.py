@@ -67,8 +67,9 @@ def _stop_workers(pool: ProcessPoolExecutor) -> None:
     if hasattr(pool, "terminate_workers"):  # Python 3.14+
         pool.terminate_workers()
         return
+    # Read the workers first: shutdown() sets pool._processes to None (Python 3.11-3.13).
+    processes = dict(getattr(pool, "_processes", None) or {})
     pool.shutdown(wait=False, cancel_futures=True)
-    processes = getattr(pool, "_processes", None) or {}
     for p in list(processes.values()):
         p.terminate()
     for p in list(processes.values()):

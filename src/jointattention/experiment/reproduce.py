@@ -9,13 +9,14 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable
+from contextlib import ExitStack
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
 import numpy as np
 
-from .._files import save_json
+from .._files import folder_lock, save_json
 from .._readers import read_json
 from ..agent.saved import check_savable
 from ..analysis.claims import Claim, check_claims, claims_table
@@ -49,15 +50,19 @@ def run_experiment(config: Config, out: str | Path, workers: int = 1,
     :func:`~.preflight.check_runs`; ``save_models``: each cell's learned model is saved in
     ``out/models/<condition>/seed_<i>.npz`` (:mod:`~.training`).
     """
-    jobs, _ = _run_cells(config, Path(out), workers, progress, backend, address, max_cells,
-                         save_models)
-    return {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
+    with ExitStack() as lock:
+        jobs, _ = _run_cells(config, Path(out), workers, progress, backend, address, max_cells,
+                             save_models, lock)
+        return {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
 
 
 def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
                address: str | None, max_cells: int,
-               save_models: bool = False) -> tuple[list[CellJob], int]:
-    """Every cell's job, after running those not in ``out`` yet; and how many ran."""
+               save_models: bool, lock: ExitStack) -> tuple[list[CellJob], int]:
+    """Every cell's job, after running those not in ``out`` yet; and how many ran.
+
+    The folder's lock is taken after every check and held by ``lock`` (the caller's).
+    """
     check_backend(backend, address, workers)
     exp = config.experiment
     run, also_done = run_cell_measured, None
@@ -70,6 +75,7 @@ def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
             return model_path(out / "models", job.condition.name, job.seed_index).is_file()
 
     check_runs({out: config}, max_cells=max_cells)  # before anything is written
+    lock.enter_context(folder_lock(out))  # one run per folder, until the caller is done
     prepare_run_dir(out, config)
     if exp.held_out.n_trials:
         held_out_sets(config)  # recorded here, if at all: the workers read them
@@ -164,25 +170,26 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
 
     out = Path(out)
     start = time.perf_counter()
-    jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells,
-                                 save_models)
-    wall_min = (time.perf_counter() - start) / 60
-    cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
-    save_json({"wall_min": round(wall_min, 2), "workers": workers, "cells_run": cells_run,
-               "cells_total": len(cells)}, out / "timing.json")
-    ceilings = _ceilings(config, out / "ceilings.json", progress)
-    held_ceilings = _held_out_ceilings(config, out / "held_out_ceilings.json", progress)
-    curves = condition_curves(out, config)
-    held = held_out_curves(out, config)
-    claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config))
-    claims += held_out_claims(config, held, held_ceilings)
-    diagnostics = condition_diagnostics(out, config)
-    files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
-             *final_table(config, curves, ceilings, held, held_ceilings).write(out / "table"),
-             *claims_table(claims).write(out / "claims"),
-             *diagnostics_table(diagnostics).write(out / "diagnostics"),
-             diagnostics_figure(diagnostics, out / "diagnostics.png")]
-    if held:
-        files += [*held_out_table(config, held, held_ceilings).write(out / "held_out"),
-                  held_out_figure(config, held, held_ceilings, out / "held_out.png")]
-    return RunResult(out, files, claims, cells_run, len(cells), wall_min)
+    with ExitStack() as lock:  # the folder's lock (taken after every check)
+        jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells,
+                                     save_models, lock)
+        wall_min = (time.perf_counter() - start) / 60
+        cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
+        save_json({"wall_min": round(wall_min, 2), "workers": workers, "cells_run": cells_run,
+                   "cells_total": len(cells)}, out / "timing.json")
+        ceilings = _ceilings(config, out / "ceilings.json", progress)
+        held_ceilings = _held_out_ceilings(config, out / "held_out_ceilings.json", progress)
+        curves = condition_curves(out, config)
+        held = held_out_curves(out, config)
+        claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config))
+        claims += held_out_claims(config, held, held_ceilings)
+        diagnostics = condition_diagnostics(out, config)
+        files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
+                 *final_table(config, curves, ceilings, held, held_ceilings).write(out / "table"),
+                 *claims_table(claims).write(out / "claims"),
+                 *diagnostics_table(diagnostics).write(out / "diagnostics"),
+                 diagnostics_figure(diagnostics, out / "diagnostics.png")]
+        if held:
+            files += [*held_out_table(config, held, held_ceilings).write(out / "held_out"),
+                      held_out_figure(config, held, held_ceilings, out / "held_out.png")]
+        return RunResult(out, files, claims, cells_run, len(cells), wall_min)

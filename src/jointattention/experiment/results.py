@@ -16,7 +16,15 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from .._files import atomic_path, check_writable, save_json, save_npz, write_text
+from .._files import (
+    LOCK_NAME,
+    atomic_path,
+    check_writable,
+    remove_stale_tmp,
+    save_json,
+    save_npz,
+    write_text,
+)
 from .._readers import read_json, read_npz, sha256_of
 from ..config import Config, load_config, to_toml
 from ..errors import FileError, JointAttentionError
@@ -45,6 +53,15 @@ def datasets_sha256(config: Config) -> str:
     return sha256_of(datasets_file(config))
 
 
+# A run's start: the lock, then versions.json, then config.toml. A folder holding only these
+# (a start that was killed) counts as empty.
+_START_FILES = (LOCK_NAME, "versions.json")
+
+
+def _is_tmp(p: Path) -> bool:
+    return p.name.startswith(".") and p.name.endswith(".tmp") and p.is_file()
+
+
 def check_run_dir(out: Path, config: Config) -> None:
     """Refuse ``out`` unless ``config``'s run can be written there (writes nothing).
 
@@ -55,7 +72,8 @@ def check_run_dir(out: Path, config: Config) -> None:
     check_writable(out, "folder")
     cfg_file = out / "config.toml"
     if not cfg_file.exists():
-        if out.exists() and any(out.iterdir()):
+        if out.exists() and any(p.name not in _START_FILES and not _is_tmp(p)
+                                for p in out.iterdir()):
             raise JointAttentionError(f"{out}: not empty and not a run folder; expected a new "
                                       "or empty folder")
         return
@@ -81,10 +99,13 @@ def check_run_dir(out: Path, config: Config) -> None:
 def prepare_run_dir(out: Path, config: Config) -> None:
     """Create the run folder, or check that it holds this configuration (:func:`check_run_dir`).
 
-    A new folder gets ``config.toml`` and ``versions.json`` (with the data sets' SHA-256).
+    Call it under :func:`~jointattention._files.folder_lock`: it removes the temporary files
+    of a writer that was killed. A new folder gets ``config.toml`` and ``versions.json``
+    (with the data sets' SHA-256).
     """
     out = Path(out)
     check_run_dir(out, config)
+    remove_stale_tmp(out)
     if not (out / "config.toml").exists():
         save_json({**versions(), "datasets_sha256": datasets_sha256(config)},
                   out / "versions.json")

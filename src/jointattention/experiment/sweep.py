@@ -28,7 +28,7 @@ import numpy as np
 
 from .._checks import UNSAFE
 from .._fields import from_mapping, to_mapping
-from .._files import check_writable
+from .._files import check_writable, folder_lock
 from .._readers import read_toml
 from ..analysis.curves import condition_curves
 from ..analysis.held_out import held_out_curves
@@ -159,14 +159,16 @@ def run_sweep(sweep: Sweep, out: str | Path, *, workers: int = 1, backend: str =
     check_writable(out, "folder")
     check_runs({out / name: config for name, config in sweep.points.items()},
                max_cells=max_cells)
-    for name, config in sweep.points.items():
-        prepare_run_dir(out / name, config)
-        if config.experiment.held_out.n_trials:
-            held_out_sets(config)  # recorded here, if at all: the workers read them
-    run_jobs(run_cell_measured, _jobs(sweep, out), workers=workers, backend=backend,
-             address=address, progress=progress,
-             label=lambda j: f"{j.path.parent.parent.name} {j.condition.name} seed {j.seed_index}")
-    return summarise(sweep, out)
+    with folder_lock(out):  # one sweep per folder
+        for name, config in sweep.points.items():
+            prepare_run_dir(out / name, config)
+            if config.experiment.held_out.n_trials:
+                held_out_sets(config)  # recorded here, if at all: the workers read them
+        run_jobs(run_cell_measured, _jobs(sweep, out), workers=workers, backend=backend,
+                 address=address, progress=progress,
+                 label=lambda j: f"{j.path.parent.parent.name} {j.condition.name} seed "
+                                 f"{j.seed_index}")
+        return summarise(sweep, out)
 
 
 def summarise(sweep: Sweep, out: Path) -> list[dict]:

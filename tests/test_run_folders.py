@@ -1,0 +1,58 @@
+"""One run per folder: the lock, concurrent runs, and a start that was killed."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+from jointattention import run_experiment
+from jointattention._files import LOCK_NAME, folder_lock
+from jointattention.cli import main
+from jointattention.config import ConditionConfig, Config, ExperimentConfig, to_toml
+from jointattention.errors import FileError
+
+SMALL = Config(experiment=ExperimentConfig(
+    n_steps=400, n_seeds=1, conditions=(ConditionConfig(name="a", n_objects=3),)))
+
+
+def test_a_second_run_into_a_held_folder_is_refused_and_writes_nothing(tmp_path, capsys):
+    """While one run holds the folder, another (API or CLI) is refused in one line."""
+    out = tmp_path / "run"
+    (tmp_path / "c.toml").write_text(to_toml(SMALL))
+    with folder_lock(out):
+        with pytest.raises(FileError, match="another run is writing into this folder"):
+            run_experiment(SMALL, out)
+        assert main(["reproduce", "--config", str(tmp_path / "c.toml"), "--out",
+                     str(out)]) == 2
+        assert sorted(p.name for p in out.iterdir()) == [LOCK_NAME]
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "another run is writing into this folder" in err[0]
+    run_experiment(SMALL, out)  # the lock ends with its holder
+    assert (out / "cells" / "a__seed000.npz").is_file()
+
+
+def test_two_concurrent_runs_into_one_folder_one_is_refused(tmp_path):
+    """Two reproduce processes started together into one new folder: exactly one runs."""
+    cfg = tmp_path / "c.toml"
+    cfg.write_text(to_toml(Config(experiment=ExperimentConfig(
+        n_steps=60000, n_seeds=2, conditions=(ConditionConfig(name="a", n_objects=3),)))))
+    argv = [sys.executable, "-m", "jointattention", "reproduce", "--config", str(cfg), "--out",
+            str(tmp_path / "run"), "--workers", "1"]
+    procs = [subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                              text=True) for _ in range(2)]
+    codes = sorted(p.wait(600) for p in procs)
+    errors = [p.stderr.read() for p in procs]
+    assert codes == [0, 2], errors
+    assert any("another run is writing into this folder" in e for e in errors)
+
+
+def test_a_killed_start_and_stale_temporary_files_do_not_block_the_folder(tmp_path):
+    """A folder holding only versions.json and a writer's .tmp file is taken as new."""
+    out = tmp_path / "run"
+    out.mkdir()
+    (out / "versions.json").write_text("{}")
+    (out / ".table.csv.abc123.tmp").write_text("half")
+    run_experiment(SMALL, out)
+    assert (out / "config.toml").is_file() and not list(out.glob(".*.tmp"))
