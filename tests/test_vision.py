@@ -192,3 +192,27 @@ def test_rendered_cells_follow_the_fast_cells_trials(needs_gl):
     n = 5
     assert np.array_equal(fast["target"][:n], rendered["target"][:n])
     assert np.array_equal(fast["attended"][:n], rendered["attended"][:n])
+
+
+def test_a_face_in_a_very_large_image_is_found_at_its_place(needs_gl):
+    """An image beyond MAX_SEARCH_SIDE_PX is searched reduced; the face is given in its pixels.
+
+    A rendered view pasted into a 3840 x 2880 grey image: the face is found where it is in the
+    view, shifted by the paste's offset, within 5% of its height.
+    """
+    from jointattention.agent.faces import MAX_SEARCH_SIDE_PX
+    from jointattention.datasets import default_datasets
+    from jointattention.world.simulator import World
+
+    ds = default_datasets()
+    finder = FaceFinder("template", face_template(ds.face))
+    with World(seed=int(ds.meta["seed"])) as world:
+        world.reset()
+        world.set_head_angle(world.face_angle_rad)
+        view = world.render()
+    big = np.full((2880, 3840, 3), 128, np.uint8)
+    big[1000:1000 + view.shape[0], 2000:2000 + view.shape[1]] = view
+    assert max(big.shape) > MAX_SEARCH_SIDE_PX
+    (small,), (large,) = finder.find(view), finder.find(big)
+    assert np.hypot(*(large.centre_px - (2000, 1000) - small.centre_px)) < 0.05 * small.height_px
+    assert large.height_px == pytest.approx(small.height_px, rel=0.1)

@@ -11,7 +11,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-__all__ = ["Face", "FaceFinder", "face_template", "face_window", "finder_for", "window_of"]
+__all__ = ["MAX_SEARCH_SIDE_PX", "Face", "FaceFinder", "face_template", "face_window", "finder_for",
+           "window_of"]
 
 
 @dataclass(frozen=True)
@@ -87,26 +88,42 @@ class FaceFinder:
                                    "opencv-python-headless<5, which ships it")
 
     def find(self, image_rgb: np.ndarray) -> list[Face]:
-        """The faces in an RGB uint8 image, best first."""
+        """The faces in an RGB uint8 image, best first.
+
+        An image whose longer side exceeds :data:`MAX_SEARCH_SIDE_PX` is searched at that
+        size (the faces are given in the image's own pixels): the work is bounded whatever
+        the image's size.
+        """
         gray = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2GRAY)
+        scale = min(1.0, MAX_SEARCH_SIDE_PX / max(gray.shape))
+        if scale == 1.0:
+            return self._find(gray, 1.0)
+        size = (max(1, round(gray.shape[1] * scale)), max(1, round(gray.shape[0] * scale)))
+        sx, sy = size[0] / gray.shape[1], size[1] / gray.shape[0]
+        small = cv2.resize(gray, size, interpolation=cv2.INTER_AREA)
+        return [Face((f.centre_px + 0.5) / (sx, sy) - 0.5, f.height_px / sy, f.score, f.aspect)
+                for f in self._find(small, sy)]
+
+    def _find(self, gray: np.ndarray, scale: float) -> list[Face]:
+        """:meth:`find` in ``gray``, an image ``scale`` times the original's size."""
         if self.method == "haar":
-            lo, hi = (int(v) for v in self._heights(gray))
+            lo, hi = (int(v) for v in self._heights(gray, scale))
             boxes = self._cascade.detectMultiScale(gray, scaleFactor=1.1, minNeighbors=5,
                                                    minSize=(lo, lo), maxSize=(hi, hi))
             faces = [Face(np.array([x + w / 2, y + h / 2]), float(h), 1.0, w / h)
                      for x, y, w, h in boxes]
             return sorted(faces, key=lambda f: -f.height_px)
-        return self._match(gray)
+        return self._match(gray, scale)
 
-    def _heights(self, gray: np.ndarray) -> tuple[float, float]:
+    def _heights(self, gray: np.ndarray, scale: float) -> tuple[float, float]:
         """The least and greatest face height looked for in this image."""
         if self.heights_px is not None:
-            return self.heights_px
+            return self.heights_px[0] * scale, self.heights_px[1] * scale
         return max(8.0, _LEAST_FACE_FRACTION * gray.shape[0]), float(gray.shape[0])
 
-    def _match(self, gray: np.ndarray) -> list[Face]:
+    def _match(self, gray: np.ndarray, scale: float) -> list[Face]:
         th, tw = self.template.shape
-        lo, hi = self._heights(gray)
+        lo, hi = self._heights(gray, scale)
         hi = min(hi, gray.shape[0])
         # coarse to fine: heights 10% apart, then ``scale_step`` apart around the three best
         # (a face's peak sampled 5% off its height can score below a small spurious match)
@@ -180,6 +197,7 @@ def _gray_window(gray: np.ndarray, centre_px, height_px: float,
 
 # faces are looked for from this fraction of an image's height up to all of it
 _LEAST_FACE_FRACTION = 0.08
+MAX_SEARCH_SIDE_PX = 1280  # larger images are searched reduced to this longer side
 
 
 def finder_for(method: str, template: np.ndarray | None = None,
