@@ -62,10 +62,9 @@ class BootstrapOptions(ModelOptions):
         "controller's command that would centre it), or the step that was executed",
         choices=LEARNING_TARGETS)
     learner: str = param(
-        "backprop", "the learning module: the paper's network trained by back-propagation, or "
-        "an episodic memory that recalls where objects were found for similar faces, or a "
-        "population code that learns where objects are found around a face and reads out its "
-        "mode (beyond the paper: README, Beyond the paper)", choices=LEARNERS)
+        "backprop", "the learning module: the paper's network (back-propagation), an episodic "
+        "memory of where objects were found for similar faces (a lookup), or a population code "
+        "of where they are found around a face (README, Generalisation)", choices=LEARNERS)
     memory: MemoryOptions = param(factory=MemoryOptions,
                                   help="the episodic memory's options (learner = 'memory')")
     population: PopulationOptions = param(
@@ -114,9 +113,8 @@ class BootstrapAgent:
     happens in ``end_trial`` if the internal evaluator fired.
 
     Attributes:
-        learning: whether it learns (True); a frozen agent (False) acts as it would at its
-            learning time without changing anything of what it learned, nor its learning
-            time, so that it can be measured on other data sets.
+        learning: whether it learns (True); a frozen agent (False) acts as at its learning
+            time and changes nothing it learned: it can be measured on other data sets.
     """
 
     def __init__(self, options: BootstrapOptions, agent: AgentConfig, body: Body,

@@ -1,6 +1,7 @@
 """The compiled engine's loop over a cell's trials, and the inputs it takes.
 
-:mod:`.compiled` packs the inputs and drives the loop; this module is the loop itself. Each step
+:mod:`.compiled` packs the inputs (:mod:`._loop_inputs`) and drives the loop; this module is
+the loop itself. Each step
 calls the kernels the step-by-step path calls (:mod:`~jointattention.world.fast`,
 :mod:`~jointattention.world.placement`, :mod:`~jointattention.agent.attention`,
 :mod:`~jointattention.agent.learner` or :mod:`~jointattention.agent.memory`,
@@ -8,8 +9,6 @@ calls the kernels the step-by-step path calls (:mod:`~jointattention.world.fast`
 """
 
 from __future__ import annotations
-
-from typing import NamedTuple
 
 import numpy as np
 
@@ -24,96 +23,17 @@ from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_
 from ..world.fast import detect_into
 from ..world.kinematics import rotation_matrix, separation_rad
 from ..world.placement import place_into
+from ._loop_inputs import CONSTANT, PERFORMANCE
 from .trial import END_FIRED, END_LIMIT, END_STEPS
 
-__all__ = ["COLUMNS", "LoopRobot", "LoopState", "LoopWorld", "run_trials"]
+__all__ = ["COLUMNS", "run_trials"]
 
 _VF, _LM, _RANDOM = 0, 1, 2  # the modules, as codes
-SIGMOID, CONSTANT, PERFORMANCE = 0, 1, 2  # the gates, as codes
 # the records run_trials writes, one row each (the rest of trial.RECORD is computed from them)
 COLUMNS = ("learning_time", "n_steps", "n_lm_steps", "n_random_steps", "attended", "target",
            "end")
 _OBJECT_DIRECTION = LEARNING_TARGETS.index("object_direction")
 _EXECUTED_STEP = LEARNING_TARGETS.index("executed_step")
-
-
-class LoopWorld(NamedTuple):
-    """The world as the compiled loop takes it."""
-
-    n_objects: int
-    region: np.ndarray  # place_into's object region
-    offset_m: np.ndarray
-    limits_rad: np.ndarray  # pan lo, pan hi, tilt lo, tilt hi
-    focal_px: float
-    width_px: int
-    height_px: int
-    face_radius_m: float
-    theta_face_rad: np.ndarray  # (K, 2) per data set
-    target_m: np.ndarray  # (K, 3)
-    face_m: np.ndarray  # (K, 3)
-    faces: np.ndarray  # (K, pixels) float
-    shuffle_faces: bool
-
-
-class LoopRobot(NamedTuple):
-    """The agent's mechanisms and options as the compiled loop takes them."""
-
-    weights: np.ndarray  # Eq. 1's (a1, a2, a3)
-    gain_rad_per_px: float
-    d_th_px: float
-    step_rad: float
-    max_steps: int
-    gate_kind: int  # _SIGMOID, _CONSTANT or _PERFORMANCE
-    gate_a: float  # the constant rate, the sigmoid's midpoint, or the performance's agree_rad
-    gate_b: float  # the sigmoid's width, or the performance's full agreement
-    gate_window: float  # the performance's window (trials)
-    gate_per_trial: bool
-    vf_fallback_lm: bool
-    vf_fallback_sweep: bool
-    learning_target: int  # its index in LEARNING_TARGETS
-    theta_mid_rad: np.ndarray
-    theta_half_rad: np.ndarray
-    min_std: float
-    learning_rate: float
-    momentum: float
-    memory: bool  # the episodic learner (agent.memory) instead of back-propagation
-    projection: np.ndarray  # the memory's face code
-    memory_lo_rad: np.ndarray
-    memory_cell_rad: float
-    memory_k: int
-    memory_radius_rad: float
-    memory_in_view: bool  # keep every object in view, not only the attended one
-    caregiver_judges: bool  # the teacher: learn only when the caregiver approves
-    caregiver_adapts: bool  # the developmental model: her criterion narrows (caregiver_update)
-    criterion_level: float
-    criterion_window_trials: float
-    criterion_shrink: float
-    blur_start_px: float  # the developmental model's visual development (0: none)
-    blur_sharp_steps: float
-    face_width_px: int
-    face_height_px: int
-    learning: bool  # False: frozen, nothing learned and the learning time stands still
-
-
-class LoopState(NamedTuple):
-    """The learned state (the agent's own arrays) and the counters, changed in place."""
-
-    w1: np.ndarray
-    b1: np.ndarray
-    w2: np.ndarray
-    b2: np.ndarray
-    v1: np.ndarray
-    vb1: np.ndarray
-    v2: np.ndarray
-    vb2: np.ndarray
-    mean: np.ndarray
-    m2: np.ndarray
-    codes: np.ndarray  # the memory's kept trials (empty for back-propagation)
-    aims: np.ndarray
-    base: np.ndarray
-    counters: np.ndarray  # learning time, faces seen, updates, records, trials kept
-    agreement: np.ndarray  # (1,): the performance gate's measure
-    caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving
 
 
 @jit

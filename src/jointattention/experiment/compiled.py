@@ -30,16 +30,8 @@ from ..errors import ConfigError
 from ..world.kinematics import HeadKinematics
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
-from ._compiled_loop import (
-    COLUMNS,
-    CONSTANT,
-    PERFORMANCE,
-    SIGMOID,
-    LoopRobot,
-    LoopState,
-    LoopWorld,
-    run_trials,
-)
+from ._compiled_loop import COLUMNS, run_trials
+from ._loop_inputs import CONSTANT, PERFORMANCE, SIGMOID, LoopRobot, LoopState, LoopWorld
 from .trial import END_FIRED, RECORD
 
 __all__ = ["CompiledCell", "pack_world", "unsupported"]

@@ -1,0 +1,94 @@
+"""What the compiled loop (:mod:`._compiled_loop`) takes: the world, the robot, its state.
+
+Plain named tuples of numbers and arrays, which numba compiles as records; :mod:`.compiled`
+packs them from the configuration and the agent.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["CONSTANT", "PERFORMANCE", "SIGMOID", "LoopRobot", "LoopState", "LoopWorld"]
+
+SIGMOID, CONSTANT, PERFORMANCE = 0, 1, 2  # the gates, as codes
+
+
+class LoopWorld(NamedTuple):
+    """The world as the compiled loop takes it."""
+
+    n_objects: int
+    region: np.ndarray  # place_into's object region
+    offset_m: np.ndarray
+    limits_rad: np.ndarray  # pan lo, pan hi, tilt lo, tilt hi
+    focal_px: float
+    width_px: int
+    height_px: int
+    face_radius_m: float
+    theta_face_rad: np.ndarray  # (K, 2) per data set
+    target_m: np.ndarray  # (K, 3)
+    face_m: np.ndarray  # (K, 3)
+    faces: np.ndarray  # (K, pixels) float
+    shuffle_faces: bool
+
+
+class LoopRobot(NamedTuple):
+    """The agent's mechanisms and options as the compiled loop takes them."""
+
+    weights: np.ndarray  # Eq. 1's (a1, a2, a3)
+    gain_rad_per_px: float
+    d_th_px: float
+    step_rad: float
+    max_steps: int
+    gate_kind: int  # _SIGMOID, _CONSTANT or _PERFORMANCE
+    gate_a: float  # the constant rate, the sigmoid's midpoint, or the performance's agree_rad
+    gate_b: float  # the sigmoid's width, or the performance's full agreement
+    gate_window: float  # the performance's window (trials)
+    gate_per_trial: bool
+    vf_fallback_lm: bool
+    vf_fallback_sweep: bool
+    learning_target: int  # its index in LEARNING_TARGETS
+    theta_mid_rad: np.ndarray
+    theta_half_rad: np.ndarray
+    min_std: float
+    learning_rate: float
+    momentum: float
+    memory: bool  # the episodic learner (agent.memory) instead of back-propagation
+    projection: np.ndarray  # the memory's face code
+    memory_lo_rad: np.ndarray
+    memory_cell_rad: float
+    memory_k: int
+    memory_radius_rad: float
+    memory_in_view: bool  # keep every object in view, not only the attended one
+    caregiver_judges: bool  # the teacher: learn only when the caregiver approves
+    caregiver_adapts: bool  # the developmental model: her criterion narrows (caregiver_update)
+    criterion_level: float
+    criterion_window_trials: float
+    criterion_shrink: float
+    blur_start_px: float  # the developmental model's visual development (0: none)
+    blur_sharp_steps: float
+    face_width_px: int
+    face_height_px: int
+    learning: bool  # False: frozen, nothing learned and the learning time stands still
+
+
+class LoopState(NamedTuple):
+    """The learned state (the agent's own arrays) and the counters, changed in place."""
+
+    w1: np.ndarray
+    b1: np.ndarray
+    w2: np.ndarray
+    b2: np.ndarray
+    v1: np.ndarray
+    vb1: np.ndarray
+    v2: np.ndarray
+    vb2: np.ndarray
+    mean: np.ndarray
+    m2: np.ndarray
+    codes: np.ndarray  # the memory's kept trials (empty for back-propagation)
+    aims: np.ndarray
+    base: np.ndarray
+    counters: np.ndarray  # learning time, faces seen, updates, records, trials kept
+    agreement: np.ndarray  # (1,): the performance gate's measure
+    caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving
