@@ -77,6 +77,8 @@ def _cases(path: Path, tmp: Path):
         "schema_version": _rewrite(path, tmp / "a.npz", schema_version=np.array(9)),
         "w1": _rewrite(path, tmp / "b.npz", w1=np.zeros((3, 5))),
         "b2": _rewrite(path, tmp / "c.npz", b2=np.array([np.nan, 0.0])),
+        "w2": _rewrite(path, tmp / "k.npz", w2=np.full_like(np.load(path)["w2"], 1e308)),
+        "face_mean": _rewrite(path, tmp / "l.npz", face_mean=-np.load(path)["face_mean"] * 1e9),
         "face_m2": _rewrite(path, tmp / "d.npz", face_m2=None),
         "meta.robot.fov_deg": _rewrite(path, tmp / "e.npz",
                                        meta=np.array(json.dumps(robot_fov))),
@@ -84,7 +86,7 @@ def _cases(path: Path, tmp: Path):
         "meta.config": _rewrite(path, tmp / "g.npz", meta=np.array(json.dumps(bad_config))),
         "meta": _rewrite(path, tmp / "h.npz", meta=np.array("{not json")),
         "extra": _rewrite(path, tmp / "i.npz", extra=np.zeros(2)),
-        "pickled": _rewrite(path, tmp / "j.npz", w2=np.array([{"a": 1}], dtype=object)),
+        "pickled": _rewrite(path, tmp / "j.npz", b1=np.array([{"a": 1}], dtype=object)),
     }
 
 

@@ -33,10 +33,8 @@ kind, ``bootstrap`` (with the back-propagation or the population learner), ``tea
 ``config`` (the run's whole configuration as TOML, from which the model's options and the face
 standardiser's floor are read), ``datasets_sha256`` (of the data-set file it learned from),
 ``generator`` (the package version) and, if measured, ``held_out`` (its frozen success and
-errors on its training sets, new poses and unseen caregivers at the end of learning). The
-network's inputs are the face window standardised by ``face_mean``/``face_m2`` and the head
-angle scaled to [-1, 1] by the joint ranges; the population code's are the features of
-:mod:`.face_features` and the scaled head angle. The output is a direction, one
+errors on its training sets, new poses and unseen caregivers at the end of learning). Float
+members must be finite and within ±1e6 (sums of squares ±1e18). The output is a direction, one
 ``lm_step_deg`` long (README, *From the simulator to a real head*).
 """
 
@@ -131,13 +129,11 @@ class LearnedModel:
         compiled kernels, which read the window by the learned size, see it.
         """
         w, h = self.robot.face_size_px
-        window = np.asarray(face_window)
-        if window.shape != (h, w) or window.dtype.kind not in "uif":
+        window, theta = np.asarray(face_window), np.asarray(theta_rad)
+        if window.shape != (h, w) or window.dtype.kind not in "uif" or not np.all(
+                np.isfinite(window)):
             raise ArgumentError(f"face_window: shape {window.shape}, dtype {window.dtype}; "
-                                f"expected ({h}, {w}) grey levels, the model's face window")
-        if not np.isfinite(window).all():
-            raise ArgumentError("face_window: expected finite grey levels")
-        theta = np.asarray(theta_rad)
+                                f"expected ({h}, {w}) finite grey levels, the model's window")
         if theta.shape != (2,) or theta.dtype.kind not in "uif" or not np.isfinite(theta).all():
             raise ArgumentError(f"theta_rad: {theta_rad!r}; expected two finite angles (pan, "
                                 "tilt) in radians")
@@ -193,6 +189,9 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
                            "meta": np.array(json.dumps(meta))})
 
 
+_MAX_WEIGHT_ABS, _MAX_SUM_ABS = 1e6, 1e18  # beyond: not learned, and commands overflow to NaN
+
+
 def _field(where: str, key: str, expected: str, got) -> FileError:
     return FileError(f"{where}: field '{key}': expected {expected}, got {got}")
 
@@ -205,6 +204,9 @@ def _array(archive: dict, where: str, key: str, shape: tuple, kind: str = "f") -
     if kind == "f" and not np.all(np.isfinite(a)):
         raise _field(where, key, "finite values", f"{np.count_nonzero(~np.isfinite(a))} "
                      "non-finite")
+    bound = _MAX_SUM_ABS if key.endswith("m2") else _MAX_WEIGHT_ABS
+    if kind == "f" and a.size and np.abs(a).max() > bound:
+        raise _field(where, key, f"values within ±{bound:.0e}", f"{np.abs(a).max():.3g}")
     return a
 
 
