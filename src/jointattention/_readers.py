@@ -22,11 +22,13 @@ import numpy as np
 from ._checks import short_repr
 from .errors import FileError
 
-__all__ = ["MAX_IMAGE_PIXELS", "MAX_NPZ_BYTES", "MAX_NPZ_MEMBERS", "MAX_TEXT_BYTES", "read_bytes",
-           "read_image", "read_json", "read_npz", "read_text", "read_toml", "sha256_of"]
+__all__ = ["MAX_IMAGE_PIXELS", "MAX_NESTING", "MAX_NPZ_BYTES", "MAX_NPZ_MEMBERS", "MAX_TEXT_BYTES",
+           "check_nesting", "loads_json", "loads_toml", "read_bytes", "read_image", "read_json",
+           "read_npz", "read_text", "read_toml", "sha256_of"]
 
 MAX_TEXT_BYTES = 16 * 2**20  # configurations, specs and run files are kilobytes
 MAX_IMAGE_PIXELS = 100_000_000  # a 100-megapixel photograph; larger headers are refused
+MAX_NESTING = 32  # tables, arrays and objects within each other; the package uses 4
 MAX_NPZ_BYTES = 2**30  # an archive's arrays, in total, as its directory declares them
 MAX_NPZ_MEMBERS = 1024  # the package writes at most a few dozen arrays per archive
 
@@ -69,19 +71,58 @@ def read_text(path: str | Path, what: str, max_bytes: int = MAX_TEXT_BYTES) -> s
         raise FileError(f"{path}: not UTF-8 text (byte {err.start}); expected {what}") from None
 
 
+def check_nesting(data, limit: int = MAX_NESTING) -> None:
+    """Raise ValueError if ``data`` holds dicts and lists more than ``limit`` levels deep.
+
+    Iterative, so that any depth is measured without recursion.
+    """
+    stack = [(data, 1)]
+    while stack:
+        item, depth = stack.pop()
+        if isinstance(item, dict):
+            item = list(item.values())
+        elif not isinstance(item, (list, tuple)):
+            continue
+        if depth > limit:
+            raise ValueError(f"nested more than {limit} levels deep (MAX_NESTING)")
+        stack.extend((v, depth + 1) for v in item)
+
+
+def loads_toml(text: str):
+    """TOML text as a mapping, at most :data:`MAX_NESTING` deep; else ValueError."""
+    try:
+        data = tomllib.loads(text)
+    except RecursionError:
+        raise ValueError(f"nested more than {MAX_NESTING} levels deep (MAX_NESTING)") from None
+    check_nesting(data)
+    return data
+
+
+def loads_json(text: str):
+    """JSON text as Python values, at most :data:`MAX_NESTING` deep; else ValueError."""
+    try:
+        data = json.loads(text)
+    except RecursionError:
+        raise ValueError(f"nested more than {MAX_NESTING} levels deep (MAX_NESTING)") from None
+    check_nesting(data)
+    return data
+
+
 def read_toml(path: str | Path, what: str) -> dict:
     """The TOML mapping in ``path``."""
+    text = read_text(path, what)
     try:
-        return tomllib.loads(read_text(path, what))
-    except tomllib.TOMLDecodeError as err:
+        return loads_toml(text)
+    except ValueError as err:  # TOMLDecodeError, or too deep
         raise FileError(f"{path}: not valid TOML ({err}); expected {what}") from None
 
 
 def read_json(path: str | Path, what: str) -> dict:
     """The JSON object in ``path``."""
+    text = read_text(path, what)
     try:
-        data = json.loads(read_text(path, what))
-    except ValueError as err:  # JSONDecodeError; also numbers too long to convert
+        data = loads_json(text)
+    except ValueError as err:  # JSONDecodeError; numbers too long to convert; too deep
         raise FileError(f"{path}: not valid JSON ({err}); expected {what}") from None
     if not isinstance(data, dict):
         raise FileError(f"{path}: JSON {type(data).__name__}, not an object; expected {what}")

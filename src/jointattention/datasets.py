@@ -41,7 +41,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ._files import save_npz
-from ._readers import read_npz
+from ._readers import loads_json, read_npz
 from .errors import DatasetError, FileError
 
 __all__ = ["SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load", "save",
@@ -179,7 +179,7 @@ def load(path: str | Path) -> CaregiverDatasets:
     meta = {}
     if "meta" in keys:
         try:
-            meta = json.loads(str(archive["meta"]))
+            meta = loads_json(str(archive["meta"]))
         except ValueError:
             meta = None
         if not isinstance(meta, dict) or archive["meta"].shape != ():

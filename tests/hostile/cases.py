@@ -981,6 +981,19 @@ for _kind, _name in (("device", "/dev/zero"), ("fifo", "special.npz")):
              _special_file(_kind, lambda p: f"import jointattention as ja\nja.load_model({p!r})"),
              names=_name))
 
+DEEP = 5000  # levels: beyond Python's recursion limit
+for _tag, _text in (("array", "x = " + "[" * DEEP + "]" * DEEP + "\n"),
+                    ("inline-table", "x = " + "{a = " * DEEP + "1" + "}" * DEEP + "\n"),
+                    ("array-40", "x = " + "[" * 40 + "]" * 40 + "\n")):
+    add(config_case(f"config-nested-{_tag}", "corrupt-files", _text, names="c.toml"))
+    add(sweep_case(f"sweep-spec-nested-{_tag}", "corrupt-files", _text, names="s.toml"))
+add(api_case("api-load-config-nested-mapping", "config-types",
+             "import jointattention as ja\nd = {}\nc = d\nfor _ in range(5000):\n"
+             "    c['a'] = {}\n    c = c['a']\nja.load_config(d)", names="nested"))
+add(Case("run-folder-versions-nested", "corrupt-files",
+         run_case(lambda tmp: (tmp / "run/versions.json").write_text(
+             '{"a": ' + "[" * DEEP + "]" * DEEP + "}")), names="versions.json"))
+
 CELL = "run/cells/n1__seed000.npz"
 
 

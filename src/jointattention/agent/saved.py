@@ -42,7 +42,6 @@ from __future__ import annotations
 
 import json
 import math
-import tomllib
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -50,7 +49,7 @@ import numpy as np
 
 from .. import __version__
 from .._files import save_npz
-from .._readers import read_npz
+from .._readers import loads_json, loads_toml, read_npz
 from ..config import Config, condition_named, load_config, model_options, to_toml
 from ..errors import ArgumentError, ConfigError, FileError
 from .bootstrap import BootstrapAgent, BootstrapOptions
@@ -212,7 +211,7 @@ def _array(archive: dict, where: str, key: str, shape: tuple, kind: str = "f") -
 
 def _meta(archive: dict, where: str) -> dict:
     try:
-        meta = json.loads(str(archive["meta"]))
+        meta = loads_json(str(archive["meta"]))
     except ValueError:
         meta = None
     if archive["meta"].shape != () or not isinstance(meta, dict):
@@ -261,9 +260,9 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
         raise _field(where, "schema_version", "1 or 2", version)
     meta = _meta(archive, where)
     try:
-        config = load_config(tomllib.loads(meta["config"]))
+        config = load_config(loads_toml(meta["config"]))
         options = check_savable(config, meta["model"]["condition"])
-    except (tomllib.TOMLDecodeError, ConfigError) as err:
+    except ValueError as err:  # TOMLDecodeError, too deep, ConfigError
         raise FileError(f"{where}: field 'meta.config': {err}") from None
     kind = MODELS.name_of(options)
     if meta["model"].get("kind") != kind:

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._checks import check_name
 from .._fields import FrozenTable, Section, from_mapping, merge_tagged, param, to_mapping
-from .._readers import read_toml
+from .._readers import check_nesting, read_toml
 from .._toml import dumps
 from ..agent.models import MODELS, ModelOptions
 from ..errors import ConfigError, FileError
@@ -226,6 +226,10 @@ def load_config(source: str | Path | Mapping | None = None) -> Config:
     if source is None:
         return Config()
     if isinstance(source, Mapping):
+        try:
+            check_nesting(dict(source))  # before deepcopy, which recurses
+        except ValueError as err:
+            raise ConfigError(f"config mapping: {err}; expected a configuration") from None
         return from_mapping(Config, upgrade(copy.deepcopy(dict(source))))
     if not isinstance(source, (str, Path)):
         raise ConfigError(f"config source {source!r}: expected a preset name, a .toml file, a "
