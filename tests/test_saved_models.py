@@ -240,3 +240,31 @@ print("ok", np.hypot(*m.lm_command(np.zeros((h, w), np.uint8), (0.1, -0.1))) > 0
     lines = proc.stdout.splitlines()
     assert lines[:6] == ["refused face_window"] * 6
     assert lines[6:9] == ["refused theta_rad"] * 3 and lines[9] == "ok True"
+
+
+def test_a_model_s_data_sets_are_found_beside_it_and_checked_by_content(tmp_path,
+                                                                        monkeypatch):
+    """model_datasets: a relative path resolves beside the model file; other content is refused.
+
+    (closed-loop loads the model's data sets through it.)
+    """
+    import shutil
+
+    from jointattention.datasets import shipped_file
+    from jointattention.experiment.training import model_datasets
+
+    folder = tmp_path / "robot"
+    folder.mkdir()
+    shutil.copy(shipped_file(), folder / "sets.npz")
+    monkeypatch.chdir(folder)
+    config = load_config({**TINY, "datasets": "sets.npz",
+                          "experiment": {**TINY["experiment"], "n_steps": 1000}})
+    path = train(config, "n1").save(folder / "m.npz")
+    monkeypatch.chdir(tmp_path)  # elsewhere: "sets.npz" is only beside the model
+    model = load_model(path)
+    assert len(model_datasets(model, path)) == len(default_datasets())
+    other = default_datasets()
+    np.savez(folder / "sets.npz", face=other.face[:10], theta_face_rad=other.theta_face_rad[:10],
+             command_rad=other.command_rad[:10])
+    with pytest.raises(FileError, match="other content"):
+        model_datasets(model, path)

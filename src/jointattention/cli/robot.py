@@ -146,9 +146,11 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     from .._files import write_text
     from ..agent.saved import load_model
     from ..experiment.closed_loop import closed_loop
+    from ..experiment.training import model_datasets
     from ..world import _gl
 
     model = load_model(args.model)
+    datasets = model_datasets(model, args.model)  # the model's own, by content
     if args.out:
         check_writable(args.out, "file")
     _gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start
@@ -159,7 +161,7 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     for n in args.objects:
         with tqdm(total=args.trials, desc=f"{n} objects", unit="trial") as bar:
             r = closed_loop(model, n, args.trials, seed=args.seed,
-                            progress=lambda i: bar.update(1))
+                            progress=lambda i: bar.update(1), datasets=datasets)
         rows.append(f"| {n} | {r.n_trials} | {r.rendered_success:.3f} | "
                     f"{r.rendered_dataset_face_success:.3f} | {r.fast_success:.3f} | "
                     f"{r.faces_found:.3f} | {r.image_error_deg:.1f}°, {r.dataset_error_deg:.1f}° |")

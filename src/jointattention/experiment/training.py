@@ -2,17 +2,22 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
 
+from .._readers import sha256_of
 from ..agent.saved import LearnedModel, check_savable, save_model
 from ..config import ConditionConfig, Config, condition_named
+from ..datasets import CaregiverDatasets
+from ..errors import FileError
+from .cells import datasets_file, datasets_of
 from .held_out import final_held_out, run_cell_measured
 from .results import datasets_sha256
 
-__all__ = ["model_path", "run_cell_saving_model", "train"]
+__all__ = ["model_datasets", "model_path", "run_cell_saving_model", "train"]
 
 
 def _learn(config: Config, condition: ConditionConfig, seed_index: int,
@@ -54,3 +59,24 @@ def run_cell_saving_model(config: Config, condition: ConditionConfig, seed_index
                condition=condition.name, datasets_sha256=datasets_sha256(config))
     return records
 
+
+
+def model_datasets(model: LearnedModel, model_file: str | Path | None = None
+                   ) -> CaregiverDatasets:
+    """The data sets ``model`` learned from, checked against the SHA-256 it recorded.
+
+    A relative ``datasets`` path of its configuration is looked for beside ``model_file``
+    first, then in the current folder. Data sets of other content are refused in one line:
+    what a model did on them says nothing of what it learned.
+    """
+    config = model.config
+    if config.datasets and not Path(config.datasets).is_absolute() and model_file is not None:
+        beside = Path(model_file).parent / config.datasets
+        if beside.is_file():
+            config = dataclasses.replace(config, datasets=str(beside))
+    path = datasets_file(config)
+    if model.datasets_sha256 is not None and sha256_of(path) != model.datasets_sha256:
+        raise FileError(f"{path}: data sets of other content (sha256 {sha256_of(path)[:12]}...)"
+                        f" than the model learned from ({model.datasets_sha256[:12]}...); "
+                        "expected the model's own data sets")
+    return datasets_of(config)
