@@ -268,3 +268,15 @@ def test_a_model_s_data_sets_are_found_beside_it_and_checked_by_content(tmp_path
              command_rad=other.command_rad[:10])
     with pytest.raises(FileError, match="other content"):
         model_datasets(model, path)
+
+
+def test_a_developmental_model_that_would_end_blurred_is_refused_before_learning(capsys):
+    """train: n_steps below blur_sharp_steps is one error line before any learning.
+
+    (train saves nothing: only a check made before learning can refuse it.)
+    """
+    config = {**TINY, "experiment": {**TINY["experiment"], "n_steps": 1_000_000, "conditions": [
+        {"name": "dev", "n_objects": 1,
+         "model": {"kind": "developmental", "blur_sharp_steps": 2_000_000}}]}}
+    with pytest.raises(ConfigError, match=r"blur_sharp_steps = 2e\+06"):
+        train(load_config(config), "dev")

@@ -15,15 +15,13 @@ member                      dtype    shape         meaning
 ``face_mean``               float64  (n_in - 2,)   per-pixel mean of the faces seen (H x W)
 ``face_m2``                 float64  (n_in - 2,)   per-pixel sum of squared deviations
 ``face_n_seen``             int      ()            faces seen (>= 1)
-``population_w1``           float64  (h, n_feat)   version 2: the population code's input
-                                                   weights (face features and head angle)
+``population_w1``           float64  (h, n_feat)   version 2: its input weights (features)
 ``population_b1``           float64  (h,)          version 2: its hidden biases
 ``population_w2``           float64  (bins, h)     version 2: its output weights
 ``population_b2``           float64  (bins,)       version 2: its output biases
 ``population_hidden_mean``  float64  (h,)          version 2: the hidden units' running mean
-``population_feature_*``    float64  (n_feat - 2,) version 2 with ``standardise``: the face
-                                                   features' running mean, ``_m2`` and
-                                                   ``_n_seen`` (int, ())
+``population_feature_*``    float64  (n_feat - 2,) with ``standardise``: the features'
+                                                   ``_mean``, ``_m2``, ``_n_seen`` (int, ())
 ``meta``                    str      ()            JSON text, below
 ==========================  =======  ============  ==========================================
 
@@ -153,10 +151,13 @@ def check_savable(config: Config, condition: str) -> BootstrapOptions:
     """The options of ``condition``'s model if it can be saved, else one ConfigError line."""
     options = model_options(config, condition_named(config, condition))
     if not isinstance(options, BootstrapOptions) or options.learner not in _SAVED_LEARNERS:
-        raise ConfigError(f"condition {condition!r}: its model is "
-                          f"{getattr(options, 'label', type(options).__name__)}; expected the "
-                          "bootstrap model, the teacher or the developmental model, with "
-                          "learner = 'backprop' or 'population' (the models saved)")
+        raise ConfigError(f"condition {condition!r}: its model is {getattr(options, 'label', '?')}"
+                          "; expected the bootstrap model, the teacher or the developmental "
+                          "model, with learner = 'backprop' or 'population' (the models saved)")
+    n, sharp = config.experiment.n_steps, getattr(options, "blur_sharp_steps", 0)
+    if getattr(options, "blur_start_px", 0) > 0 and n < sharp:  # saved: sees sharp faces
+        raise ConfigError(f"condition {condition!r}: n_steps = {n} ends while the faces are "
+                          f"blurred; expected n_steps >= blur_sharp_steps = {sharp:g}")
     return options
 
 
