@@ -280,3 +280,13 @@ def test_a_developmental_model_that_would_end_blurred_is_refused_before_learning
          "model": {"kind": "developmental", "blur_sharp_steps": 2_000_000}}]}}
     with pytest.raises(ConfigError, match=r"blur_sharp_steps = 2e\+06"):
         train(load_config(config), "dev")
+
+
+@pytest.mark.parametrize("min_score", [float("nan"), 1.5, -2, "0.5", True])
+def test_a_follower_refuses_a_min_score_that_is_not_a_correlation(saved, min_score):
+    """GazeFollower(min_score=...) outside [-1, 1] (NaN would disable the face check): refused."""
+    from jointattention.agent.follower import GazeFollower
+    from jointattention.errors import ArgumentError
+
+    with pytest.raises(ArgumentError, match="min_score"):
+        GazeFollower.load(saved[1], min_score=min_score)

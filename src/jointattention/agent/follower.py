@@ -64,6 +64,10 @@ class GazeFollower:
             raise ArgumentError(f"face {face!r}: expected one of {', '.join(FACE_METHODS)}")
         self.model, self.face = model, face
         min_score = DetectorConfig().face_min_score if min_score is None else min_score
+        if isinstance(min_score, bool) or not isinstance(min_score, (int, float)) or not (
+                -1 <= min_score <= 1):  # NaN fails too
+            raise ArgumentError(f"min_score {min_score!r}: expected a number from -1 to 1 (a "
+                                "normalised correlation)")
         self.finder = finder_for(face, model.face_template() if face == "template" else None,
                                  min_score)
 
