@@ -100,3 +100,15 @@ def test_a_run_folder_explains_itself_bin_by_bin(tmp_path):
             assert values["on_target"] == 1.0  # the only object is the target
     cell = results.load_cell(results.cell_path(result.out, "five", 0))
     assert len(cell["lm_error_deg"]) == 3
+
+
+def test_the_time_to_90pct_never_exceeds_the_learning_time():
+    """With bins wider than the run (one bin ends at n_steps), the time is n_steps, not the bin."""
+    from jointattention.analysis.metrics import time_to_fraction
+
+    exp = ExperimentConfig(n_steps=2000, bin_steps=10**9, conditions=SMALL.experiment.conditions)
+    assert list(exp.bin_ends_steps()) == [2000]
+    assert time_to_fraction(np.array([0.5]), exp.bin_ends_steps()) == 2000
+    exp = ExperimentConfig(n_steps=2500, bin_steps=1000, conditions=SMALL.experiment.conditions)
+    curve = np.array([0.1, 0.2, 0.6])
+    assert time_to_fraction(curve, exp.bin_ends_steps()) == 2500  # the last bin ends early

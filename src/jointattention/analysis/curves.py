@@ -72,7 +72,7 @@ def final_table(config: Config, curves: Curves, ceilings: dict[str, float],
         sd = float(np.std(finals, ddof=1)) if len(finals) > 1 else 0.0
         row = (c.name, c.n_objects, round(1 / c.n_objects, 3), round(ceiling, 3),
                round(final, 3), round(sd, 3), round(final / ceiling, 3),
-               time_to_fraction(mean, config.experiment.bin_steps))
+               time_to_fraction(mean, config.experiment.bin_ends_steps()))
         if held_out:
             row += _held_out_fractions(held_out.get(c.name), held_out_ceilings, c.n_objects)
         rows.append(row)

@@ -48,10 +48,12 @@ def final_success(curve: np.ndarray, fraction: float = 0.1) -> float:
     return float(np.nanmean(curve[-k:]))
 
 
-def time_to_fraction(curve: np.ndarray, bin_steps: int, fraction: float = 0.9) -> float:
+def time_to_fraction(curve: np.ndarray, bin_ends_steps: np.ndarray,
+                     fraction: float = 0.9) -> float:
     """Learning time at which the curve reaches ``fraction`` of its final value.
 
-    The end of the first bin that does; NaN if none does.
+    The end of the first bin that does (``bin_ends_steps``: each bin's end, the last at
+    ``n_steps``); NaN if none does.
     """
     reached = np.flatnonzero(curve >= fraction * final_success(curve))
-    return float((reached[0] + 1) * bin_steps) if len(reached) else float("nan")
+    return float(bin_ends_steps[reached[0]]) if len(reached) else float("nan")
