@@ -125,6 +125,10 @@ def _broken(folder: Path, tmp: Path) -> dict[str, Path]:
     cases["recording.csv"].mkdir()
     cases["no face found in any"] = copy("i", header + "\n" + text.splitlines()[-1] + "\n")
     cases["column 'caregiver' '-1'"] = copy("j", header + ",caregiver\n" + first + ",-1\n")
+    cases["column 'image' is named twice"] = copy("k", header + "," + header + "\n" + first + ","
+                                                  + first + "\n")
+    cases["not a readable CSV table"] = copy("l", header + "\n" + first + ',"' + "x" * 200_000
+                                             + '"\n')
     return cases
 
 

@@ -63,7 +63,19 @@ def _rows(folder: Path) -> tuple[list[dict], list[str]]:
     where = folder / CSV_NAME
     text = read_text(where, f"the recording's table ({', '.join(COLUMNS)})")
     reader = csv.DictReader(io.StringIO(text))
+    try:
+        return _read_rows(reader, where, folder)
+    except csv.Error as err:  # e.g. a field longer than csv's limit
+        raise DatasetError(f"{where}: not a readable CSV table ({err}); expected one row per "
+                           "image") from None
+
+
+def _read_rows(reader: csv.DictReader, where: Path, folder: Path) -> tuple[list[dict], list[str]]:
     header = reader.fieldnames or []
+    if len(set(header)) != len(header):
+        twice = next(c for c in header if header.count(c) > 1)
+        raise DatasetError(f"{where}: column {twice!r} is named twice; expected each column "
+                           "once")
     missing = [c for c in COLUMNS if c not in header]
     if missing:
         raise DatasetError(f"{where}: column '{missing[0]}' is missing; expected the columns "
