@@ -2,11 +2,12 @@
 
 Usage::
 
-    python docs/generalise/caregivers.py [--sweep runs/generalise-k] [--run runs/generalise]
-        [--out docs/generalise/caregivers.md]
+    python docs/generalise/caregivers.py [--sweep runs/generalise-k]
+        [--run runs/generalise-64 --run runs/generalise] [--out docs/generalise/caregivers.md]
 
 Reads the sweep of ``docs/generalise/caregivers.toml`` (K = 1 and 16) and the generalise
-preset's run (K = 64), measures each point's held-out ceilings where its folder has none (the
+preset's runs (K = 128; K = 64 is the preset as it was at commit 60325f6, run into
+``runs/generalise-64``), measures each point's held-out ceilings where its folder has none (the
 oracle on its training sets, new poses and unseen caregivers; kept in the folder's
 ``held_out_ceilings.json``), and writes, per model and K, the frozen success on each kind of
 data set as a fraction of its ceiling and the median angle error on unseen caregivers (means
@@ -35,10 +36,13 @@ def _rows(folder: Path) -> tuple[int, dict[str, dict]]:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sweep", default="runs/generalise-k", type=Path)
-    parser.add_argument("--run", default="runs/generalise", type=Path)
+    parser.add_argument("--run", action="append", type=Path,
+                        help="a generalise run folder (repeatable; default: runs/generalise-64 "
+                             "and runs/generalise)")
     parser.add_argument("--out", default="docs/generalise/caregivers.md")
     args = parser.parse_args()
-    folders = sorted(p.parent for p in args.sweep.glob("*/config.toml")) + [args.run]
+    runs = args.run or [Path("runs/generalise-64"), Path("runs/generalise")]
+    folders = sorted(p.parent for p in args.sweep.glob("*/config.toml")) + runs
     by_k = dict(_rows(f) for f in folders)
     lines = ["| model | objects | K | training sets | new poses | unseen caregivers | error, "
              "unseen | identities above 10° |", "|---|---|---|---|---|---|---|---|"]

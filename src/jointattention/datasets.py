@@ -44,10 +44,11 @@ from ._files import save_npz
 from ._readers import loads_json, read_npz
 from .errors import DatasetError, FileError
 
-__all__ = ["SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load", "save",
-           "shipped_file"]
+__all__ = ["MAX_TARGET_M", "SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load",
+           "save", "shipped_file"]
 
 SCHEMA_VERSION = 2  # the newest; version 1 is version 2 without ``caregiver``
+MAX_TARGET_M = 100.0  # a target farther than this from the robot is not a scene it can see
 _REQUIRED = ("schema_version", "face", "theta_face_rad", "command_rad")
 _OPTIONAL = ("target_m", "meta")
 _VERSION_FIELDS = {1: (), 2: ("caregiver",)}  # the fields each version adds, all required
@@ -112,6 +113,9 @@ def _validate(ds, where: str) -> None:
                 "angles in radians within [-pi, pi]",
                 f"a value of {np.max(np.abs(a)):.4g}",
             )
+        if key == "target_m" and np.max(np.abs(a)) > MAX_TARGET_M:  # a room, not the sky
+            _fail(where, key, f"positions in metres within ±{MAX_TARGET_M:g} of the robot",
+                  f"a coordinate of {np.max(np.abs(a)):.4g}")
     caregiver = getattr(ds, "caregiver", None)
     if caregiver is not None:
         a = np.asarray(caregiver)

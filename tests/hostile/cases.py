@@ -926,6 +926,7 @@ CORRUPT_DATASETS: dict[str, Callable[[], bytes | None]] = {
     "missing-face": lambda: small_datasets_bytes(face=None),
     "face-float": lambda: small_datasets_bytes(face=np.zeros((5, 25, 30))),
     "angles-inf": lambda: small_datasets_bytes(command_rad=np.full((5, 2), np.inf)),
+    "target-1e300": lambda: small_datasets_bytes(target_m=np.full((5, 3), 1e300)),
     "schema-version-2": lambda: small_datasets_bytes(schema_version=np.array(2)),
     "meta-not-json": lambda: small_datasets_bytes(meta=np.array("{not json")),
     "zip-of-nothing": lambda: npz_bytes({}),

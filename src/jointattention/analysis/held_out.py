@@ -101,8 +101,8 @@ def held_out_claims(config: Config, curves: HeldOut, ceilings: dict) -> list[Cla
                  and r["unseen_median_deg"] <= AIM["median_error_deg"]
                  and r["unseen_share_over_10deg"] <= AIM["share_over_10deg"])
         claims.append(Claim(
-            reading_of(c, config), f"{c.n_objects} objects ({c.name}): follows caregivers it "
-            "never saw", bool(holds),
+            reading_of(c, config), f"{c.n_objects} object{'s' * (c.n_objects != 1)} ({c.name}): "
+            "follows caregivers it never saw", bool(holds),
             f"unseen caregivers {r['unseen_fraction']:.2f} of the ceiling (worst seed "
             f"{r['unseen_worst_seed_fraction']:.2f}), median error {r['unseen_median_deg']}°, "
             f"identities above 10° {r['unseen_share_over_10deg']:.2f}; training sets "
