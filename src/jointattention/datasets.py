@@ -40,6 +40,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from ._checks import check_path
 from ._files import save_npz
 from ._readers import loads_json, read_npz
 from .errors import DatasetError, FileError
@@ -149,7 +150,7 @@ def save(datasets: CaregiverDatasets, path: str | Path) -> Path:
 
 def load(path: str | Path) -> CaregiverDatasets:
     """Read and validate data sets; any problem is one :class:`DatasetError` naming the field."""
-    path = Path(path)
+    path = Path(check_path(path, "path"))
     where = str(path)
     try:
         archive = read_npz(path, "a data-set .npz file (jointattention datasets make)")

@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
+from ._checks import check_path
 from ._readers import read_image, read_text
 from .agent.faces import face_template, finder_for, window_of
 from .config import DetectorConfig
@@ -143,6 +144,7 @@ def import_recording(folder: str | Path, *, face: str = "template",
     ``face_min_score``). ``face_size_px``: the windows' (width, height). Every row and image
     is checked before the data sets are built; nothing is written here.
     """
+    check_path(folder, "folder")
     folder = Path(folder)
     if not folder.is_dir():
         raise FileError(f"{folder}: not a folder; expected a recording folder with "

@@ -46,9 +46,10 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
+from .._checks import check_path
 from .._files import save_npz
 from .._readers import loads_json, loads_toml, read_npz
-from ..config import Config, condition_named, load_config, model_options, to_toml
+from ..config import Config, check_config, condition_named, load_config, model_options, to_toml
 from ..errors import ArgumentError, ConfigError, FileError
 from .bootstrap import BootstrapAgent, BootstrapOptions
 from .models import MODELS
@@ -56,6 +57,8 @@ from .protocol import Body
 
 __all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
            "save_model"]
+
+_MAX_WEIGHT_ABS, _MAX_SUM_ABS = 1e6, 1e18  # beyond: not learned, and commands overflow to NaN
 
 SCHEMA_VERSION = 2  # the newest; version 1 files (the paper's network) are still written
 _SAVED_LEARNERS = ("backprop", "population")
@@ -167,7 +170,7 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
 
     ``held_out``: its held-out measures, kept in ``meta`` as they are (JSON).
     """
-    path = Path(path)
+    path, config = Path(check_path(path, "path")), check_config(config)
     if path.suffix != ".npz":
         raise FileError(f"{path}: expected a model file name ending in .npz")
     options = check_savable(config, condition)
@@ -187,9 +190,6 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
     version = 1 if options.learner == "backprop" else 2  # version 1 files stay as they were
     return save_npz(path, {"schema_version": np.array(version), **agent.saved_arrays(),
                            "meta": np.array(json.dumps(meta))})
-
-
-_MAX_WEIGHT_ABS, _MAX_SUM_ABS = 1e6, 1e18  # beyond: not learned, and commands overflow to NaN
 
 
 def _field(where: str, key: str, expected: str, got) -> FileError:
@@ -250,7 +250,7 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
 
     ``robot``: the body it will run on; a model learned on another is refused.
     """
-    where = str(path)
+    where = str(check_path(path, "path"))
     archive = read_npz(path, "a model .npz file (jointattention train --out)")
     missing = [k for k in ("schema_version", "meta") if k not in archive]
     if missing:

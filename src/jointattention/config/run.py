@@ -12,12 +12,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import check_name
+from .._checks import check_name, short_repr
 from .._fields import FrozenTable, Section, from_mapping, merge_tagged, param, to_mapping
 from .._readers import check_nesting, read_toml
 from .._toml import dumps
 from ..agent.models import MODELS, ModelOptions
-from ..errors import ConfigError, FileError
+from ..errors import ArgumentError, ConfigError, FileError
 from ._legacy import upgrade
 from .agent import AgentConfig, DetectorConfig
 from .world import WorldConfig
@@ -28,6 +28,7 @@ __all__ = [
     "ExperimentConfig",
     "HeldOutConfig",
     "RecordingConfig",
+    "check_config",
     "condition_named",
     "load_config",
     "model_options",
@@ -248,6 +249,13 @@ def load_config(source: str | Path | Mapping | None = None) -> Config:
     except FileError as err:
         raise ConfigError(str(err)) from None
     return from_mapping(Config, upgrade(data))
+
+
+def check_config(value, name: str = "config") -> Config:
+    """``value`` if it is a :class:`Config`, else one ArgumentError naming ``name``."""
+    if not isinstance(value, Config):
+        raise ArgumentError(f"{name} {short_repr(value)}: expected a Config (load_config(...))")
+    return value
 
 
 def to_toml(config: Config) -> str:

@@ -16,7 +16,7 @@ import numpy as np
 from .._checks import check_int
 from ..agent.attention import attended_object
 from ..agent.protocol import Agent, Body
-from ..config import ConditionConfig, Config, model_options
+from ..config import ConditionConfig, Config, check_config, model_options
 from ..datasets import CaregiverDatasets, default_datasets, load, shipped_file
 from ..rng import stream
 from ..world.fast import FastScene
@@ -127,6 +127,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     only). ``experiment.engine`` chooses the compiled engine or the step-by-step loop
     (:func:`engine_of`); both give the same records.
     """
+    check_config(config)
     check_int("seed_index", seed_index, 0, 2**31 - 1)
     ds = datasets_of(config)
     agent = make_agent(config, condition, seed_index, ds)
@@ -216,6 +217,7 @@ def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None)
 
     ``n_trials``: 1 to 10^7 (default: ``experiment.n_ceiling_trials``).
     """
+    check_config(config)
     check_int("n_objects", n_objects, 1, 20)
     if n_trials is not None:
         check_int("n_trials", n_trials, 1, 10**7)

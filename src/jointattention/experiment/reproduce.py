@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._checks import check_path
 from .._files import folder_lock, save_json
 from .._readers import read_json
 from ..agent.saved import check_savable
@@ -23,7 +24,7 @@ from ..analysis.claims import Claim, check_claims, claims_table
 from ..analysis.curves import condition_axis_errors, condition_curves, final_table
 from ..analysis.diagnostics import condition_diagnostics, diagnostics_table
 from ..analysis.held_out import held_out_claims, held_out_curves, held_out_table
-from ..config import Config
+from ..config import Config, check_config
 from ..errors import JointAttentionError
 from .backends import CellJob, check_backend, run_jobs
 from .cells import measure_ceiling
@@ -50,9 +51,10 @@ def run_experiment(config: Config, out: str | Path, workers: int = 1,
     :func:`~.preflight.check_runs`; ``save_models``: each cell's learned model is saved in
     ``out/models/<condition>/seed_<i>.npz`` (:mod:`~.training`).
     """
+    out = Path(check_path(out, "out"))
     with ExitStack() as lock:
-        jobs, _ = _run_cells(config, Path(out), workers, progress, backend, address, max_cells,
-                             save_models, lock)
+        jobs, _ = _run_cells(check_config(config), out, workers, progress, backend, address,
+                             max_cells, save_models, lock)
         return {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
 
 
@@ -168,7 +170,8 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     from ..figures.held_out import held_out_figure
     from ..figures.paper import write_figures
 
-    out = Path(out)
+    out = Path(check_path(out, "out"))
+    check_config(config)
     start = time.perf_counter()
     with ExitStack() as lock:  # the folder's lock (taken after every check)
         jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells,

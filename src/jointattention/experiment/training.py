@@ -10,7 +10,7 @@ import numpy as np
 
 from .._readers import sha256_of
 from ..agent.saved import LearnedModel, check_savable, save_model
-from ..config import ConditionConfig, Config, condition_named
+from ..config import ConditionConfig, Config, check_config, condition_named
 from ..datasets import CaregiverDatasets
 from ..errors import FileError
 from .cells import datasets_file, datasets_of
@@ -36,7 +36,7 @@ def train(config: Config, condition: str, seed_index: int = 0,
     back-propagation or the population learner, are saved (checked first). The model's
     ``held_out`` holds its held-out measures at the end of learning (:mod:`.held_out`).
     """
-    cond = condition_named(config, condition)
+    cond = condition_named(check_config(config), condition)
     check_savable(config, condition)  # before learning, not after
     records, agent = _learn(config, cond, seed_index, progress)
     return LearnedModel(agent, config, condition, datasets_sha256(config),

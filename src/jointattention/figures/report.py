@@ -12,6 +12,7 @@ import time
 from pathlib import Path
 
 from .. import __version__
+from .._checks import check_path
 from .._files import check_writable, write_text
 from .._readers import read_bytes, read_json, read_text
 from ..analysis.tables import read_csv
@@ -75,7 +76,9 @@ def _figure(path: Path, caption: str) -> str:
 
 def write_report(run: str | Path, out: str | Path | None = None) -> Path:
     """Write ``report.html`` (or ``out``) for the run folder ``run``; returns its path."""
-    run = Path(run)
+    run = Path(check_path(run, "run"))
+    if out is not None:
+        check_path(out, "out")
     points = sorted(p.parent for p in run.glob("*/config.toml"))  # a sweep's points
     if not (run / "config.toml").is_file() and not points:
         raise JointAttentionError(f"{run}: not a run folder (no config.toml); expected a folder "
