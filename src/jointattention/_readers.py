@@ -88,24 +88,24 @@ def check_nesting(data, limit: int = MAX_NESTING) -> None:
         stack.extend((v, depth + 1) for v in item)
 
 
-def loads_toml(text: str):
-    """TOML text as a mapping, at most :data:`MAX_NESTING` deep; else ValueError."""
+def _loads(parse, text: str):
+    """``parse(text)``, at most :data:`MAX_NESTING` deep; else ValueError."""
     try:
-        data = tomllib.loads(text)
+        data = parse(text)
     except RecursionError:
         raise ValueError(f"nested more than {MAX_NESTING} levels deep (MAX_NESTING)") from None
     check_nesting(data)
     return data
+
+
+def loads_toml(text: str):
+    """TOML text as a mapping, at most :data:`MAX_NESTING` deep; else ValueError."""
+    return _loads(tomllib.loads, text)
 
 
 def loads_json(text: str):
     """JSON text as Python values, at most :data:`MAX_NESTING` deep; else ValueError."""
-    try:
-        data = json.loads(text)
-    except RecursionError:
-        raise ValueError(f"nested more than {MAX_NESTING} levels deep (MAX_NESTING)") from None
-    check_nesting(data)
-    return data
+    return _loads(json.loads, text)
 
 
 def read_toml(path: str | Path, what: str) -> dict:

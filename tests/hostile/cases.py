@@ -420,20 +420,24 @@ def huge_member_npz() -> bytes:
     return buf.getvalue()
 
 
+def _stored_npz(extra: dict[str, bytes]) -> bytes:
+    """An uncompressed data-set archive of 5 shipped sets, with ``extra`` members (raw bytes)."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
+        for k, v in small_arrays(5).items():
+            z.writestr(f"{k}.npy", npy_bytes(v))
+        for name, data in extra.items():
+            z.writestr(name, data)
+    return buf.getvalue()
+
+
 def declared_size_npz(n_bytes: int, n_members: int = 1) -> bytes:
     """A data-set archive with ``n_members`` extra members, each declaring ``n_bytes``.
 
     Its directory makes a bomb's claim without the bomb: each member's data are 64 bytes.
     """
-    buf = io.BytesIO()
-    with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
-        for k, v in small_arrays(5).items():
-            member = io.BytesIO()
-            np.save(member, v)
-            z.writestr(f"{k}.npy", member.getvalue())
-        for i in range(n_members):
-            z.writestr(f"bomb{i}.npy", npy_header("|u1", (n_bytes,)) + b"\0" * 64)
-    data = bytearray(buf.getvalue())
+    data = bytearray(_stored_npz({f"bomb{i}.npy": npy_header("|u1", (n_bytes,)) + b"\0" * 64
+                                  for i in range(n_members)}))
     at = 0
     while (at := data.find(b"PK\x01\x02", at)) >= 0:  # central directory entries
         name_len = struct.unpack_from("<H", data, at + 28)[0]
@@ -445,15 +449,7 @@ def declared_size_npz(n_bytes: int, n_members: int = 1) -> bytes:
 
 def many_members_npz(n: int = 2000) -> bytes:
     """A data-set archive with ``n`` extra one-byte members."""
-    buf = io.BytesIO()
-    with zipfile.ZipFile(buf, "w", zipfile.ZIP_STORED) as z:
-        for k, v in small_arrays(5).items():
-            member = io.BytesIO()
-            np.save(member, v)
-            z.writestr(f"{k}.npy", member.getvalue())
-        for i in range(n):
-            z.writestr(f"x{i}.npy", npy_bytes(np.zeros(1, np.uint8)))
-    return buf.getvalue()
+    return _stored_npz({f"x{i}.npy": npy_bytes(np.zeros(1, np.uint8)) for i in range(n)})
 
 
 def pickled_member_npz() -> bytes:
