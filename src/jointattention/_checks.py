@@ -17,7 +17,7 @@ from typing import Any
 
 from .errors import ArgumentError, ConfigError
 
-__all__ = ["MAX_INT", "NAME", "UNSAFE", "check_instance", "check_int", "check_name", "check_path",
+__all__ = ["MAX_INT", "NAME", "UNSAFE", "check_int", "check_name", "check_path",
            "check_type", "check_value", "scalar_types", "short_repr"]
 
 # Names become file and folder names: letters, digits and a few marks, never a path.
@@ -102,11 +102,4 @@ def check_path(value: Any, name: str) -> Any:
     """``value`` if it is a path (str or os.PathLike), else one ArgumentError naming ``name``."""
     if isinstance(value, bool) or not isinstance(value, (str, os.PathLike)) or not str(value):
         raise ArgumentError(f"{name} {short_repr(value)}: expected a path (str or Path)")
-    return value
-
-
-def check_instance(value: Any, name: str, cls: type, what: str) -> Any:
-    """``value`` if it is a ``cls``, else one ArgumentError naming ``name`` and ``what``."""
-    if not isinstance(value, cls):
-        raise ArgumentError(f"{name} {short_repr(value)}: expected {what}")
     return value

@@ -40,12 +40,12 @@ def _open_error(path: Path, err: OSError, what: str) -> FileError:
 
 def _regular_size(path: Path, what: str) -> int:
     """The size of ``path`` if it is a regular file (not a folder, FIFO or device)."""
-    mode = path.stat().st_mode
-    if stat.S_ISDIR(mode):
+    st = path.stat()
+    if stat.S_ISDIR(st.st_mode):
         raise IsADirectoryError(21, "is a folder")
-    if not stat.S_ISREG(mode):  # /dev/zero or a FIFO would be read without end
+    if not stat.S_ISREG(st.st_mode):  # /dev/zero or a FIFO would be read without end
         raise FileError(f"{path}: not a regular file (a device, FIFO or socket); expected {what}")
-    return path.stat().st_size
+    return st.st_size
 
 
 def read_bytes(path: str | Path, what: str, max_bytes: int) -> bytes:

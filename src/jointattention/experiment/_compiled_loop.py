@@ -1,11 +1,11 @@
-"""The compiled engine's loop over a cell's trials, and the inputs it takes.
+"""The compiled engine's loop over a cell's trials.
 
 :mod:`.compiled` packs the inputs (:mod:`._loop_inputs`) and drives the loop; this module is
-the loop itself. Each step
-calls the kernels the step-by-step path calls (:mod:`~jointattention.world.fast`,
-:mod:`~jointattention.world.placement`, :mod:`~jointattention.agent.attention`,
-:mod:`~jointattention.agent.learner` or :mod:`~jointattention.agent.memory`,
-:mod:`~jointattention.agent.bootstrap`), in the order of its random draws.
+the loop itself. Each step calls the kernels the step-by-step path calls
+(:mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
+:mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner` or
+:mod:`~jointattention.agent.memory`, :mod:`~jointattention.agent.bootstrap`), in the order of
+its random draws.
 """
 
 from __future__ import annotations
