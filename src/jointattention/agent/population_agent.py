@@ -116,25 +116,24 @@ class PopulationAgent(BootstrapAgent):
             f.m2_ = arrays["population_feature_m2"].astype(float)
             f.n_seen_ = int(arrays["population_feature_n_seen"])
 
-    def _raw_features(self, face_window: np.ndarray) -> np.ndarray:
-        o = self.options.population
-        w, h = self.body.face_size_px
-        x = np.empty(self.n_features)
-        face_features_into(np.ascontiguousarray(face_window, dtype=float).ravel(), h, w,
-                           o.cell_px, o.n_orientations, *self._parts, x)
-        return x
+    def features(self, face_window: np.ndarray, theta_rad, *, fit: bool = False) -> np.ndarray:
+        """The module's input: the face window's features and the head angle, scaled.
 
-    def features(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
-        """The module's input: the face window's features and the head angle, scaled."""
+        With ``standardise`` the face features are standardised by their running statistics;
+        ``fit`` adds this face's features to those statistics first.
+        """
         o = self.options.population
         w, h = self.body.face_size_px
         x = np.empty(self.n_features + 2)
+        face = x[: self.n_features]
         face_features_into(np.ascontiguousarray(face_window, dtype=float).ravel(), h, w,
                            o.cell_px, o.n_orientations, *self._parts, x)
-        if o.standardise and self.feature_stats.n_seen_:
+        if o.standardise:
             f = self.feature_stats
-            standardise(x[: self.n_features].copy(), f.mean_, f.m2_, f.n_seen_, f.min_std,
-                        x[: self.n_features])
+            if fit:
+                f.partial_fit(face)
+            if f.n_seen_:
+                standardise(face.copy(), f.mean_, f.m2_, f.n_seen_, f.min_std, face)
         scale_angle_into(float(theta_rad[0]), float(theta_rad[1]), self.theta_mid_rad,
                          self.theta_half_rad, x, self.n_features)
         return x
@@ -152,9 +151,7 @@ class PopulationAgent(BootstrapAgent):
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Read out the direction for the caregiver's face, then start as the paper does."""
         self._face = np.asarray(face_window)
-        if self.options.population.standardise and self.learning:
-            self.feature_stats.partial_fit(self._raw_features(face_window))
-        self._x = self.features(face_window, theta_rad)
+        self._x = self.features(face_window, theta_rad, fit=self.learning)
         self.direction_rad_, _ = self.population.direction(self._x)
         super().begin_trial(face_window, theta_rad)
 

@@ -60,7 +60,6 @@ def run_cell_saving_model(config: Config, condition: ConditionConfig, seed_index
     return records
 
 
-
 def model_datasets(model: LearnedModel, model_file: str | Path | None = None
                    ) -> CaregiverDatasets:
     """The data sets ``model`` learned from, checked against the SHA-256 it recorded.
@@ -75,8 +74,9 @@ def model_datasets(model: LearnedModel, model_file: str | Path | None = None
         if beside.is_file():
             config = dataclasses.replace(config, datasets=str(beside))
     path = datasets_file(config)
-    if model.datasets_sha256 is not None and sha256_of(path) != model.datasets_sha256:
-        raise FileError(f"{path}: data sets of other content (sha256 {sha256_of(path)[:12]}...)"
-                        f" than the model learned from ({model.datasets_sha256[:12]}...); "
-                        "expected the model's own data sets")
+    found = sha256_of(path) if model.datasets_sha256 is not None else None
+    if found != model.datasets_sha256:
+        raise FileError(f"{path}: data sets of other content (sha256 {found[:12]}...) than the "
+                        f"model learned from ({model.datasets_sha256[:12]}...); expected the "
+                        "model's own data sets")
     return datasets_of(config)
