@@ -11,6 +11,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from .._arrays import angles, windows
 from .._fields import param
 from ..config.agent import AgentConfig
 from ..errors import ConfigError
@@ -190,16 +191,15 @@ class BootstrapAgent:
 
     def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
         """LM dtheta for a face window and head angle: the network's direction, one step long."""
-        face_x = self.faces.transform(np.asarray(face_window).ravel())
-        return self._lm(self._face_part(face_x), theta_rad)
+        face = windows("face_window", face_window, self.body.face_size_px).ravel()
+        return self._lm(self._face_part(self.faces.transform(face)), angles("theta_rad", theta_rad))
 
     def lm_commands(self, face_windows: np.ndarray, thetas_rad: np.ndarray) -> np.ndarray:
         """:meth:`lm_command` for K face windows (K, H, W) and head angles (K, 2), (K, 2)."""
-        faces = np.ascontiguousarray(np.reshape(face_windows, (len(face_windows), -1)),
-                                     dtype=float)
+        faces = windows("face_windows", face_windows, self.body.face_size_px, None)
+        faces, thetas = faces.reshape(len(faces), -1), angles("thetas_rad", thetas_rad, len(faces))
         out, f, net = np.empty((len(faces), 2)), self.faces, self.learner
-        lm_commands_into(faces, np.ascontiguousarray(thetas_rad, dtype=float), f.mean_, f.m2_,
-                         f.n_seen_, float(f.min_std), net.w1_, net.b1_, net.w2_, net.b2_,
+        lm_commands_into(faces, thetas, f.mean_, f.m2_, f.n_seen_, float(f.min_std), *net._params(),
                          self.theta_mid_rad, self.theta_half_rad, float(self.step_rad), out)
         return out
 
@@ -251,12 +251,12 @@ class BootstrapAgent:
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Start a trial looking at the caregiver, whose face window the robot keeps."""
-        face = np.asarray(face_window, dtype=float).ravel()
+        face = windows("face_window", face_window, self.body.face_size_px).ravel()
         if self.learning:
             self.faces.partial_fit(face)
         self._face_x = self.faces.transform(face)
         self._face_acc = self._face_part(self._face_x)
-        self._theta_start = np.asarray(theta_rad, dtype=float)
+        self._theta_start = angles("theta_rad", theta_rad)
         self._thetas, self._steps = [], []
         self._trial_module = None
         if self.options.vf_fallback == "sweep":

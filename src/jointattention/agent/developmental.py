@@ -27,6 +27,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from .._arrays import windows
 from .._fields import param
 from .._jit import jit
 from ..config.agent import AgentConfig
@@ -141,9 +142,8 @@ class DevelopmentalAgent(TeacherAgent):
 
     def see(self, face_window: np.ndarray) -> np.ndarray:
         """The face window as the robot sees it now, (H, W) floats."""
-        face = np.ascontiguousarray(face_window, dtype=float)
-        h, w = face.shape[-2:]
-        flat = face.reshape(-1)
+        w, h = self.body.face_size_px
+        flat = windows("face_window", face_window, (w, h)).reshape(-1)
         out = np.empty_like(flat)
         blur_into(flat, w, h, self.blur_px(), np.empty_like(flat), out)
         return out.reshape(h, w)
@@ -158,7 +158,8 @@ class DevelopmentalAgent(TeacherAgent):
 
     def lm_commands(self, face_windows: np.ndarray, thetas_rad: np.ndarray) -> np.ndarray:
         """:meth:`lm_command` for K face windows (K, H, W) and head angles (K, 2)."""
-        seen = np.array([self.see(f) for f in np.asarray(face_windows)])
+        faces = windows("face_windows", face_windows, self.body.face_size_px, None)
+        seen = np.array([self.see(f) for f in faces]).reshape(faces.shape)
         return super().lm_commands(seen, thetas_rad)
 
     def _judge(self, outcome: Outcome) -> bool:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .._arrays import angles, windows
 from .bootstrap import BootstrapAgent, BootstrapOptions
 from .memory import EpisodicMemory
 from .moves import random_step, unit_step
@@ -50,17 +51,21 @@ class MemoryAgent(BootstrapAgent):
 
     def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
         """The module's command for a face window and head angle (zero with no memory)."""
-        aim, _ = self.memory.recall(self.memory.code(face_window))
-        return self._command(aim, np.asarray(theta_rad, dtype=float))
+        face = windows("face_window", face_window, self.body.face_size_px)
+        aim, _ = self.memory.recall(self.memory.code(face))
+        return self._command(aim, angles("theta_rad", theta_rad))
 
     def lm_commands(self, face_windows: np.ndarray, thetas_rad: np.ndarray) -> np.ndarray:
         """:meth:`lm_command` for K face windows (K, H, W) and head angles (K, 2), (K, 2)."""
-        return np.array([self.lm_command(f, t) for f, t in zip(face_windows, thetas_rad,
-                                                                strict=True)]).reshape(-1, 2)
+        faces = windows("face_windows", face_windows, self.body.face_size_px, None)
+        thetas = angles("thetas_rad", thetas_rad, len(faces))
+        return np.array([self.lm_command(f, t) for f, t in zip(faces, thetas, strict=True)]
+                        ).reshape(-1, 2)
 
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Recall the place for the caregiver's face, then start the trial as the paper does."""
-        self._code = self.memory.code(face_window)
+        self._code = self.memory.code(windows("face_window", face_window,
+                                              self.body.face_size_px))
         self._aim_rad, self.support_ = self.memory.recall(self._code)
         super().begin_trial(face_window, theta_rad)
 

@@ -22,7 +22,9 @@ import math
 
 import numpy as np
 
+from .._arrays import floats
 from .._jit import jit
+from ..errors import ArgumentError
 
 __all__ = ["face_features", "face_features_into", "n_features"]
 
@@ -98,10 +100,17 @@ def _hog_into(face, height: int, width: int, cell_px: int, n_orientations: int, 
 def face_features(faces: np.ndarray, cell_px: int = 5, n_orientations: int = 12,
                   pixels: bool = True, hog: bool = True) -> np.ndarray:
     """The features of face windows (N, H, W) or (H, W): (N, :func:`n_features`) or (n,)."""
-    faces = np.asarray(faces)
-    rows = np.ascontiguousarray(np.reshape(faces, (-1, *faces.shape[-2:])), dtype=float)
+    rows = floats("faces", faces, None, what="grey levels: face windows")
+    one = rows.ndim == 2
+    rows = rows[None] if one else rows
+    if rows.ndim != 3 or 0 in rows.shape:
+        raise ArgumentError(f"faces: shape {np.shape(faces)}; expected (N, H, W) or (H, W) "
+                            "grey levels: face windows")
+    for name, value in (("cell_px", cell_px), ("n_orientations", n_orientations)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+            raise ArgumentError(f"{name}: {value!r}; expected a positive integer")
     n, h, w = rows.shape
     out = np.empty((n, n_features((w, h), cell_px, n_orientations, pixels, hog)))
     for face, o in zip(rows.reshape(n, -1), out, strict=True):
         face_features_into(face, h, w, cell_px, n_orientations, pixels, hog, o)
-    return out if faces.ndim == 3 else out[0]
+    return out[0] if one else out

@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._arrays import angles
 from ..config import DetectorConfig
 from ..errors import ArgumentError
 from .faces import Face, finder_for, window_of
@@ -103,13 +104,7 @@ class GazeFollower:
 
     def check_angle(self, theta_rad) -> np.ndarray:
         """The head angle as an array, or one ArgumentError line if it is not one of the robot's."""
-        try:
-            theta = np.asarray(theta_rad, dtype=float)
-        except (TypeError, ValueError):
-            theta = None
-        if theta is None or theta.shape != (2,) or not np.all(np.isfinite(theta)):
-            raise ArgumentError(f"theta_rad {theta_rad!r}: expected the head angle as 2 finite "
-                                "numbers (pan, tilt) in radians")
+        theta = angles("theta_rad", theta_rad)
         robot = self.model.robot
         for value, (lo, hi), name in ((theta[0], robot.pan_limits_deg, "pan"),
                                       (theta[1], robot.tilt_limits_deg, "tilt")):

@@ -15,7 +15,9 @@ import math
 
 import numpy as np
 
+from .._arrays import rows
 from .._jit import jit
+from ..errors import ArgumentError
 
 __all__ = ["FaceStandardiser", "LearningModule", "accumulate", "forward", "sgd_update",
            "standardise", "welford_update"]
@@ -113,7 +115,8 @@ class FaceStandardiser:
 
     def partial_fit(self, faces: np.ndarray) -> FaceStandardiser:
         """Add the faces (n, pixels) to the running statistics."""
-        for x in np.atleast_2d(np.asarray(faces, dtype=float)):
+        faces = rows("faces", faces, len(self.mean_) if self.n_seen_ else None)
+        for x in faces:
             if self.n_seen_ == 0:
                 self.mean_, self.m2_ = np.zeros_like(x), np.zeros_like(x)
             self.n_seen_ += 1
@@ -122,12 +125,14 @@ class FaceStandardiser:
 
     def transform(self, faces: np.ndarray) -> np.ndarray:
         """The faces standardised: minus the mean, over the s.d. (at least ``min_std``)."""
-        faces = np.asarray(faces, dtype=float)
-        rows = np.ascontiguousarray(np.atleast_2d(faces))
-        out = np.empty_like(rows)
-        for x, o in zip(rows, out, strict=True):
-            standardise(x, self.mean_, self.m2_, self.n_seen_, float(self.min_std), o)
-        return out.reshape(faces.shape)
+        if not self.n_seen_:
+            raise ArgumentError("faces: the standardiser has seen no face; expected "
+                                "partial_fit before transform")
+        x = rows("faces", faces, len(self.mean_))
+        out = np.empty_like(x)
+        for row, o in zip(x, out, strict=True):
+            standardise(row, self.mean_, self.m2_, self.n_seen_, float(self.min_std), o)
+        return out if np.ndim(faces) == 2 else out[0]
 
 
 class LearningModule:
@@ -155,7 +160,7 @@ class LearningModule:
 
     def predict(self, X: np.ndarray) -> np.ndarray:
         """Outputs (n, n_out) for inputs (n, n_in)."""
-        X = np.ascontiguousarray(np.atleast_2d(X), dtype=float)
+        X = rows("X", X, self.w1_.shape[1])
         n_hidden, n_out = self.w2_.shape
         out, h = np.empty((len(X), n_out)), np.empty(n_hidden)
         for x, o in zip(X, out, strict=True):
@@ -166,8 +171,8 @@ class LearningModule:
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> LearningModule:
         """One back-propagation update per row of ``X`` toward the row of ``Y``."""
-        X = np.ascontiguousarray(np.atleast_2d(X), dtype=float)
-        Y = np.ascontiguousarray(np.atleast_2d(Y), dtype=float)
+        X = rows("X", X, self.w1_.shape[1])
+        Y = rows("Y", Y, self.w2_.shape[1], len(X))
         for x, y in zip(X, Y, strict=True):
             sgd_update(x, y, *self._params(), *self.velocity_, float(self.learning_rate),
                        float(self.momentum))

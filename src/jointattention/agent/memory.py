@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
 
@@ -173,20 +174,21 @@ class EpisodicMemory:
 
     def code(self, face_window) -> np.ndarray:
         """The compact code of a face window."""
+        face = flat("face_window", face_window, self.projection.shape[1])
         out = np.empty(self.options.code_dims)
-        face_code_into(np.ascontiguousarray(face_window, dtype=float).ravel(), self.projection,
-                       out)
+        face_code_into(face, self.projection, out)
         return out
 
     def store(self, code: np.ndarray, aim_rad) -> None:
         """Keep one trial: the face's code and the place (pan, tilt) where it found an object."""
+        code, aim_rad = floats("code", code, (len(self.projection),)), angles("aim_rad", aim_rad)
         memory_store(code, float(aim_rad[0]), float(aim_rad[1]), self.codes_, self.aims_,
                      self.base_, self.n_stored_, self.lo_rad, self.cell_rad)
         self.n_stored_ += 1
 
     def recall(self, code: np.ndarray) -> tuple[np.ndarray | None, float]:
         """The place recalled for a face code and its support; (None, -1) with no memory."""
-        out = np.empty(2)
+        code, out = floats("code", code, (len(self.projection),)), np.empty(2)
         support = memory_recall(code, self.codes_, self.aims_, self.base_, self.n_stored_,
                                 self.lo_rad, self.cell_rad, self.options.k_nearest,
                                 self.radius_rad, out)
@@ -194,14 +196,16 @@ class EpisodicMemory:
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> EpisodicMemory:
         """Keep each row's trial: face windows ``X`` (n, pixels), places ``Y`` (n, 2)."""
-        for x, y in zip(np.atleast_2d(X), np.atleast_2d(Y), strict=True):
+        X = rows("X", X, self.projection.shape[1])
+        for x, y in zip(X, angles("Y", Y, len(X)), strict=True):
             self.store(self.code(x), y)
         return self
 
     def predict(self, X: np.ndarray) -> np.ndarray:
         """The place recalled for each face window (n, pixels), (n, 2); NaN with no memory."""
-        out = np.full((len(np.atleast_2d(X)), 2), np.nan)
-        for row, x in zip(out, np.atleast_2d(X), strict=True):
+        X = rows("X", X, self.projection.shape[1])
+        out = np.full((len(X), 2), np.nan)
+        for row, x in zip(out, X, strict=True):
             aim, _ = self.recall(self.code(x))
             if aim is not None:
                 row[:] = aim

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._arrays import floats, rows
 from .._fields import Section, param
 from .._jit import jit
 
@@ -222,7 +223,7 @@ class PopulationCode:
 
     def probabilities(self, x: np.ndarray) -> np.ndarray:
         """p(direction | input) over the units, for one input (n_in,), by the readout weights."""
-        population_forward(np.ascontiguousarray(x, dtype=float), *self._readout_weights(),
+        population_forward(floats("x", x, (self.w1_.shape[1],)), *self._readout_weights(),
                            self._h, self._p)
         return self._p.copy()
 
@@ -245,13 +246,13 @@ class PopulationCode:
 
     def teach(self, x: np.ndarray, directions_rad) -> None:
         """One update toward the places found in ``directions_rad`` (rad) for input ``x``."""
-        directions_rad = np.atleast_1d(np.asarray(directions_rad, dtype=float))
+        directions_rad = floats("directions_rad", np.atleast_1d(directions_rad), (None,))
         if len(directions_rad) == 0:
             return
         self._taught[:] = 0.0
         for psi in directions_rad:
             von_mises_into(float(psi), self.kappa, 1.0, self._taught)
-        population_update(np.ascontiguousarray(x, dtype=float), self._taught,
+        population_update(floats("x", x, (self.w1_.shape[1],)), self._taught,
                           float(len(directions_rad)), self.w1_, self.b1_, self.w2_, self.b2_,
                           float(self.options.learning_rate), self._h, self._p, self._grad_h)
         self.hidden_mean_ += self.options.hidden_rate * (self._h - self.hidden_mean_)
@@ -262,11 +263,12 @@ class PopulationCode:
 
         The running averages move once per row.
         """
-        for x, y in zip(np.atleast_2d(X), np.ravel(Y), strict=True):
+        X = rows("X", X, self.w1_.shape[1])
+        for x, y in zip(X, floats("Y", Y, (len(X),)), strict=True):
             self.teach(x, [y])
             self.average()
         return self
 
     def predict(self, X: np.ndarray) -> np.ndarray:
         """The readout direction (rad) for each row of ``X`` (n, n_in), (n,)."""
-        return np.array([self.direction(x)[0] for x in np.atleast_2d(X)])
+        return np.array([self.direction(x)[0] for x in rows("X", X, self.w1_.shape[1])])

@@ -21,6 +21,7 @@ import math
 
 import numpy as np
 
+from .._arrays import angles, windows
 from .._jit import jit
 from .bootstrap import BootstrapAgent, BootstrapOptions
 from .face_features import face_features_into, n_features
@@ -124,10 +125,11 @@ class PopulationAgent(BootstrapAgent):
         """
         o = self.options.population
         w, h = self.body.face_size_px
+        window = windows("face_window", face_window, (w, h)).ravel()
+        theta_rad = angles("theta_rad", theta_rad)
         x = np.empty(self.n_features + 2)
         face = x[: self.n_features]
-        face_features_into(np.ascontiguousarray(face_window, dtype=float).ravel(), h, w,
-                           o.cell_px, o.n_orientations, *self._parts, x)
+        face_features_into(window, h, w, o.cell_px, o.n_orientations, *self._parts, x)
         if o.standardise:
             f = self.feature_stats
             if fit:
@@ -145,13 +147,15 @@ class PopulationAgent(BootstrapAgent):
 
     def lm_commands(self, face_windows: np.ndarray, thetas_rad: np.ndarray) -> np.ndarray:
         """:meth:`lm_command` for K face windows (K, H, W) and head angles (K, 2), (K, 2)."""
-        return np.array([self.lm_command(f, t) for f, t in zip(face_windows, thetas_rad,
-                                                                strict=True)]).reshape(-1, 2)
+        faces = windows("face_windows", face_windows, self.body.face_size_px, None)
+        thetas = angles("thetas_rad", thetas_rad, len(faces))
+        return np.array([self.lm_command(f, t) for f, t in zip(faces, thetas, strict=True)]
+                        ).reshape(-1, 2)
 
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Read out the direction for the caregiver's face, then start as the paper does."""
-        self._face = np.asarray(face_window)
         self._x = self.features(face_window, theta_rad, fit=self.learning)
+        self._face = np.asarray(face_window)
         self.direction_rad_, _ = self.population.direction(self._x)
         super().begin_trial(face_window, theta_rad)
 

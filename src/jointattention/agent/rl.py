@@ -46,6 +46,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from .._arrays import angles, windows
 from .._fields import param
 from ..config.agent import AgentConfig
 from .detections import Detections
@@ -153,11 +154,14 @@ class RLAgent:
 
         The head angles are not used: the shift values depend on the face alone.
         """
-        return self.steps_rad[np.argmax(self.shift_values(face_windows), axis=1)].copy()
+        faces = windows("face_windows", face_windows, self.body.face_size_px, None)
+        angles("thetas_rad", thetas_rad, len(faces))
+        return self.steps_rad[np.argmax(self.shift_values(faces), axis=1)].copy()
 
     def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
         """:meth:`lm_commands` for one face window: (2,)."""
-        return self.lm_commands(np.asarray(face_window)[None], np.atleast_2d(theta_rad))[0]
+        face = windows("face_window", face_window, self.body.face_size_px)
+        return self.lm_commands(face[None], angles("theta_rad", theta_rad)[None])[0]
 
     def place_of(self, theta_rad) -> tuple[int, ...]:
         """The habituation grid's cell of a head angle (clipped to the grid)."""
@@ -182,7 +186,7 @@ class RLAgent:
         Per step, staying has probability ``p_stay[k]``; a shift's direction is drawn from the
         softmax over the shift values alone (``cdf``): together, the softmax over all actions.
         """
-        face = np.asarray(face_window, dtype=float).ravel()
+        face = windows("face_window", face_window, self.body.face_size_px).ravel()
         if self.learning:
             self.faces.partial_fit(face)
         self._x = self.faces.transform(face)

@@ -46,11 +46,12 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
+from .._arrays import angles, windows
 from .._checks import check_path
 from .._files import save_npz
 from .._readers import loads_json, loads_toml, read_npz
 from ..config import Config, check_config, condition_named, load_config, model_options, to_toml
-from ..errors import ArgumentError, ConfigError, FileError
+from ..errors import ConfigError, FileError
 from .bootstrap import BootstrapAgent, BootstrapOptions
 from .models import MODELS
 from .protocol import Body
@@ -128,16 +129,8 @@ class LearnedModel:
         head's (pan, tilt) at the face. Anything else is refused (ArgumentError) before the
         compiled kernels, which read the window by the learned size, see it.
         """
-        w, h = self.robot.face_size_px
-        window, theta = np.asarray(face_window), np.asarray(theta_rad)
-        if window.shape != (h, w) or window.dtype.kind not in "uif" or not np.all(
-                np.isfinite(window)):
-            raise ArgumentError(f"face_window: shape {window.shape}, dtype {window.dtype}; "
-                                f"expected ({h}, {w}) finite grey levels, the model's window")
-        if theta.shape != (2,) or theta.dtype.kind not in "uif" or not np.isfinite(theta).all():
-            raise ArgumentError(f"theta_rad: {theta_rad!r}; expected two finite angles (pan, "
-                                "tilt) in radians")
-        return self.agent.lm_command(window, theta.astype(float))
+        window = windows("face_window", face_window, self.robot.face_size_px)
+        return self.agent.lm_command(window, angles("theta_rad", theta_rad))
 
     def face_template(self) -> np.ndarray:
         """The mean of the faces it learned from, (H, W) uint8: a template to find them."""

@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from .._arrays import floats
 from .._jit import jit
 from ..agent.detections import Detections
 from ..config import WorldConfig
@@ -71,10 +72,11 @@ class FastScene:
     def __init__(self, kinematics: HeadKinematics, object_pos_m, object_radius_m,
                  target_index: int, edge):
         self.kinematics = kinematics
-        self.object_pos_m = np.asarray(object_pos_m, dtype=float)
-        self.object_radius_m = np.asarray(object_radius_m, dtype=float)
+        self.object_radius_m = floats("object_radius_m", object_radius_m, (None,))
+        n = len(self.object_radius_m)
+        self.object_pos_m = floats("object_pos_m", object_pos_m, (n, 3))
+        self.edge = floats("edge", edge, (n,))
         self.target_index = int(target_index)
-        self.edge = np.asarray(edge, dtype=float)
         self.visible_ids = np.arange(0)
 
     @classmethod

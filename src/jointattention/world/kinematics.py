@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._arrays import floats, rows
 from .._jit import jit
 from ..agent.detections import equal_area_radius
 from ..config import WorldConfig
@@ -196,8 +197,10 @@ class HeadKinematics:
         Points behind the camera get NaN positions and areas (see
         :func:`project_spheres_into`).
         """
-        points = np.atleast_2d(np.asarray(points_m, dtype=float))
-        radii = np.broadcast_to(np.asarray(radii_m, dtype=float), len(points)).copy()
+        points = rows("points_m", points_m, 3)
+        radii = floats("radii_m", radii_m, None)
+        radii = np.full(len(points), radii) if radii.ndim == 0 else floats(
+            "radii_m", radii, (len(points),))
         n = len(points)
         uv, depth, area = np.empty((n, 2)), np.empty(n), np.empty(n)
         cx, cy = self.centre_px
@@ -245,7 +248,7 @@ class HeadKinematics:
         Joint limits are not applied; see :meth:`within_limits`. Raises :class:`Unreachable`
         if no head angle does it (see :func:`centring_angles`).
         """
-        point = np.asarray(point_m, dtype=float)
+        point = floats("point_m", point_m, (3,))
         pan, tilt, status = centring_angles(point, np.asarray(self.offset_m, dtype=float))
         if status == CENTRED:
             return np.array([pan, tilt])
