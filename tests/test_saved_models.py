@@ -189,6 +189,24 @@ def test_cli_follow_refuses_bad_input_in_one_line(saved, tmp_path, capsys):
         assert not (tmp_path / "out").exists()
 
 
+def test_follow_on_a_damaged_video_prints_only_its_own_lines(saved, tmp_path, capfd):
+    """A video cut in half gives the frames before the cut, and FFmpeg's complaints stay out."""
+    import cv2
+
+    _, path = saved
+    noise = np.random.default_rng(0).integers(0, 256, (240, 320, 3), dtype=np.uint8)
+    video = cv2.VideoWriter(str(tmp_path / "v.avi"), cv2.VideoWriter_fourcc(*"MJPG"), 5,
+                            (320, 240))
+    for _ in range(5):
+        video.write(noise)
+    video.release()
+    data = (tmp_path / "v.avi").read_bytes()
+    (tmp_path / "cut.avi").write_bytes(data[: len(data) // 2])
+    assert main(["follow", str(path), "--video", str(tmp_path / "cut.avi")]) == 0
+    out, err = capfd.readouterr()
+    assert err == "" and 1 <= len(out.splitlines()) < 5
+
+
 def test_closed_loop_runs_a_saved_model_through_images(saved, tmp_path, capsys, needs_gl):
     """The closed loop finds the face in every rendered start image and prints its table."""
     from jointattention.experiment.closed_loop import closed_loop

@@ -12,9 +12,11 @@ import io
 import json
 import os
 import stat
+import sys
 import tomllib
 import warnings
 import zipfile
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +25,8 @@ from ._checks import short_repr
 from .errors import FileError
 
 __all__ = ["MAX_IMAGE_PIXELS", "MAX_NESTING", "MAX_NPZ_BYTES", "MAX_NPZ_MEMBERS", "MAX_TEXT_BYTES",
-           "check_nesting", "loads_json", "loads_toml", "read_bytes", "read_image", "read_json",
+           "check_nesting", "loads_json", "loads_toml", "quiet_stderr", "read_bytes", "read_image",
+           "read_json",
            "read_npz", "read_text", "read_toml", "sha256_of"]
 
 MAX_TEXT_BYTES = 16 * 2**20  # configurations, specs and run files are kilobytes
@@ -199,6 +202,24 @@ def read_npz(path: str | Path, what: str, max_bytes: int = MAX_NPZ_BYTES) -> dic
     return arrays
 
 
+@contextmanager
+def quiet_stderr():
+    """Silence the process's stderr (file descriptor 2, where C libraries write) for a block.
+
+    libtiff, libjpeg and FFmpeg print their own lines about a broken file; the program's one
+    error line says it instead.
+    """
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+        yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
 def read_image(path: str | Path) -> np.ndarray:
     """An image file as RGB uint8 (H, W, 3); its size is read from the header first."""
     import cv2
@@ -209,7 +230,7 @@ def read_image(path: str | Path) -> np.ndarray:
     data = read_bytes(path, what, 2**30)
     try:  # Pillow reads the header, and checks the file whole (CRCs, length) without decoding
         with warnings.catch_warnings():
-            warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+            warnings.simplefilter("ignore")  # bombs are judged below; corrupt EXIF is noise
             with Image.open(io.BytesIO(data)) as im:
                 w, h = im.size
                 if w * h == 0:
@@ -230,7 +251,8 @@ def read_image(path: str | Path) -> np.ndarray:
         raise FileError(f"{path}: its header claims {w}x{h} pixels; expected {what} of at "
                         f"most {MAX_IMAGE_PIXELS:,} pixels")
     try:
-        image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR) if data else None
+        with quiet_stderr():
+            image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR) if data else None
     except cv2.error:
         image = None
     if image is None:

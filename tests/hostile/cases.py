@@ -1093,6 +1093,24 @@ add(Case("detect-one-good-one-truncated", "corrupt-files",
          files_case({"good.png": png_bytes(), "bad.png": png_bytes()[:70]},
                     ["detect", "good.png", "bad.png", "--out", "out"]), names="bad.png"))
 
+
+
+def _encoded_half(ext: str) -> bytes:
+    """The first half of a noisy 320 x 240 image encoded as ``ext``: libjpeg and libtiff (and
+    Pillow, on the TIFF's EXIF) have their own words about it.
+    """
+    import cv2
+
+    image = np.random.default_rng(0).integers(0, 256, (240, 320, 3), dtype=np.uint8)
+    data = cv2.imencode(ext, image)[1].tobytes()
+    return data[: len(data) // 2]
+
+
+for _ext in (".jpg", ".tif"):
+    add(Case(f"detect-truncated-{_ext[1:]}", "corrupt-files",
+             files_case({f"bad{_ext}": lambda e=_ext: _encoded_half(e)},
+                        ["detect", f"bad{_ext}", "--out", "out"]), names=f"bad{_ext}"))
+
 # 5. Output paths ----------------------------------------------------------------------------
 
 OUT_COMMANDS = {  # command -> (argv before --out, kind of output: dir or file)

@@ -5,9 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import sys
-from contextlib import contextmanager
 from pathlib import Path
 
 from .._files import check_writable
@@ -56,23 +54,9 @@ def _theta(text: str):
     return values
 
 
-@contextmanager
-def _quiet_stderr():
-    """Silence the process's stderr (file descriptor 2, where C libraries write) for a block."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    try:
-        with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), 2)
-        yield
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-
-
 def _frames(args: argparse.Namespace):
     """(source name, frame index, RGB frame) of the images, the video or the camera."""
-    from .._readers import read_image
+    from .._readers import MAX_IMAGE_PIXELS, quiet_stderr, read_image
 
     if args.images:
         images = [(p, read_image(p)) for p in args.images]  # all read before any is written
@@ -84,16 +68,21 @@ def _frames(args: argparse.Namespace):
     source = args.camera if args.video is None else str(args.video)
     if args.video is not None and not Path(args.video).is_file():
         raise FileError(f"{args.video}: not a file; expected a video file OpenCV can read")
-    with _quiet_stderr():  # OpenCV and FFmpeg print their own lines on a failed open
+    with quiet_stderr():  # OpenCV and FFmpeg print their own lines on a failed open
         capture = cv2.VideoCapture(source)
     try:
         if not capture.isOpened():
             what = f"camera {args.camera}" if args.video is None else str(args.video)
             raise FileError(f"{what}: OpenCV could not open it; expected a video file or a "
                             "camera index OpenCV can read")
+        w, h = (int(capture.get(p)) for p in (cv2.CAP_PROP_FRAME_WIDTH, cv2.CAP_PROP_FRAME_HEIGHT))
+        if w * h > MAX_IMAGE_PIXELS:
+            raise FileError(f"{source}: frames of {w}x{h} pixels; expected at most "
+                            f"{MAX_IMAGE_PIXELS:,} pixels a frame")
         name = f"camera{args.camera}" if args.video is None else Path(args.video).stem
         for i in range(args.max_frames):
-            ok, bgr = capture.read()
+            with quiet_stderr():  # FFmpeg's lines about a damaged stream
+                ok, bgr = capture.read()
             if not ok:
                 if i == 0:
                     raise FileError(f"{source}: no frame could be read; expected a video")
