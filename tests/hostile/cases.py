@@ -1096,8 +1096,9 @@ add(Case("detect-one-good-one-truncated", "corrupt-files",
 
 
 def _encoded_half(ext: str) -> bytes:
-    """The first half of a noisy 320 x 240 image encoded as ``ext``: libjpeg and libtiff (and
-    Pillow, on the TIFF's EXIF) have their own words about it.
+    """The first half of a noisy 320 x 240 image encoded as ``ext``.
+
+    libjpeg and libtiff (and Pillow, on the TIFF's EXIF) have their own words about it.
     """
     import cv2
 
