@@ -5,7 +5,11 @@ BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 BASE := $(VENV)/.installed-base
 
-.PHONY: demo test lint bench clean
+RL_VENV := .venv-rl
+RL_BIN := $(RL_VENV)/bin
+RL_STAMP := $(RL_VENV)/.installed
+
+.PHONY: demo test test-rl lint bench clean
 
 # The main job needs only the package; the tests need the extras too (gym, ray, rl).
 $(BASE): pyproject.toml
@@ -26,6 +30,19 @@ test: $(STAMP)
 	$(BIN)/ruff check src tests examples docs
 	$(BIN)/python -m pytest -q
 
+# The tests of Stable-Baselines3, in a venv of their own: PyTorch stays out of `make test`'s.
+# torch 2.13.0 first: where the machine keeps a CPU build of it (pip's find-links), pip takes
+# that one (about 0.7 GB) instead of PyPI's CUDA build (about 5 GB).
+$(RL_STAMP): pyproject.toml
+	$(PYTHON) -m venv $(RL_VENV)
+	$(RL_BIN)/python -m pip install --quiet --upgrade pip
+	$(RL_BIN)/python -m pip install --quiet "torch==2.13.0"
+	$(RL_BIN)/python -m pip install --quiet -e ".[dev,rl]"
+	touch $(RL_STAMP)
+
+test-rl: $(RL_STAMP)
+	$(RL_BIN)/python -m pytest -q -m rl
+
 lint: $(STAMP)
 	$(BIN)/ruff check src tests examples docs
 	$(BIN)/ruff format --check src tests examples docs
@@ -34,4 +51,4 @@ bench: $(STAMP)
 	$(BIN)/jointattention bench
 
 clean:
-	rm -rf $(VENV) runs build src/*.egg-info
+	rm -rf $(VENV) $(RL_VENV) runs build src/*.egg-info

@@ -44,42 +44,25 @@ class FlatFace(gym.ObservationWrapper):
 def train_ppo(n_objects: int, steps: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
     """PPO's training episodes: (environment steps at the episode's end, success)."""
     from stable_baselines3 import PPO
-    from stable_baselines3.common.callbacks import BaseCallback
     from stable_baselines3.common.env_util import make_vec_env
 
-    ends, wins = [], []
+    from jointattention.env.sb3 import EpisodeLog
 
-    class Episodes(BaseCallback):
-        def _on_step(self) -> bool:
-            for info in self.locals["infos"]:
-                if "episode" in info:
-                    ends.append(self.num_timesteps)
-                    wins.append(info["episode"]["r"] > 0)
-            return True
-
+    log = EpisodeLog()
     envs = make_vec_env(f"JointAttentionFace-N{n_objects}-v1", n_envs=8, seed=seed,
                         wrapper_class=FlatFace)
     model = PPO("MlpPolicy", envs, n_steps=min(256, max(steps // 8, 16)), batch_size=256,
                 seed=seed, device="cpu", verbose=0)
-    model.learn(steps, callback=Episodes())
+    model.learn(steps, callback=log)
     envs.close()
-    return np.array(ends), np.array(wins, dtype=float)
+    return np.array(log.ends), np.array(log.wins, dtype=float)
 
 
 def random_level(n_objects: int, episodes: int, seed: int) -> float:
     """The success of uniform-random actions, per episode."""
-    env = gym.make(f"JointAttentionFace-N{n_objects}-v1")
-    env.action_space.seed(seed)
-    wins = 0
-    env.reset(seed=seed)
-    for _ in range(episodes):
-        done = False
-        while not done:
-            _, reward, terminated, truncated, _ = env.step(env.action_space.sample())
-            done = terminated or truncated
-        wins += reward > 0
-        env.reset()
-    return wins / episodes
+    from jointattention.env.sb3 import success_rate
+
+    return success_rate(None, gym.make(f"JointAttentionFace-N{n_objects}-v1"), episodes, seed)
 
 
 def bootstrap(n_objects: int, steps: int, seed: int) -> tuple[np.ndarray, np.ndarray]:

@@ -198,6 +198,9 @@ def test_async_images_run_under_spawn_and_fork_fails_at_once(tmp_path):
 def _rollout(env_id: str, mode: str, n_envs: int, n_steps: int, **kwargs) -> list:
     """Observations, rewards, ends and infos of a vector env under fixed random actions."""
     envs = gym.make_vec(env_id, num_envs=n_envs, vectorization_mode=mode, **kwargs)
+    assert envs.metadata["autoreset_mode"] == gym.vector.AutoresetMode(
+        kwargs.get("autoreset_mode") or kwargs.get("vector_kwargs", {}).get(
+            "autoreset_mode", "NextStep"))
     obs, info = envs.reset(seed=3)
     rng = np.random.default_rng(0)
     out = [(obs, info)]
@@ -212,6 +215,10 @@ def _equal(a, b) -> bool:
         return a.keys() == b.keys() and all(_equal(a[k], b[k]) for k in a)
     if isinstance(a, tuple):
         return all(_equal(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, np.ndarray) and a.dtype == object:  # final_obs: one dict per env
+        return len(a) == len(b) and all(_equal(x, y) for x, y in zip(a, b, strict=True))
+    if a is None or b is None:
+        return a is b
     return np.array_equal(a, b)
 
 
@@ -239,3 +246,95 @@ def test_the_native_vector_env_refuses_images_and_bad_actions():
     for bad in (np.zeros((3, 2)), np.full((2, 2), np.nan), "x"):
         with pytest.raises(ArgumentError, match="actions"):
             envs.step(bad)
+
+
+@pytest.mark.parametrize("env_id", ["JointAttentionFace-N5-v2", "JointAttentionDetections-N10-v1"])
+def test_same_step_autoreset_equals_a_sync_vector_env(env_id):
+    """With autoreset_mode="SameStep" the native env restarts episodes as SyncVectorEnv does."""
+    native = _rollout(env_id, "vector_entry_point", 4, 200, autoreset_mode="SameStep")
+    sync = _rollout(env_id, "sync", 4, 200, vector_kwargs={"autoreset_mode": "SameStep"})
+    assert sum(int(step[4].get("_final_obs", np.zeros(1)).sum()) for step in native[1:]) > 20
+    for a, b in zip(native, sync, strict=True):
+        assert _equal(a, b)
+
+
+def test_the_native_vector_env_needs_a_reset_renders_and_checks_its_mode():
+    """A step before reset is refused; render shows env 0's face; a bad autoreset mode is named."""
+    from jointattention.errors import ConfigError
+
+    envs = gym.make_vec("JointAttentionFace-N3-v2", num_envs=3,
+                        vectorization_mode="vector_entry_point", render_mode="rgb_array")
+    with pytest.raises(gym.error.ResetNeeded, match="reset"):
+        envs.step(np.zeros((3, 2)))
+    envs.reset(seed=0)
+    one = gym.make("JointAttentionFace-N3-v2", render_mode="rgb_array")
+    one.reset(seed=0)
+    assert np.array_equal(envs.render(), one.render()) and envs.render().shape == (25, 30, 3)
+    with pytest.raises(ConfigError, match="autoreset_mode"):
+        gym.make_vec("JointAttentionFace-v2", num_envs=2, vectorization_mode="vector_entry_point",
+                     autoreset_mode="Disabled")
+
+
+@pytest.mark.usefixtures("needs_gl")
+def test_every_observation_lies_in_its_space():
+    """Over random episodes of every id (v1 and v2), each observation is inside its space."""
+    for env_id in ENV_IDS:
+        kwargs = {"width": 64, "height": 48} if "Face" not in env_id and (
+            "Detections" not in env_id) else {}
+        env = gym.make(env_id, **kwargs)
+        env.action_space.seed(0)
+        obs, _ = env.reset(seed=0)
+        for _ in range(40 if kwargs else 300):
+            assert env.observation_space.contains(obs), (env_id, obs)
+            obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
+            if terminated or truncated:
+                obs, _ = env.reset()
+        env.close()
+
+
+def test_v2_shows_v1_scaled():
+    """v2 is v1 scaled: face g / 255 - 0.5, head angle in [-1, 1], centres from the middle."""
+    v1, v2 = (gym.make(f"JointAttentionDetections-N5-v{v}") for v in (1, 2))
+    (a, _), (b, _) = v1.reset(seed=4), v2.reset(seed=4)
+    for _ in range(30):
+        assert np.allclose(b["face"], a["face"] / 255 - 0.5)
+        limits = v1.unwrapped.joint_limits_rad
+        assert np.allclose(b["head_angle"], (a["head_angle"] - limits.mean(1))
+                           / (np.diff(limits)[:, 0] / 2), atol=1e-6)
+        present = a["detections"][:, 0] == 1
+        assert np.allclose(b["detections"][present, 1], (a["detections"][present, 1] - 159.5)
+                           / 160, atol=1e-6)
+        assert np.all(b["detections"][~present] == 0)
+        action = np.array([0.4, -0.2])
+        (a, *end), (b, *_) = v1.step(action), v2.step(action)
+        if end[1] or end[2]:
+            (a, _), (b, _) = v1.reset(), v2.reset()
+
+
+@pytest.mark.parametrize("mode", ["face", "detections", "image"])
+def test_a_copy_continues_the_episode(mode, request):
+    """Pickled or deep-copied mid-episode, a copy gives the original's observations and ends."""
+    if mode == "image":
+        request.getfixturevalue("needs_gl")
+    size = {"width": 64, "height": 48} if mode == "image" else {}
+    env = JointAttentionEnv(obs_mode=mode, n_objects=3, normalize_actions=True, **size)
+    env.reset(seed=1)
+    env.step(np.array([0.3, 0.1]))
+    copies = [pickle.loads(pickle.dumps(env)), copy.deepcopy(env)]
+    actions = np.random.default_rng(0).uniform(-1, 1, (50, 2))
+
+    def play(e) -> list:
+        out = []
+        for a in actions:
+            step = e.step(a)
+            out.append(step[:4])
+            if step[2] or step[3]:
+                out.append(e.reset())  # the generator carries on too
+        return out
+
+    original = play(env)
+    assert sum(1 for x in original if len(x) == 2) >= 2  # episodes ended and restarted
+    for other in copies:
+        assert _equal(tuple(play(other)), tuple(original))
+        other.close()
+    env.close()

@@ -9,12 +9,13 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.rl
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "rl_ppo.py"
 
 
 def test_the_ppo_example_trains_a_few_hundred_steps(tmp_path):
     """``examples/rl_ppo.py --smoke`` trains PPO, runs the bootstrap model and writes curves."""
-    pytest.importorskip("stable_baselines3")
+    pytest.importorskip("stable_baselines3", reason="needs the rl extra: make test-rl")
     proc = subprocess.run([sys.executable, str(EXAMPLE), "--smoke", "--n-objects", "3",
                            "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr

@@ -8,15 +8,20 @@ loop through the environment.
 Registered ids (:data:`ENV_IDS`), each with ``max_episode_steps=40`` and actions in [-1, 1]
 (``normalize_actions=True``; :class:`EnvTrial` converts an agent's radians):
 
-- ``JointAttention-v1``: ``obs_mode="image"`` (rendered);
-- ``JointAttentionFace-v1`` and ``JointAttentionDetections-v1``: the modes without rendering;
-- ``JointAttention{Mode}-N{n}-v1`` for n = 1, 3, 5, 10 objects (``Mode`` empty, ``Face`` or
-  ``Detections``), and ``JointAttentionFace-N{n}-Intrinsic-v1`` with the intrinsic reward.
+- ``JointAttention-v2``: ``obs_mode="image"`` (rendered);
+- ``JointAttentionFace-v2`` and ``JointAttentionDetections-v2``: the modes without rendering;
+- ``JointAttention{Mode}-N{n}-v2`` for n = 1, 3, 5, 10 objects (``Mode`` empty, ``Face`` or
+  ``Detections``), and ``JointAttentionFace-N{n}-Intrinsic-v2`` with the intrinsic reward.
+
+v2 observations are scaled (``scaled_obs=True``: the face in [-0.5, 0.5], the head angle and
+the detections near [-1, 1]), so that an RL library's default network learns from them; each
+v2 id has a v1 twin with the raw observations (uint8 grey levels, radians, pixels).
 
 Other arguments go to :func:`gymnasium.make` as keywords, as usual. The ids without images
 have a ``vector_entry_point``: ``gymnasium.make_vec(id, num_envs=N,
 vectorization_mode="vector_entry_point")`` steps all N in one compiled kernel
-(:class:`~jointattention.env.vector.JointAttentionVectorEnv`).
+(:class:`~jointattention.env.vector.JointAttentionVectorEnv`);
+:class:`jointattention.env.sb3.NativeVecEnv` hands it to Stable-Baselines3 (the ``rl`` extra).
 """
 
 try:
@@ -38,16 +43,17 @@ _MODES = {"": "image", "Face": "face", "Detections": "detections"}
 
 
 def _variants() -> dict[str, dict]:
-    """Every registered id and its keyword arguments."""
+    """Every registered id and its keyword arguments (v2: the same, with ``scaled_obs``)."""
     ids = {}
     for name, mode in _MODES.items():
-        ids[f"JointAttention{name}-v1"] = {"obs_mode": mode}
+        ids[f"JointAttention{name}"] = {"obs_mode": mode}
         for n in (1, 3, 5, 10):
-            ids[f"JointAttention{name}-N{n}-v1"] = {"obs_mode": mode, "n_objects": n}
+            ids[f"JointAttention{name}-N{n}"] = {"obs_mode": mode, "n_objects": n}
     for n in (1, 3, 5, 10):
-        ids[f"JointAttentionFace-N{n}-Intrinsic-v1"] = {"obs_mode": "face", "n_objects": n,
-                                                       "reward": "intrinsic"}
-    return {i: {**kwargs, "normalize_actions": True} for i, kwargs in ids.items()}
+        ids[f"JointAttentionFace-N{n}-Intrinsic"] = {"obs_mode": "face", "n_objects": n,
+                                                    "reward": "intrinsic"}
+    return {f"{i}-v{v}": {**kwargs, "normalize_actions": True, "scaled_obs": v == 2}
+            for v in (1, 2) for i, kwargs in ids.items()}
 
 
 ENV_IDS = tuple(_variants())

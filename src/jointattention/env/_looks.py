@@ -13,7 +13,7 @@ from ..agent.detections import Detections
 from ..experiment.trial import SceneTrial
 
 __all__ = ["DETECTION_COLUMNS", "MAX_DETECTIONS", "OBS_MODES", "detection_rows",
-           "detections_of", "info_of", "observation_space"]
+           "detections_of", "info_of", "observation_space", "scaled"]
 
 OBS_MODES = ("image", "face", "detections")
 MAX_DETECTIONS = 20  # a scene has at most 20 objects (world.objects.n_objects)
@@ -22,19 +22,57 @@ DETECTION_COLUMNS = ("present", "centre_x_px", "centre_y_px", "colour_area_px", 
 
 
 def observation_space(mode: str, image_hw: tuple[int, int], face_hw: tuple[int, int],
-                      joint_limits_rad: np.ndarray) -> spaces.Dict:
+                      joint_limits_rad: np.ndarray, scaled_obs: bool = False) -> spaces.Dict:
     """The observation space of ``mode`` (see :class:`~.joint_attention.JointAttentionEnv`)."""
-    head = spaces.Box(joint_limits_rad[:, 0].astype(np.float32),
-                      joint_limits_rad[:, 1].astype(np.float32), (2,), np.float32)
+    lo, hi = joint_limits_rad[:, 0], joint_limits_rad[:, 1]
+    if scaled_obs:
+        lo, hi = -np.ones(2), np.ones(2)
+    head = spaces.Box(lo.astype(np.float32), hi.astype(np.float32), (2,), np.float32)
     if mode == "image":
         return spaces.Dict({"image": spaces.Box(0, 255, (*image_hw, 3), np.uint8),
                             "head_angle": head})
-    looks = {"face": spaces.Box(0, 255, face_hw, np.uint8), "head_angle": head}
+    face = (spaces.Box(-0.5, 0.5, face_hw, np.float32) if scaled_obs
+            else spaces.Box(0, 255, face_hw, np.uint8))
+    looks = {"face": face, "head_angle": head}
     if mode == "detections":
-        low, high = _row_bounds(image_hw)
+        low, high = _SCALED_ROW_BOUNDS if scaled_obs else _row_bounds(image_hw)
         looks["detections"] = spaces.Box(np.tile(low, (MAX_DETECTIONS, 1)),
                                          np.tile(high, (MAX_DETECTIONS, 1)), dtype=np.float32)
     return spaces.Dict(looks)
+
+
+def scaled(obs: dict, joint_limits_rad: np.ndarray, image_hw: tuple[int, int]) -> dict:
+    """An observation (or a batch of them) with ``scaled_obs``: every entry near [-1, 1].
+
+    The face's grey levels g become g / 255 - 0.5; the head angle is scaled by the joint
+    ranges to [-1, 1]; in the detections, centres are offsets from the image centre in half
+    image sizes ([-1, 1]) and areas are in images ([0, 4]). The image is left as it is (uint8:
+    the RL libraries scale images themselves).
+    """
+    mid = joint_limits_rad.mean(axis=1)
+    half = (joint_limits_rad[:, 1] - joint_limits_rad[:, 0]) / 2
+    out = {**obs, "head_angle": ((obs["head_angle"] - mid) / half).astype(np.float32)}
+    if "face" in obs:
+        out["face"] = (obs["face"] / np.float32(255) - np.float32(0.5)).astype(np.float32)
+    if "detections" in obs:
+        out["detections"] = _scaled_rows(obs["detections"], image_hw)
+    return out
+
+
+def _scaled_rows(rows: np.ndarray, image_hw: tuple[int, int]) -> np.ndarray:
+    """Detection rows with centres in half image sizes from the centre and areas in images."""
+    h, w = image_hw
+    out = np.array(rows, np.float32)
+    present = out[..., 0]
+    out[..., 1] = (out[..., 1] - (w - 1) / 2) / (w / 2) * present  # zero rows stay zero
+    out[..., 2] = (out[..., 2] - (h - 1) / 2) / (h / 2) * present
+    out[..., 3] /= w * h
+    return np.clip(out, *_SCALED_ROW_BOUNDS)  # float32 rounding stays inside the space
+
+
+# present, centre x and y (half image sizes from the centre), area (images), edge, motion
+_SCALED_ROW_BOUNDS = (np.array([0, -1, -1, 0, 0, 0], np.float32),
+                      np.array([1, 1, 1, 4, 1, 1], np.float32))
 
 
 def _row_bounds(image_hw: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:

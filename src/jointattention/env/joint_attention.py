@@ -5,52 +5,31 @@ Its docstring is its manual. Needs the ``gym`` extra (``pip install "jointattent
 
 from __future__ import annotations
 
-import dataclasses
 from pathlib import Path
 from typing import ClassVar
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
-from gymnasium.utils import EzPickle
 
-from .._checks import check_int, short_repr
-from ..config import Config, load_config, with_n_objects
+from .._checks import check_int
+from ..config import Config
 from ..errors import ArgumentError, ConfigError
 from ..experiment.cells import datasets_of, evaluator, random_scene
 from ..experiment.trial import END_STEPS, SceneTrial
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
-from ._looks import OBS_MODES, detection_rows, info_of, observation_space
+from ._args import EpisodePickle, check_action, env_config, refuse_options
+from ._looks import OBS_MODES, detection_rows, info_of, observation_space, scaled
 
 __all__ = ["JointAttentionEnv"]
 
 REWARDS = ("external", "intrinsic")
 _ARGS = ("config", "obs_mode", "n_objects", "n_poses", "reward", "max_steps", "width",
-         "height", "normalize_actions", "render_mode")
+         "height", "normalize_actions", "scaled_obs", "render_mode")
 
 
-def _action(action, shape: tuple[int, ...] = (2,), name: str = "action") -> np.ndarray:
-    """``action`` as finite floats of ``shape`` (pan, tilt last), else one error naming it."""
-    try:
-        a = None if np.iscomplexobj(action) else np.asarray(action, dtype=float)
-    except (TypeError, ValueError):
-        a = None
-    if a is None or a.shape != shape or not np.all(np.isfinite(a)):
-        size = "2" if shape == (2,) else str(shape)
-        raise ArgumentError(f"{name}={short_repr(action)}: expected {size} finite numbers "
-                            "(pan, tilt)")
-    return a
-
-
-def _refuse_options(options: dict | None) -> None:
-    """Reset options: none are taken."""
-    if options:
-        raise ArgumentError(f"options={short_repr(options)}: expected None; this environment "
-                            "takes no reset options")
-
-
-class JointAttentionEnv(gym.Env, EzPickle):
+class JointAttentionEnv(gym.Env, EpisodePickle):
     """One trial of the joint-attention task per episode, seen by the robot.
 
     A caregiver sits in front of the robot and looks at one of ``n_objects`` bright objects
@@ -68,9 +47,18 @@ class JointAttentionEnv(gym.Env, EzPickle):
         caregiver data sets (``config.datasets``, by default the 125 shipped) with random
         distractors: the fast world in which ``jointattention reproduce`` learns.
       - ``"detections"``: as ``"face"``, plus ``"detections"``, what the salient feature
-        detector reports: ``Box(-inf, inf, (20, 6), float32)``, a row per object in view
+        detector reports: ``Box(low, high, (20, 6), float32)``, a row per object in view
         (columns ``present, centre_x_px, centre_y_px, colour_area_px, edge, motion``; image
-        pixels, x right, y down; areas clipped at 4 images), zero rows after them.
+        pixels, x right, y down), zero rows after them. Bounds per column: ``present`` 0 or
+        1, centres within the image (-0.5 to W - 0.5, -0.5 to H - 0.5), areas 0 to 4 images
+        (clipped there), ``edge`` and ``motion`` 0 to 1.
+
+    With ``scaled_obs=True`` (the v2 ids) every entry is near [-1, 1], which RL libraries'
+    default networks need (PPO with Stable-Baselines3's defaults learns v2, not v1): the
+    face is ``float32`` grey levels / 255 - 0.5, ``Box(-0.5, 0.5)``; the head angle is scaled
+    by the joint ranges, ``Box(-1, 1)``; the detections' centres are offsets from the image
+    centre in half image sizes, ``[-1, 1]``, and their areas are in images, ``[0, 4]``. The
+    ``"image"`` stays uint8 (the libraries scale images themselves).
 
     **Action**: the head angle change (pan, tilt) in radians,
     ``Box(-max_step_rad, max_step_rad, (2,), float32)``, where ``max_step_rad`` is the visual
@@ -117,6 +105,7 @@ class JointAttentionEnv(gym.Env, EzPickle):
         width, height: ``"image"`` mode: the image size in pixels, 16 to 4096 (default:
             ``world.camera``, 320 x 240).
         normalize_actions: actions in [-1, 1] (default: False, radians).
+        scaled_obs: observations scaled near [-1, 1] (default: False, raw; see above).
         render_mode: ``None`` or ``"rgb_array"`` (``"image"`` mode: an overview of the room;
             the other modes: the face window, as RGB).
 
@@ -124,13 +113,14 @@ class JointAttentionEnv(gym.Env, EzPickle):
     :class:`~jointattention.errors.ConfigError` naming the argument; a malformed action (not 2
     finite numbers), seed or reset options raise
     :class:`~jointattention.errors.ArgumentError`. The environment pickles and deep-copies at
-    any time (as Gymnasium's MuJoCo environments: a copy is made anew from the arguments).
+    any time, and a copy continues the episode: the same actions give it the same
+    observations, rewards and ends as the original (:class:`~._args.EpisodePickle`).
 
     Versions: v0, first release (``info["detections"]`` had one row per object in view, so
     vector environments could not stack it). v1: observation modes, ``info`` of fixed shape,
     ``width``/``height``, ``normalize_actions``, ``max_episode_steps`` registered, variants,
     the native vector environment (:mod:`jointattention.env.vector`), argument errors, reset
-    options refused, pickling.
+    options refused, pickling. v2: ``scaled_obs=True``; v1 is kept as it was.
     """
 
     metadata: ClassVar[dict] = {"render_modes": ["rgb_array"], "render_fps": 5}
@@ -139,22 +129,26 @@ class JointAttentionEnv(gym.Env, EzPickle):
                  n_objects: int | None = None, n_poses: int | None = None,
                  reward: str = "external", max_steps: int | None = None,
                  width: int | None = None, height: int | None = None,
-                 normalize_actions: bool = False, render_mode: str | None = None, **unknown):
+                 normalize_actions: bool = False, scaled_obs: bool = False,
+                 render_mode: str | None = None, **unknown):
         if unknown:
             raise ConfigError(f"{sorted(unknown)[0]}=...: unknown argument; expected one of "
                               f"{', '.join(_ARGS)}")
-        EzPickle.__init__(self, config, obs_mode=obs_mode, n_objects=n_objects, n_poses=n_poses,
-                          reward=reward, max_steps=max_steps, width=width, height=height,
-                          normalize_actions=normalize_actions, render_mode=render_mode)
-        cfg = self._config(config, obs_mode, n_objects, width, height)
+        EpisodePickle.__init__(self, config, obs_mode=obs_mode, n_objects=n_objects,
+                               n_poses=n_poses, reward=reward, max_steps=max_steps, width=width,
+                               height=height, normalize_actions=normalize_actions,
+                               scaled_obs=scaled_obs, render_mode=render_mode)
+        cfg = env_config(config, obs_mode, n_objects, width, height)
         for name, value, choices in (("obs_mode", obs_mode, OBS_MODES),
                                      ("reward", reward, REWARDS),
                                      ("render_mode", render_mode, (None, "rgb_array"))):
             if not isinstance(value, (str, type(None))) or value not in choices:
                 raise ConfigError(f"{name}={value!r}: expected one of "
                                   f"{', '.join(map(repr, choices))}")
-        if not isinstance(normalize_actions, bool):
-            raise ConfigError(f"normalize_actions={normalize_actions!r}: expected True or False")
+        for name, value in (("normalize_actions", normalize_actions),
+                            ("scaled_obs", scaled_obs)):
+            if not isinstance(value, bool):
+                raise ConfigError(f"{name}={value!r}: expected True or False")
         if obs_mode != "image" and n_poses is not None:
             raise ConfigError(f"obs_mode={obs_mode!r}: draws its poses from the data sets; "
                               "expected n_poses=None")
@@ -163,6 +157,7 @@ class JointAttentionEnv(gym.Env, EzPickle):
                           else check_int("max_steps", max_steps, 1, 100_000))
         self.config, self.obs_mode, self.reward = cfg, obs_mode, reward
         self.render_mode, self.normalize_actions = render_mode, normalize_actions
+        self.scaled_obs = scaled_obs
         self.kinematics = HeadKinematics.from_config(cfg.world)
         kin = self.kinematics
         self._world = self._datasets = None
@@ -175,34 +170,15 @@ class JointAttentionEnv(gym.Env, EzPickle):
         face_hw = (cfg.world.face_window.height_px, cfg.world.face_window.width_px)
         if self._datasets is not None:
             face_hw = self._datasets.face.shape[1:]
-        limits = np.array([kin.pan_limits_rad, kin.tilt_limits_rad])
+        self.joint_limits_rad = np.array([kin.pan_limits_rad, kin.tilt_limits_rad])
         self.observation_space = observation_space(obs_mode, (kin.height_px, kin.width_px),
-                                                   face_hw, limits)
+                                                   face_hw, self.joint_limits_rad, scaled_obs)
         high = np.ones(2) if normalize_actions else self.max_step_rad
         self.action_space = spaces.Box(-high.astype(np.float32), high.astype(np.float32), (2,),
                                        np.float32)
-        self._caregiver, self._poses, self._face = None, [], None
+        self._caregiver, self._poses, self._face, self._scene_state = None, [], None, None
         self._trial: SceneTrial | None = None
         self._evaluate = evaluator(cfg)
-
-    @staticmethod
-    def _config(config, obs_mode, n_objects, width, height) -> Config:
-        if not isinstance(config, (Config, str, Path, type(None))):
-            raise ConfigError(f"config={short_repr(config)}: expected a Config, a preset name, "
-                              "a TOML file or None")
-        cfg = config if isinstance(config, Config) else load_config(config)
-        if n_objects is not None:
-            cfg = with_n_objects(cfg, check_int("n_objects", n_objects, 1, 20))
-        if (width is not None or height is not None) and obs_mode != "image":
-            raise ConfigError(f"width/height: the image size of obs_mode='image'; expected None "
-                              f"with obs_mode={obs_mode!r}")
-        camera = cfg.world.camera
-        camera = dataclasses.replace(
-            camera, width_px=camera.width_px if width is None else check_int("width", width, 16,
-                                                                            4096),
-            height_px=camera.height_px if height is None else check_int("height", height, 16,
-                                                                       4096))
-        return dataclasses.replace(cfg, world=dataclasses.replace(cfg.world, camera=camera))
 
     @property
     def max_step_rad(self) -> np.ndarray:
@@ -217,7 +193,7 @@ class JointAttentionEnv(gym.Env, EzPickle):
         """
         if seed is not None:
             check_int("seed", seed, 0, 2**63 - 1, ArgumentError)
-        _refuse_options(options)
+        refuse_options(options)
         super().reset(seed=seed)
         if self._world is None:
             k, scene = self._fast_episode(self.np_random)
@@ -252,6 +228,7 @@ class JointAttentionEnv(gym.Env, EzPickle):
         else:
             state = sample_scene(world, rng, self._caregiver)
         self._world.set_scene(state)
+        self._scene_state = state
         return self._world.face_angle_rad
 
     def step(self, action):
@@ -259,7 +236,7 @@ class JointAttentionEnv(gym.Env, EzPickle):
         trial = self._trial
         if trial is None or trial.end is not None:
             raise gym.error.ResetNeeded("no episode is running; expected reset() before step()")
-        a = np.clip(_action(action), self.action_space.low, self.action_space.high)
+        a = np.clip(check_action(action), self.action_space.low, self.action_space.high)
         trial.step(a * self.max_step_rad if self.normalize_actions else a)
         obs, info = self._look()
         terminated = trial.end is not None and trial.end != END_STEPS
@@ -277,6 +254,9 @@ class JointAttentionEnv(gym.Env, EzPickle):
             obs["face"] = self._face.copy()
         if self.obs_mode == "detections":
             obs["detections"] = detection_rows(trial.detections)
+        if self.scaled_obs:
+            obs = scaled(obs, self.joint_limits_rad, (self.kinematics.height_px,
+                                                      self.kinematics.width_px))
         return obs, info_of(trial)
 
     def face_window(self, image: np.ndarray) -> np.ndarray:

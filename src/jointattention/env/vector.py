@@ -25,8 +25,9 @@ from ..errors import ConfigError
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
 from ..world.fast import detect_into
 from ..world.kinematics import rotation_matrix, separation_rad
-from ._looks import MAX_DETECTIONS, detection_rows
-from .joint_attention import JointAttentionEnv, _action, _refuse_options
+from ._args import check_action, refuse_options
+from ._looks import MAX_DETECTIONS, detection_rows, scaled
+from .joint_attention import JointAttentionEnv
 
 __all__ = ["JointAttentionVectorEnv"]
 
@@ -73,14 +74,28 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         max_episode_steps: the step limit (from the registration; ``max_steps`` wins if given).
         **kwargs: those of :class:`~.joint_attention.JointAttentionEnv` (not ``"image"`` mode).
 
-    Seeds as ``SyncVectorEnv``: ``reset(seed=s)`` seeds sub-environment ``i`` with ``s + i``;
-    episodes that end restart at the next step (Gymnasium's next-step autoreset).
+        autoreset_mode: when an episode that ended starts anew (Gymnasium's modes):
+            ``"NextStep"`` (default; the next ``step`` restarts it and ignores its action) or
+            ``"SameStep"`` (it restarts in the step that ends it: the step returns the new
+            episode's observation, and the last one in ``info["final_obs"]``, with the last
+            info in ``info["final_info"]``; what Stable-Baselines3 expects).
+
+    Seeds as ``SyncVectorEnv``: ``reset(seed=s)`` seeds sub-environment ``i`` with ``s + i``.
+    ``render()`` (``render_mode="rgb_array"``) shows the first sub-environment's face window.
     """
 
-    metadata: ClassVar[dict] = {"autoreset_mode": AutoresetMode.NEXT_STEP}
+    metadata: ClassVar[dict] = {"autoreset_mode": AutoresetMode.NEXT_STEP,
+                                "render_modes": ["rgb_array"]}
 
-    def __init__(self, num_envs: int, max_episode_steps: int | None = None, **kwargs):
+    def __init__(self, num_envs: int, max_episode_steps: int | None = None,
+                 autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP, **kwargs):
         self.num_envs = check_int("num_envs", num_envs, 1, 100_000)
+        modes = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
+        if autoreset_mode not in modes and autoreset_mode not in [m.value for m in modes]:
+            raise ConfigError(f"autoreset_mode={autoreset_mode!r}: expected "
+                              f"{' or '.join(repr(m.value) for m in modes)}")
+        self.autoreset_mode = AutoresetMode(autoreset_mode)
+        self.metadata = {**self.metadata, "autoreset_mode": self.autoreset_mode}
         if kwargs.get("max_steps") is None and max_episode_steps is not None:
             kwargs["max_steps"] = max_episode_steps
         if kwargs.get("obs_mode", "image") == "image":
@@ -106,6 +121,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._scale = one.max_step_rad if one.normalize_actions else np.ones(2)
         self._alloc(self.num_envs, n)
         self._needs_reset = np.ones(self.num_envs, bool)
+        self._started = False
+        self.render_mode = one.render_mode
 
     def _alloc(self, k: int, n: int) -> None:
         f, i = np.zeros, np.int64
@@ -151,18 +168,22 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
         """Start an episode in every sub-environment (``seed + i`` for sub-environment i)."""
-        _refuse_options(options)
+        refuse_options(options)
         seeds = seed if isinstance(seed, list) else (
             [None] * self.num_envs if seed is None else [seed + i for i in range(self.num_envs)])
         for i, s in enumerate(seeds):
             self._start(i, s)
         self._look(np.arange(self.num_envs))
         self._needs_reset[:] = False
+        self._started = True
         return self._observations(), self._infos()
 
     def step(self, actions):
-        """Step every sub-environment; those that ended at the last step start anew."""
-        actions = _action(actions, (self.num_envs, 2), "actions")
+        """Step every sub-environment; those that ended start anew (see ``autoreset_mode``)."""
+        if not self._started:
+            raise gym.error.ResetNeeded("no episodes are running; expected reset() before "
+                                        "step()")
+        actions = check_action(actions, (self.num_envs, 2), "actions")
         restart = np.flatnonzero(self._needs_reset)
         for i in restart:
             self._start(int(i), None)
@@ -180,8 +201,29 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         truncated = running & (self._end == END_STEPS)
         self._needs_reset = terminated | truncated
         infos = self._infos()  # the episodes just started have not fired: reward 0
-        return (self._observations(), infos[f"{self.reward}_reward"], terminated, truncated,
-                infos)
+        rewards = infos[f"{self.reward}_reward"]
+        if self.autoreset_mode == AutoresetMode.SAME_STEP and self._needs_reset.any():
+            infos = self._restart_now(infos)
+        return self._observations(), rewards, terminated, truncated, infos
+
+    def _restart_now(self, infos: dict) -> dict:
+        """Same-step autoreset: start the episodes that just ended, keeping their last look."""
+        done, last = self._needs_reset.copy(), self._observations()
+        final_obs = np.full(self.num_envs, None, object)
+        for i in np.flatnonzero(done):
+            final_obs[i] = {key: value[i] for key, value in last.items()}
+            self._start(int(i), None)
+        self._look(np.flatnonzero(done))
+        self._needs_reset[:] = False
+        return {**self._infos(), "final_obs": final_obs, "_final_obs": done,
+                "final_info": _masked(infos, done), "_final_info": done}
+
+    def render(self):
+        """With ``render_mode="rgb_array"``: the first sub-environment's face window, as RGB."""
+        if self.render_mode != "rgb_array":
+            return None
+        face = self._env._datasets.face[self._face_k[0]]
+        return np.repeat(face[..., None], 3, axis=2)
 
     def _observations(self) -> dict:
         ds = self._env._datasets
@@ -189,6 +231,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         if self.obs_mode == "detections":
             obs["detections"] = np.stack([detection_rows(self._detections(i))
                                           for i in range(self.num_envs)])
+        if self._env.scaled_obs:
+            obs = scaled(obs, self._env.joint_limits_rad, (self._kin.height_px, self._kin.width_px))
         return obs
 
     def _detections(self, i: int):
@@ -226,6 +270,17 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
     def close_extras(self, **kwargs) -> None:
         """Nothing to free: no renderer."""
+
+
+def _masked(info: dict, mask: np.ndarray) -> dict:
+    """``info`` for the sub-environments in ``mask`` only: zeros elsewhere, masks set to it."""
+    def part(key: str, value: np.ndarray) -> np.ndarray:
+        if key.startswith("_"):
+            return mask.copy()
+        return np.where(mask.reshape(-1, *[1] * (value.ndim - 1)), value, np.zeros_like(value))
+
+    return {key: _masked(value, mask) if isinstance(value, dict) else part(key, value)
+            for key, value in info.items()}
 
 
 def _with_masks(info: dict, k: int) -> dict:

@@ -1,0 +1,78 @@
+"""The environments' arguments and copies: configuration, actions, reset options, pickling."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import ClassVar
+
+import numpy as np
+from gymnasium.utils import EzPickle
+
+from .._checks import check_int, short_repr
+from ..config import Config, load_config, with_n_objects
+from ..errors import ArgumentError, ConfigError
+
+__all__ = ["EpisodePickle", "check_action", "env_config", "refuse_options"]
+
+
+def check_action(action, shape: tuple[int, ...] = (2,), name: str = "action") -> np.ndarray:
+    """``action`` as finite floats of ``shape`` (pan, tilt last), else one error naming it."""
+    try:
+        a = None if np.iscomplexobj(action) else np.asarray(action, dtype=float)
+    except (TypeError, ValueError):
+        a = None
+    if a is None or a.shape != shape or not np.all(np.isfinite(a)):
+        size = "2" if shape == (2,) else str(shape)
+        raise ArgumentError(f"{name}={short_repr(action)}: expected {size} finite numbers "
+                            "(pan, tilt)")
+    return a
+
+
+def refuse_options(options: dict | None) -> None:
+    """Reset options: none are taken."""
+    if options:
+        raise ArgumentError(f"options={short_repr(options)}: expected None; this environment "
+                            "takes no reset options")
+
+
+def env_config(config, obs_mode, n_objects, width, height) -> Config:
+    """The environment's configuration: ``config`` with its object count and image size."""
+    if not isinstance(config, (Config, str, Path, type(None))):
+        raise ConfigError(f"config={short_repr(config)}: expected a Config, a preset name, "
+                          "a TOML file or None")
+    cfg = config if isinstance(config, Config) else load_config(config)
+    if n_objects is not None:
+        cfg = with_n_objects(cfg, check_int("n_objects", n_objects, 1, 20))
+    if (width is not None or height is not None) and obs_mode != "image":
+        raise ConfigError(f"width/height: the image size of obs_mode='image'; expected None "
+                          f"with obs_mode={obs_mode!r}")
+    camera = cfg.world.camera
+    camera = dataclasses.replace(
+        camera, width_px=camera.width_px if width is None else check_int("width", width, 16, 4096),
+        height_px=camera.height_px if height is None else check_int("height", height, 16, 4096))
+    return dataclasses.replace(cfg, world=dataclasses.replace(cfg.world, camera=camera))
+
+
+class EpisodePickle(EzPickle):
+    """Pickling and deep copies that continue the episode.
+
+    As Gymnasium's MuJoCo environments, a copy is built anew from the constructor's
+    arguments (a renderer does not pickle); then the episode is put back: the generator, the
+    trial (the scene, the head angle, the step count) and, with images, the room's scene.
+    The copy and the original then give the same observations for the same actions.
+    """
+
+    _episode: ClassVar[tuple[str, ...]] = ("_np_random", "_np_random_seed", "_trial", "_face",
+                                           "_caregiver", "_poses", "_scene_state")
+
+    def __getstate__(self) -> dict:
+        return {**super().__getstate__(),
+                "episode": {k: getattr(self, k) for k in self._episode if hasattr(self, k)}}
+
+    def __setstate__(self, state: dict) -> None:
+        super().__setstate__(state)
+        self.__dict__.update(state.get("episode", {}))
+        world, scene = getattr(self, "_world", None), getattr(self, "_scene_state", None)
+        if world is not None and scene is not None:
+            world.set_scene(scene)
