@@ -62,11 +62,13 @@ def test_ppo_trains_through_the_native_adapter():
 def test_ppo_with_sb3_defaults_learns_the_one_object_face_env():
     """The first recipe: PPO("MultiInputPolicy", make_vec_env(v2 id, 8)), defaults, 2.5e5 steps.
 
-    Its frozen policy finds the caregiver's target in at least 80% of 300 new episodes.
+    Its frozen policy (actions drawn from it, as in learning) finds the caregiver's target in
+    at least 80% of 300 new episodes.
     """
     from stable_baselines3 import PPO
     from stable_baselines3.common.env_util import make_vec_env
 
     model = PPO("MultiInputPolicy", make_vec_env("JointAttentionFace-N1-v2", 8, seed=0), seed=0,
                 device="cpu").learn(250_000)
-    assert success_rate(model, gym.make("JointAttentionFace-N1-v2"), 300, seed=10_000) >= 0.8
+    env = gym.make("JointAttentionFace-N1-v2")
+    assert success_rate(model, env, 300, seed=10_000, deterministic=False) >= 0.8

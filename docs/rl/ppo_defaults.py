@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import time
 from importlib import resources
 from pathlib import Path
@@ -57,12 +58,16 @@ def ppo(env_id: str, seed: int, native: bool = False):
     return np.array(log.ends), np.array(log.wins, float), model, time.perf_counter() - t
 
 
-def frozen_success(model, env_id: str, datasets: str | None, episodes: int, seed: int) -> float:
-    """The learned policy's success (deterministic actions) on ``datasets`` (None: training)."""
+def frozen_success(model, env_id: str, datasets: str | None, episodes: int, seed: int,
+                   deterministic: bool = False) -> float:
+    """The learned policy's success on ``datasets`` (None: training).
+
+    Actions are drawn from the policy, as in learning; ``deterministic``: its mean action.
+    """
     from jointattention.env.sb3 import success_rate
 
     config = load_config({} if datasets is None else {"datasets": datasets})
-    return success_rate(model, gym.make(env_id, config=config), episodes, seed)
+    return success_rate(model, gym.make(env_id, config=config), episodes, seed, deterministic)
 
 
 def random_level(env_id: str, episodes: int, seed: int) -> float:
@@ -97,6 +102,25 @@ def steps_to(level: float, values: np.ndarray) -> float:
     return float((hit[0] + 1) * BIN) if len(hit) else float("nan")
 
 
+def ppo_record(env_id: str, native: bool, seed: int, held: dict, episodes: int) -> dict:
+    """One PPO run: its learning curve, frozen successes and wall time."""
+    ends, wins, model, seconds = ppo(env_id, seed, native)
+    frozen = {"training": frozen_success(model, env_id, None, episodes, 10_000 + seed)}
+    for kind, path in held.items():
+        frozen[kind] = frozen_success(model, env_id, path, episodes, 10_000 + seed)
+    frozen["mean"] = frozen_success(model, env_id, None, episodes, 10_000 + seed,
+                                    deterministic=True)
+    return {"curve": curve(ends, wins).tolist(), "frozen": frozen, "seconds": seconds}
+
+
+def own_record(n_objects: int, seed: int) -> dict:
+    """One run of the project's RL model: its learning curve, frozen successes, wall time."""
+    t = time.perf_counter()
+    times, success, frozen = own_rl(n_objects, seed)
+    return {"curve": curve(times, success).tolist(), "frozen": {**frozen, "mean": None},
+            "seconds": time.perf_counter() - t}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, default=3, help="seeds per row (default 3)")
@@ -108,48 +132,32 @@ def main() -> None:
     out.mkdir(parents=True, exist_ok=True)
     held = {kind: str(resources.files("jointattention.data") / name)
             for kind, name in SHIPPED.items()}
-    rows, curves = [], {}
-    runs = [("PPO, SB3 defaults, 8 envs", "JointAttentionFace-N1-v1", False),
-            ("PPO, SB3 defaults, 8 envs", "JointAttentionFace-N1-v2", False),
-            ("PPO, SB3 defaults, 8 envs", "JointAttentionFace-N5-v2", False),
-            ("PPO, NativeVecEnv x64 (n_steps=256)", "JointAttentionFace-N1-v2", True),
-            ("PPO, NativeVecEnv x64 (n_steps=256)", "JointAttentionFace-N5-v2", True)]
-    for label, env_id, native in runs:
-        n = int(env_id.split("-N")[1][0])
+    own = "own RL model (kind rl), its own evaluator"
+    runs = [("PPO, SB3 defaults, 8 envs", "JointAttentionFace-N1-v1", 1),
+            ("PPO, SB3 defaults, 8 envs", "JointAttentionFace-N1-v2", 1),
+            ("PPO, SB3 defaults, 8 envs", "JointAttentionFace-N5-v2", 5),
+            ("PPO, NativeVecEnv x64 (n_steps=256)", "JointAttentionFace-N1-v2", 1),
+            ("PPO, NativeVecEnv x64 (n_steps=256)", "JointAttentionFace-N5-v2", 5),
+            (own, "runner, 1 object", 1), (own, "runner, 5 objects", 5)]
+    done_path = out / "ppo_defaults_runs.json"  # each finished run: a re-run resumes
+    done = json.loads(done_path.read_text()) if done_path.exists() else {}
+    rows = []
+    for label, env, n in runs:
         ceiling = measure_ceiling(load_config(None), n)
-        finals, to, held_vals, secs = [], [], {k: [] for k in ("training", *held)}, []
+        records = []
         for seed in range(args.seeds):
-            ends, wins, model, seconds = ppo(env_id, seed, native)
-            c = curve(ends, wins)
-            curves[(label, env_id, seed)] = c
-            finals.append(c[-1])
-            to.append(steps_to(0.9 * ceiling, c))
-            secs.append(seconds)
-            held_vals["training"].append(frozen_success(model, env_id, None, args.episodes,
-                                                        10_000 + seed))
-            for kind, path in held.items():
-                held_vals[kind].append(frozen_success(model, env_id, path, args.episodes,
-                                                      10_000 + seed))
-            print(label, env_id, seed, f"final {c[-1]:.3f}", f"{seconds:.0f} s", flush=True)
-        rows.append((label, env_id, n, ceiling, random_level(env_id, 2000, 0), finals, to,
-                     held_vals, secs))
-    for n in (1, 5):
-        ceiling = measure_ceiling(load_config(None), n)
-        finals, to, held_vals, secs = [], [], {k: [] for k in ("training", *held)}, []
-        for seed in range(args.seeds):
-            t = time.perf_counter()
-            times, success, frozen = own_rl(n, seed)
-            c = curve(times, success)
-            curves[("own RL model (kind rl)", f"n{n}", seed)] = c
-            finals.append(c[-1])
-            to.append(steps_to(0.9 * ceiling, c))
-            secs.append(time.perf_counter() - t)
-            for kind in held_vals:
-                held_vals[kind].append(frozen[kind])
-            print("own rl", n, seed, f"final {c[-1]:.3f}", flush=True)
-        rows.append(("own RL model (kind rl), its own evaluator", f"runner, {n} object(s)", n,
-                     ceiling, float("nan"), finals, to, held_vals, secs))
-    _write(rows, curves, out, args)
+            key = f"{label} | {env} | {seed} | {args.episodes}"
+            if key not in done:
+                done[key] = (own_record(n, seed) if label == own else
+                             ppo_record(env, "Native" in label, seed, held, args.episodes))
+                tmp = done_path.with_suffix(".tmp")
+                tmp.write_text(json.dumps(done, indent=1))
+                tmp.replace(done_path)
+            records.append(done[key])
+            print(label, env, seed, f"final {done[key]['curve'][-1]:.3f}", flush=True)
+        chance = float("nan") if label == own else random_level(env, 2000, 0)
+        rows.append((label, env, n, ceiling, chance, records))
+    _write(rows, out, args)
 
 
 def _fmt(values) -> str:
@@ -169,27 +177,40 @@ def _steps(values) -> str:
                                          f" ({len(reached)} of {len(values)} seeds)")
 
 
-def _write(rows, curves, out: Path, args) -> None:
+def _write(rows, out: Path, args) -> None:
     lines = ["| learner | environment | objects | ceiling | random | final, learning (last "
              f"{BIN:,} steps) | steps to 0.9 x ceiling | frozen: training sets | frozen: "
-             "new poses | frozen: unseen caregivers | minutes per seed |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for label, env, n, ceiling, chance, finals, to, held, secs in rows:
+             "new poses | frozen: unseen caregivers | frozen, mean action: training sets | "
+             "minutes per seed |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    curves = {}
+    for label, env, n, ceiling, chance, records in rows:
+        finals = [r["curve"][-1] for r in records]
+        to = [steps_to(0.9 * ceiling, np.array(r["curve"], float)) for r in records]
+        frozen = {k: [np.nan if r["frozen"][k] is None else r["frozen"][k] for r in records]
+                  for k in records[0]["frozen"]}
+        curves[(label, env)] = np.array([r["curve"] for r in records], float)
         lines.append(f"| {label} | {env} | {n} | {ceiling:.3f} | "
                      f"{'-' if np.isnan(chance) else f'{chance:.3f}'} | {_fmt(finals)} | "
-                     f"{_steps(to)} | {_fmt(held['training'])} | {_fmt(held['new poses'])} | "
-                     f"{_fmt(held['unseen caregivers'])} | {np.mean(secs) / 60:.1f} |")
+                     f"{_steps(to)} | {_fmt(frozen['training'])} | {_fmt(frozen['new poses'])} | "
+                     f"{_fmt(frozen['unseen caregivers'])} | "
+                     f"{'-' if np.all(np.isnan(frozen['mean'])) else _fmt(frozen['mean'])} | "
+                     f"{np.mean([r['seconds'] for r in records]) / 60:.1f} |")
     lines.append("")
     lines.append(f"({args.seeds} seeds each: mean (lowest-highest); {STEPS:,} environment steps; "
-                 f"frozen measures: {args.episodes} episodes, deterministic actions, world seeds "
-                 "10,000 + seed. Command: `.venv-rl/bin/python docs/rl/ppo_defaults.py`.)")
+                 f"frozen measures: {args.episodes} episodes from world seed 10,000 + seed, "
+                 "actions drawn from the learned policy (PPO's Gaussian; the RL model's softmax), "
+                 "and, for PPO, its mean action. Command: "
+                 "`.venv-rl/bin/python docs/rl/ppo_defaults.py`.)")
     (out / "ppo_defaults.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
     with open(out / "ppo_defaults.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["learner", "environment", "seed", "bin_end_steps", "success"])
-        for (label, env, seed), c in curves.items():
-            w.writerows([label, env, seed, (b + 1) * BIN, f"{v:.4f}"] for b, v in enumerate(c))
+        for (label, env), runs in curves.items():
+            for seed, c in enumerate(runs):
+                w.writerows([label, env, seed, (b + 1) * BIN, f"{v:.4f}"]
+                            for b, v in enumerate(c))
     _figure(curves, out / "ppo_defaults.png")
 
 
@@ -199,9 +220,7 @@ def _figure(curves, path: Path) -> None:
     fig = Figure(figsize=(7.5, 4), layout="tight")
     ax = fig.add_subplot()
     x = (np.arange(STEPS // BIN) + 1) * BIN
-    keys = sorted({k[:2] for k in curves})
-    for label, env in keys:
-        runs = np.array([c for k, c in curves.items() if k[:2] == (label, env)])
+    for (label, env), runs in curves.items():
         ax.plot(x, np.nanmean(runs, axis=0), marker="o", ms=3, label=f"{label}: {env}")
     ax.set(xlabel="environment steps", ylabel="success per episode (mean over seeds)",
            ylim=(0, 1.02))

@@ -246,7 +246,7 @@ class PopulationCode:
 
     def teach(self, x: np.ndarray, directions_rad) -> None:
         """One update toward the places found in ``directions_rad`` (rad) for input ``x``."""
-        directions_rad = floats("directions_rad", np.atleast_1d(directions_rad), (None,))
+        directions_rad = floats("directions_rad", directions_rad, None).reshape(-1)
         if len(directions_rad) == 0:
             return
         self._taught[:] = 0.0

@@ -1,4 +1,4 @@
-"""The Gymnasium adapter: ``JointAttention-v1`` and its variants, registered on import.
+"""The Gymnasium adapter: ``JointAttention-v2`` and its variants (and v1), registered on import.
 
 Needs the ``gym`` extra (``pip install "jointattention[gym]"``). The environment's manual is
 :class:`JointAttentionEnv`'s docstring; :class:`FaceWindowObservation` adds the caregiver's

@@ -1,4 +1,4 @@
-"""The Gymnasium environment ``JointAttention-v1``: one trial per episode.
+"""The Gymnasium environment ``JointAttention-v2`` (and v1): one trial per episode.
 
 Its docstring is its manual. Needs the ``gym`` extra (``pip install "jointattention[gym]"``).
 """
