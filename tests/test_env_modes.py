@@ -297,7 +297,7 @@ def test_v2_shows_v1_scaled():
     v1, v2 = (gym.make(f"JointAttentionDetections-N5-v{v}") for v in (1, 2))
     (a, _), (b, _) = v1.reset(seed=4), v2.reset(seed=4)
     for _ in range(30):
-        assert np.allclose(b["face"], a["face"] / 255 - 0.5)
+        assert np.allclose(b["face"], a["face"] / 255 - 0.5, atol=1e-6)  # float32
         limits = v1.unwrapped.joint_limits_rad
         assert np.allclose(b["head_angle"], (a["head_angle"] - limits.mean(1))
                            / (np.diff(limits)[:, 0] / 2), atol=1e-6)
@@ -321,7 +321,7 @@ def test_a_copy_continues_the_episode(mode, request):
     env.reset(seed=1)
     env.step(np.array([0.3, 0.1]))
     copies = [pickle.loads(pickle.dumps(env)), copy.deepcopy(env)]
-    actions = np.random.default_rng(0).uniform(-1, 1, (50, 2))
+    actions = np.random.default_rng(0).uniform(-1, 1, (100, 2))
 
     def play(e) -> list:
         out = []
@@ -333,7 +333,7 @@ def test_a_copy_continues_the_episode(mode, request):
         return out
 
     original = play(env)
-    assert sum(1 for x in original if len(x) == 2) >= 2  # episodes ended and restarted
+    assert sum(1 for x in original if len(x) == 2) >= 1  # an episode ended and restarted
     for other in copies:
         assert _equal(tuple(play(other)), tuple(original))
         other.close()

@@ -11,11 +11,13 @@ from pathlib import Path
 
 import pytest
 
+# Cells of about 2 s each, so that the signal, sent when the first cell is written, comes
+# while the others still run, even on a busy machine.
 CONFIG = """
 [experiment]
-n_steps = 200000
+n_steps = 600000
 n_seeds = 3
-bin_steps = 50000
+bin_steps = 100000
 n_ceiling_trials = 50
 [[experiment.conditions]]
 name = "n1"
