@@ -49,10 +49,16 @@ def _alive(pid: int) -> bool:
     return state != "Z"
 
 
+def _at_a_terminal() -> None:
+    """Ctrl-C as at a terminal: a test run started in the background inherits SIGINT ignored."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _reproduce(tmp: Path, out: str) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", "jointattention", "reproduce", "--config",
                              str(tmp / "c.toml"), "--out", str(tmp / out), "--workers", "2"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=_at_a_terminal)
 
 
 @pytest.fixture(scope="module")
