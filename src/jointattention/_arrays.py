@@ -35,11 +35,11 @@ def floats(name: str, value, shape: tuple | None, *, what: str = "numbers",
     if not isinstance(value, (str, bytes)):
         try:
             a = np.asarray(value)
-            a = a if a.dtype.kind in "biuf" else None
-        except (TypeError, ValueError, OverflowError):
+        except (TypeError, ValueError, OverflowError):  # ragged lists, huge integers
             a = None
-    ok = a is not None and (shape is None or (a.ndim == len(shape) and all(
-        d is None or d == n for d, n in zip(shape, a.shape, strict=True))))
+    ok = a is not None and a.dtype.kind in "biuf" and (shape is None or (
+        a.ndim == len(shape) and all(d is None or d == n
+                                     for d, n in zip(shape, a.shape, strict=True))))
     if not ok or (finite and not np.isfinite(a).all()):
         got = (f"shape {a.shape}, dtype {a.dtype}" if a is not None else
                f"a {type(value).__name__}")

@@ -26,8 +26,7 @@ from .errors import FileError
 
 __all__ = ["MAX_IMAGE_PIXELS", "MAX_NESTING", "MAX_NPZ_BYTES", "MAX_NPZ_MEMBERS", "MAX_TEXT_BYTES",
            "check_nesting", "loads_json", "loads_toml", "quiet_stderr", "read_bytes", "read_image",
-           "read_json",
-           "read_npz", "read_text", "read_toml", "sha256_of"]
+           "read_json", "read_npz", "read_text", "read_toml", "sha256_of"]
 
 MAX_TEXT_BYTES = 16 * 2**20  # configurations, specs and run files are kilobytes
 MAX_IMAGE_PIXELS = 100_000_000  # a 100-megapixel photograph; larger headers are refused

@@ -246,13 +246,17 @@ class PopulationCode:
 
     def teach(self, x: np.ndarray, directions_rad) -> None:
         """One update toward the places found in ``directions_rad`` (rad) for input ``x``."""
-        directions_rad = floats("directions_rad", directions_rad, None).reshape(-1)
+        self._teach(floats("x", x, (self.w1_.shape[1],)),
+                    floats("directions_rad", directions_rad, None).reshape(-1))
+
+    def _teach(self, x: np.ndarray, directions_rad: np.ndarray) -> None:
+        """:meth:`teach` on checked arrays: ``x`` (n_in,) and ``directions_rad`` 1-D floats."""
         if len(directions_rad) == 0:
             return
         self._taught[:] = 0.0
         for psi in directions_rad:
             von_mises_into(float(psi), self.kappa, 1.0, self._taught)
-        population_update(floats("x", x, (self.w1_.shape[1],)), self._taught,
+        population_update(x, self._taught,
                           float(len(directions_rad)), self.w1_, self.b1_, self.w2_, self.b2_,
                           float(self.options.learning_rate), self._h, self._p, self._grad_h)
         self.hidden_mean_ += self.options.hidden_rate * (self._h - self.hidden_mean_)

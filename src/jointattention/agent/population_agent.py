@@ -123,10 +123,14 @@ class PopulationAgent(BootstrapAgent):
         With ``standardise`` the face features are standardised by their running statistics;
         ``fit`` adds this face's features to those statistics first.
         """
+        window = windows("face_window", face_window, self.body.face_size_px).ravel()
+        return self._features(window, angles("theta_rad", theta_rad), fit)
+
+    def _features(self, window: np.ndarray, theta_rad: np.ndarray, fit: bool = False
+                  ) -> np.ndarray:
+        """:meth:`features` of a checked window (H * W floats) and head angle (2,)."""
         o = self.options.population
         w, h = self.body.face_size_px
-        window = windows("face_window", face_window, (w, h)).ravel()
-        theta_rad = angles("theta_rad", theta_rad)
         x = np.empty(self.n_features + 2)
         face = x[: self.n_features]
         face_features_into(window, h, w, o.cell_px, o.n_orientations, *self._parts, x)
@@ -182,7 +186,7 @@ class PopulationAgent(BootstrapAgent):
                        if i != outcome.seen]
         d = np.array(places[: self.MAX_PLACES]) - self._theta_start
         directions = np.arctan2(d[:, 1], d[:, 0])
-        self.population.teach(self._x, directions)
+        self.population._teach(self._x, directions)
         self._keep(directions)
         self._replay()
         self.population.average()
@@ -200,7 +204,7 @@ class PopulationAgent(BootstrapAgent):
     def _replay(self) -> None:
         """Teach ``replay`` trials drawn at random from the replay memory."""
         n = min(self.n_kept_, len(self.replay_counts_))
-        w, h = self.body.face_size_px
         for i in self.replay_rng.integers(n, size=self.options.population.replay):
-            x = self.features(self.replay_faces_[i].reshape(h, w), self.replay_thetas_[i])
-            self.population.teach(x, self.replay_directions_[i, : self.replay_counts_[i]])
+            # the memory holds checked windows and angles: no door to pass again
+            x = self._features(self.replay_faces_[i].astype(float), self.replay_thetas_[i])
+            self.population._teach(x, self.replay_directions_[i, : self.replay_counts_[i]])

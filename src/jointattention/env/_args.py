@@ -9,6 +9,7 @@ from typing import ClassVar
 import numpy as np
 from gymnasium.utils import EzPickle
 
+from .._arrays import floats
 from .._checks import check_int, short_repr
 from ..config import Config, load_config, with_n_objects
 from ..errors import ArgumentError, ConfigError
@@ -18,15 +19,7 @@ __all__ = ["EpisodePickle", "check_action", "env_config", "refuse_options"]
 
 def check_action(action, shape: tuple[int, ...] = (2,), name: str = "action") -> np.ndarray:
     """``action`` as finite floats of ``shape`` (pan, tilt last), else one error naming it."""
-    try:
-        a = None if np.iscomplexobj(action) else np.asarray(action, dtype=float)
-    except (TypeError, ValueError):
-        a = None
-    if a is None or a.shape != shape or not np.all(np.isfinite(a)):
-        size = "2" if shape == (2,) else str(shape)
-        raise ArgumentError(f"{name}={short_repr(action)}: expected {size} finite numbers "
-                            "(pan, tilt)")
-    return a
+    return floats(name, action, shape, what="numbers (pan, tilt)")
 
 
 def refuse_options(options: dict | None) -> None:
