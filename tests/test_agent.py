@@ -120,3 +120,37 @@ def test_a_trial_that_did_not_fire_teaches_nothing():
     agent.begin_trial(np.zeros((2, 3)), [0.0, 0.0])
     agent.act(_det(np.zeros((0, 2))), [0.0, 0.0])
     assert agent.end_trial(Outcome(False, np.array([0.1, 0.0]), _det(np.zeros((0, 2))), None)) == 0
+
+
+@pytest.mark.parametrize(("rate", "learn_from", "teaches"), [
+    (1.0, "every", True), (1.0, "vf", False), (0.0, "vf", True)])
+def test_learn_from_vf_teaches_only_trials_the_visual_controller_ended(rate, learn_from, teaches):
+    """learn_from = "vf": a trial whose last move the module made teaches nothing."""
+    agent = _agent(learn_from=learn_from, gate=ConstantGate(rate=rate))
+    agent.begin_trial(np.zeros((2, 3)), [0.0, 0.0])
+    agent.act(_det([[160 + 40, 120]]), [0.0, 0.0])  # rate 0: the visual controller moves
+    fired = Outcome(True, np.array([0.1, 0.0]), _det([[160 + 5, 120]]), 0)
+    assert (agent.end_trial(fired) > 0) is teaches
+
+
+def test_n_passes_repeats_the_updates_of_a_trial():
+    """n_passes = 3 makes three back-propagation passes over the same samples."""
+    counts = []
+    for n_passes in (1, 3):
+        agent = _agent(n_passes=n_passes, gate=ConstantGate(rate=1.0))
+        agent.begin_trial(np.zeros((2, 3)), [0.0, 0.0])
+        for _ in range(4):
+            agent.act(_det(np.zeros((0, 2))), [0.0, 0.0])
+        taught = agent.end_trial(Outcome(True, np.array([0.1, 0.0]), _det([[170, 120]]), 0))
+        counts.append((taught, agent.learner.n_updates_))
+    assert counts == [(4, 4), (4, 12)]
+
+
+@given(st.floats(-np.pi, np.pi), st.integers(1, 20))
+def test_bias_is_one_for_one_direction_and_zero_for_opposite_pairs(angle, n):
+    """The bias of the module's outputs: 1 if they all point one way, 0 for opposite pairs."""
+    from jointattention.experiment.probes import bias_of
+
+    u = np.tile([np.cos(angle), np.sin(angle)], (n, 1)) * np.arange(1, n + 1)[:, None]
+    assert bias_of(u) == pytest.approx(1.0)
+    assert bias_of(np.vstack([u, -u])) == pytest.approx(0.0, abs=1e-9)

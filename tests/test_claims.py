@@ -13,9 +13,11 @@ CONDS = (
     ConditionConfig(name="c10", n_objects=5, model={"gate": {"kind": "constant", "rate": 1.0}}),
     ConditionConfig(name="shuf", n_objects=5, shuffle_faces=True),
     ConditionConfig(name="trial-sig", n_objects=5, model={"gate_per": "trial"}),
+    ConditionConfig(name="sig10", n_objects=10),
+    ConditionConfig(name="c09-10", n_objects=10, model={"gate": {"kind": "constant", "rate": 0.9}}),
 )
 CONFIG = Config(experiment=ExperimentConfig(n_seeds=3, conditions=CONDS))
-CEILINGS = {"5": 0.9}
+CEILINGS = {"5": 0.9, "10": 0.8}
 
 
 def _curves(rng, **finals):
@@ -34,12 +36,18 @@ def _verdicts(claims, reading):
 def test_claims_hold_when_the_curves_show_them():
     """A rising sigmoid above the constants, a flat 1.0 and a flat control all hold."""
     rng = np.random.default_rng(0)
-    curves = _curves(rng, sig=0.85, c07=0.5, c10=0.2, shuf=0.2, **{"trial-sig": 0.3})
+    curves = _curves(rng, sig=0.85, c07=0.5, c10=0.2, shuf=0.2, sig10=0.75,
+                     **{"trial-sig": 0.3, "c09-10": 0.3})
     claims = check_claims(CONFIG, curves, CEILINGS)
     step = _verdicts(claims, reading_of(CONDS[0], CONFIG))
     assert step == {
         "5 objects: starts no better than chance and rises": True,
         "5 objects: final success at least 0.9 of the ceiling": True,
+        "5 objects: worst seed at least 0.75 of the ceiling": True,
+        "10 objects: starts no better than chance and rises": False,  # 0.2 is above 0.1 + 0.05
+        "10 objects: final success at least 0.9 of the ceiling": True,
+        "10 objects: worst seed at least 0.75 of the ceiling": True,
+        "10 objects: sigmoid beats constant 0.9": True,
         "5 objects: sigmoid beats constant 0.7": True,
         "5 objects: sigmoid beats constant 1.0": True,
         "5 objects: constant 1.0 stays near or below chance": True,
@@ -47,16 +55,48 @@ def test_claims_hold_when_the_curves_show_them():
     }
     trial = _verdicts(claims, reading_of(CONDS[4], CONFIG))
     assert trial == {"5 objects: starts no better than chance and rises": True,
-                     "5 objects: final success at least 0.9 of the ceiling": False}
+                     "5 objects: final success at least 0.9 of the ceiling": False,
+                     "5 objects: worst seed at least 0.75 of the ceiling": False}
 
 
 def test_claims_fail_when_the_curves_contradict_them():
     """A sigmoid below a constant, a learning 1.0 and a rising control are each reported."""
     rng = np.random.default_rng(1)
-    curves = _curves(rng, sig=0.5, c07=0.7, c10=0.6, shuf=0.6, **{"trial-sig": 0.3})
+    curves = _curves(rng, sig=0.5, c07=0.7, c10=0.6, shuf=0.6, sig10=0.3,
+                     **{"trial-sig": 0.3, "c09-10": 0.3})
     claims = check_claims(CONFIG, curves, CEILINGS)
     step = _verdicts(claims, reading_of(CONDS[0], CONFIG))
+    assert not step["10 objects: sigmoid beats constant 0.9"]  # equal finals do not beat
     assert not step["5 objects: sigmoid beats constant 0.7"]
     assert not step["5 objects: constant 1.0 stays near or below chance"]
     assert not step["5 objects, shuffled faces: stays at chance"]
     assert "| NO |" in claims_table(claims).to_markdown()
+
+
+def test_one_failing_seed_fails_the_worst_seed_claim():
+    """Nine seeds at the ceiling and one at chance: the mean may pass, the worst seed does not."""
+    config = Config(experiment=ExperimentConfig(n_seeds=10, conditions=CONDS[:1]))
+    per_seed = np.tile(np.linspace(0.2, 0.88, 10), (10, 1))
+    per_seed[3] = np.linspace(0.2, 0.25, 10)
+    claims = check_claims(config, {"sig": (np.arange(1, 11), per_seed)}, {"5": 0.9})
+    verdicts = _verdicts(claims, reading_of(CONDS[0], config))
+    assert verdicts["5 objects: worst seed at least 0.75 of the ceiling"] is False
+    assert verdicts["5 objects: starts no better than chance and rises"] is True
+
+
+def test_the_readings_table_ranks_by_claims_then_by_fraction_of_the_ceiling():
+    """One row per reading, a column per object count and gate, rank 1 for most claims held."""
+    from jointattention.analysis.claims import readings_table
+
+    rng = np.random.default_rng(0)
+    curves = _curves(rng, sig=0.85, c07=0.5, c10=0.2, shuf=0.2, sig10=0.75,
+                     **{"trial-sig": 0.3, "c09-10": 0.3})
+    claims = check_claims(CONFIG, curves, CEILINGS)
+    table = readings_table(CONFIG, curves, CEILINGS, claims)
+    assert table.columns == ("reading", "5 obj, sigmoid", "5 obj, constant 0.7",
+                             "5 obj, constant 1.0", "10 obj, sigmoid", "10 obj, constant 0.9",
+                             "claims_held", "mean_fraction_sigmoid", "rank")
+    rows = {r[0]: r for r in table.rows}
+    step, trial = rows[reading_of(CONDS[0], CONFIG)], rows[reading_of(CONDS[4], CONFIG)]
+    assert step[-1] == 1 and trial[-1] == 2
+    assert trial[2:6] == ("", "", "", "") and trial[1].endswith("(0.33)")

@@ -33,6 +33,10 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
     ConditionConfig(name="const", n_objects=5, model={
         "gate": {"kind": "constant", "rate": 0.5}, "n_hidden": 4, "momentum": 0.0}),
     ConditionConfig(name="shuffled", n_objects=5, shuffle_faces=True),
+    ConditionConfig(name="learn-from-vf", n_objects=5, model={"learn_from": "vf"}),
+    ConditionConfig(name="passes", n_objects=3, model={"n_passes": 3, "vf_fallback": "lm"}),
+    ConditionConfig(name="memory-from-vf", n_objects=5, model={
+        "learner": "memory", "learn_from": "vf"}),
     ConditionConfig(name="sweep", n_objects=5, model={"vf_fallback": "sweep"}),
     ConditionConfig(name="memory", n_objects=5, model={"learner": "memory"}),
     ConditionConfig(name="memory-attended", n_objects=5, model={

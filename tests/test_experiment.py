@@ -98,8 +98,19 @@ def test_a_run_folder_explains_itself_bin_by_bin(tmp_path):
         assert 0 < values["lm_error_deg"] <= 180
         if row[0] == "one" and values["fired"] > 0:
             assert values["on_target"] == 1.0  # the only object is the target
+        assert 0 <= values["lm_bias"] <= 1
     cell = results.load_cell(results.cell_path(result.out, "five", 0))
     assert len(cell["lm_error_deg"]) == 3
+    seeds = read_csv(result.out / "diagnostics_seeds.csv")
+    assert (result.out / "diagnostics_seeds.png").exists()
+    assert [(r[0], int(r[1]), int(r[3])) for r in seeds.rows] == [
+        (c, i, t) for c in ("one", "five") for i in (0, 1) for t in (400, 800, 1200)]
+    by_key = {(r[0], int(r[3])): [] for r in seeds.rows}
+    for r in seeds.rows:  # the mean over seeds is diagnostics.csv's row
+        by_key[(r[0], int(r[3]))].append(float(r[4 + list(METRICS).index("lm_error_deg")]))
+    for row in rows:
+        assert np.mean(by_key[(row[0], int(row[1]))]) == pytest.approx(
+            float(row[2 + list(METRICS).index("lm_error_deg")]), abs=0.002)
 
 
 def test_the_time_to_90pct_never_exceeds_the_learning_time():

@@ -22,6 +22,7 @@ from .learner import FaceStandardiser, LearningModule, accumulate, forward
 from .memory import MemoryOptions
 from .models import ModelOptions
 from .moves import learning_samples, lm_commands_into, random_step, scale_angle_into, unit_step
+from .network_state import NetworkState
 from .population import PopulationOptions
 from .protocol import LM, RANDOM, VF, Body, Outcome
 
@@ -35,10 +36,12 @@ LEARNERS = ("backprop", "memory", "population")
 class BootstrapOptions(ModelOptions):
     """The bootstrap model's options.
 
-    The last three are readings where the paper is silent (README, *The model*).
+    Those named in ``readings`` are where the paper is silent (docs/readings.md).
     """
 
-    readings: ClassVar[tuple[str, ...]] = ("gate_per", "vf_fallback", "learning_target")
+    readings: ClassVar[tuple[str, ...]] = ("gate_per", "vf_fallback", "learning_target",
+                                           "learn_from", "n_passes", "learning_rate",
+                                           "init_scale")
 
     n_hidden: int = param(7, "hidden units of the learning module (paper: 7)", lo=1, hi=1000)
     learning_rate: float = param(
@@ -62,6 +65,12 @@ class BootstrapOptions(ModelOptions):
         "direction to the final gaze, to the attended object (the final gaze plus the visual "
         "controller's command that would centre it), or the step that was executed",
         choices=LEARNING_TARGETS)
+    learn_from: str = param(
+        "every", "reading: the module learns from every trial the evaluator ended, or only from "
+        "those whose last move the visual controller made (visual attention centred the object)",
+        choices=("every", "vf"))
+    n_passes: int = param(
+        1, "reading: back-propagation passes over a successful trial's samples", lo=1, hi=100)
     learner: str = param(
         "backprop", "the learning module: the paper's network (back-propagation), an episodic "
         "memory of where objects were found for similar faces (a lookup), or a population code "
@@ -77,6 +86,9 @@ class BootstrapOptions(ModelOptions):
             raise ConfigError(f"learning_target = 'executed_step': the {self.learner} learner "
                               "learns places, not steps; expected 'object_direction' or "
                               f"'final_direction' with learner = '{self.learner}'")
+        if self.learner != "backprop" and self.n_passes != 1:
+            raise ConfigError(f"n_passes = {self.n_passes}: passes are the network's; expected "
+                              f"1 with learner = '{self.learner}'")
 
     @property
     def label(self) -> str:
@@ -98,7 +110,7 @@ class BootstrapOptions(ModelOptions):
         return BootstrapAgent(self, agent, body, rng)
 
 
-class BootstrapAgent:
+class BootstrapAgent(NetworkState):
     """The robot's side of the model (paper, Fig. 2).
 
     Args:
@@ -135,6 +147,7 @@ class BootstrapAgent:
         self.learning = True
         self.agreement_ = 0.0  # the performance gate's measure (PerformanceGate)
         self._trial_module: str | None = None
+        self._last_module: str | None = None
         self._thetas: list[np.ndarray] = []
         self._steps: list[np.ndarray] = []
 
@@ -153,31 +166,6 @@ class BootstrapAgent:
             return gate.rate_of(self.agreement_)
         t = self.learning_time_steps if learning_time_steps is None else learning_time_steps
         return gate.rate_at(t)
-
-    # -- what a model file keeps -----------------------------------------------------------
-    def saved_arrays(self) -> dict[str, np.ndarray]:
-        """What a model file keeps of the learned state, by member name (``agent/saved.py``)."""
-        net, faces = self.learner, self.faces
-        return {"w1": net.w1_, "b1": net.b1_, "w2": net.w2_, "b2": net.b2_,
-                "face_mean": faces.mean_, "face_m2": faces.m2_,
-                "face_n_seen": np.array(faces.n_seen_)}
-
-    def saved_shapes(self) -> dict[str, tuple[int, ...]]:
-        """The shape of each member of :meth:`saved_arrays` for this agent's options."""
-        net, n_pix = self.learner, self.body.face_size_px[0] * self.body.face_size_px[1]
-        return {"w1": net.w1_.shape, "b1": net.b1_.shape, "w2": net.w2_.shape,
-                "b2": net.b2_.shape, "face_mean": (n_pix,), "face_m2": (n_pix,),
-                "face_n_seen": ()}
-
-    def load_arrays(self, arrays: dict[str, np.ndarray]) -> None:
-        """Set the learned state from checked members of a model file (:meth:`saved_arrays`)."""
-        net, faces = self.learner, self.faces
-        net.w1_, net.b1_, net.w2_, net.b2_ = (arrays[k].astype(float)
-                                              for k in ("w1", "b1", "w2", "b2"))
-        net.velocity_ = [np.zeros_like(p) for p in net._params()]
-        faces.mean_ = arrays["face_mean"].astype(float)
-        faces.m2_ = arrays["face_m2"].astype(float)
-        faces.n_seen_ = int(arrays["face_n_seen"])
 
     # -- the learning module ---------------------------------------------------------------
     def _inputs(self, face_x: np.ndarray, thetas: np.ndarray) -> np.ndarray:
@@ -281,6 +269,7 @@ class BootstrapAgent:
             dtheta = np.array(random_step(self.move_rng, self.step_rad))
         self._thetas.append(np.asarray(theta_rad, dtype=float))
         self._steps.append(dtheta)
+        self._last_module = module
         if self.learning:
             self.learning_time_steps += 1
         return dtheta, module
@@ -290,11 +279,21 @@ class BootstrapAgent:
 
         Each step is taught toward :meth:`_aim` (or its own step, ``executed_step``).
         """
-        if not self.learning or not outcome.fired or not self._thetas:
+        if not self._learns(outcome):
             return 0
         self._measure(outcome)
         thetas, executed = np.array(self._thetas), self.options.learning_target == "executed_step"
         y = np.empty_like(thetas)
         keep = learning_samples(thetas, np.array(self._steps), self._aim(outcome), executed, y)
-        self.learner.partial_fit(self._inputs(self._face_x, thetas[keep]), y[keep])
+        x = self._inputs(self._face_x, thetas[keep])
+        for _ in range(self.options.n_passes):
+            self.learner.partial_fit(x, y[keep])
         return int(keep.sum())
+
+    def _learns(self, outcome: Outcome) -> bool:
+        """Whether the trial teaches: the evaluator fired (Eq. 3) after a move of the head.
+
+        With ``learn_from = "vf"``, only if the visual controller made the last move.
+        """
+        return (self.learning and outcome.fired and bool(self._thetas)
+                and (self.options.learn_from == "every" or self._last_module == VF))

@@ -85,7 +85,7 @@ class MemoryAgent(BootstrapAgent):
         With ``memory.keep = "in_view"`` the places of the other objects in the last image are
         kept too, after the attended one's.
         """
-        if not self.learning or not outcome.fired or not self._thetas:
+        if not self._learns(outcome):
             return 0
         self._measure(outcome)
         self.memory.store(self._code, self._aim(outcome))

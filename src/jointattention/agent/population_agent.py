@@ -177,7 +177,7 @@ class PopulationAgent(BootstrapAgent):
 
         Then keep the trial in the replay memory and teach ``replay`` trials drawn from it.
         """
-        if not self.learning or not outcome.fired or not self._thetas:
+        if not self._learns(outcome):
             return 0
         self._measure(outcome)
         places = [self._aim(outcome)]

@@ -10,14 +10,18 @@ model of your own with a gate is checked like the paper's:
   most chance + 0.05, and the final success (last 10% of bins) exceeds the first bin with
   the lower end of the paired 95% interval over seeds above zero; a curve that starts within
   0.05 of its ceiling only has to stay there.
-- **sigmoid beats constant r** (5 objects): final success of the sigmoid minus that of the
-  constant rate, paired over seeds (common random numbers), lower 95% bound above zero.
+- **sigmoid beats constant r** (at each object count run with both): final success of the
+  sigmoid minus that of the constant rate, paired over seeds (common random numbers), lower
+  95% bound above zero.
 - **performance gate beats sigmoid / constant r** (5 objects, beyond the paper): the same
   rule; the performance gate's conditions are also checked for rising and the ceiling.
 - **constant 1.0 stays near or below chance** (5 objects, a self-evaluating model): final
   success at most 1.25 x chance.
 - **shuffled faces stay at chance** (the control): final success at most 1.25 x chance.
-- **final success at least 0.9 of the ceiling** (1, 3 and 5 objects: the issue's aim).
+- **final success at least 0.9 of the ceiling** (each sigmoid condition: the paper's "high
+  performance at the end even if many objects are set", read as 0.9 of the ceiling);
+- **worst seed at least 0.75 of the ceiling** (each sigmoid condition: it bootstraps on every
+  seed, not on some).
 
 The claims of the neighbours' papers (the teacher, the developmental model, reinforcement
 learning) are :mod:`.neighbours`'; :func:`check_claims` returns them too.
@@ -36,7 +40,7 @@ from ..config import Config, model_options
 from .metrics import final_success, mean_interval
 from .tables import Table
 
-__all__ = ["Claim", "check_claims", "claims_table", "reading_of"]
+__all__ = ["Claim", "check_claims", "claims_table", "reading_of", "readings_table"]
 
 
 @dataclass(frozen=True)
@@ -118,12 +122,14 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
             else:
                 add(f"{n_objects}: starts no better than chance and rises",
                     first.mean() <= chance + 0.05 and _paired_lower(final, first) > 0, numbers)
-            if c.n_objects <= 5:
-                add(f"{n_objects}: final success at least 0.9 of the ceiling",
-                    final.mean() >= 0.9 * ceiling,
-                    f"final {final.mean():.3f} = {final.mean() / ceiling:.2f} of ceiling "
-                    f"{ceiling:.3f}")
-        sig5 = [c for c in sigmoid if c.n_objects == 5]
+            add(f"{n_objects}: final success at least 0.9 of the ceiling",
+                final.mean() >= 0.9 * ceiling,
+                f"final {final.mean():.3f} = {final.mean() / ceiling:.2f} of ceiling "
+                f"{ceiling:.3f}")
+            add(f"{n_objects}: worst seed at least 0.75 of the ceiling",
+                final.min() >= 0.75 * ceiling,
+                f"worst seed {final.min():.3f} = {final.min() / ceiling:.2f} of ceiling "
+                f"{ceiling:.3f}")
         for p in (c for c in performance if c.n_objects == 5):
             for c in conds:
                 if c.n_objects == 5 and not c.shuffle_faces and c is not p and isinstance(
@@ -131,13 +137,14 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
                     add(f"5 objects: performance gate beats {gates[c.name].label}",
                         *_paired(finals[p.name], finals[c.name]))
         for c in conds:
-            if c.n_objects != 5 or not isinstance(gates[c.name], ConstantGate) or c.shuffle_faces:
+            if not isinstance(gates[c.name], ConstantGate) or c.shuffle_faces:
                 continue
             rate = gates[c.name].rate
-            for s in sig5:
-                add(f"5 objects: sigmoid beats constant {rate}",
+            for s in (s for s in sigmoid if s.n_objects == c.n_objects):
+                add(f"{c.n_objects} objects: sigmoid beats constant {rate}",
                     *_paired(finals[s.name], finals[c.name]))
-            if rate == 1.0 and not isinstance(model_options(config, c), TeacherOptions):
+            if (rate == 1.0 and c.n_objects == 5
+                    and not isinstance(model_options(config, c), TeacherOptions)):
                 # the paper's claim of a self-evaluating robot; a taught one learns (the
                 # neighbours' claims)
                 add("5 objects: constant 1.0 stays near or below chance",
@@ -156,3 +163,36 @@ def claims_table(claims: list[Claim]) -> Table:
     """The claims as a table: reading, claim, holds, evidence."""
     return Table(("reading", "claim", "holds", "evidence"),
                  [(c.reading, c.claim, c.holds, c.evidence) for c in claims])
+
+
+def readings_table(config: Config, curves: dict, ceilings: dict, claims: list[Claim]) -> Table:
+    """One row per reading: final success of each condition, claims held, rank by the rule.
+
+    Columns after the reading: one per object count and gate (``5 obj, sigmoid``: the mean
+    final success over seeds and, in brackets, its fraction of the ceiling), the claims that
+    hold of those checked, the mean fraction of the ceiling over the sigmoid conditions, and
+    the rank by the rule that chooses the paper preset's reading (docs/readings.md):
+    most claims held, ties broken by the higher mean fraction.
+    """
+    rows: dict[str, dict] = {}
+    columns: list[str] = []
+    sigmoid: dict[str, list[float]] = {}
+    for c in config.experiment.conditions:
+        if c.shuffle_faces:
+            continue
+        gate = getattr(model_options(config, c), "gate", None)
+        column = f"{c.n_objects} obj, {gate.label if gate is not None else 'no gate'}"
+        columns += [column] if column not in columns else []
+        final = float(_finals(curves[c.name][1]).mean())
+        fraction = final / ceilings.get(str(c.n_objects), np.nan)
+        reading = reading_of(c, config)
+        rows.setdefault(reading, {})[column] = f"{final:.3f} ({fraction:.2f})"
+        if isinstance(gate, SigmoidGate):
+            sigmoid.setdefault(reading, []).append(fraction)
+    held = {r: sum(c.holds for c in claims if c.reading == r) for r in rows}
+    checked = {r: sum(c.reading == r for c in claims) for r in rows}
+    mean = {r: float(np.mean(sigmoid[r])) if r in sigmoid else float("nan") for r in rows}
+    order = sorted(rows, key=lambda r: (-held[r], -np.nan_to_num(mean[r], nan=-1.0)))
+    return Table(("reading", *columns, "claims_held", "mean_fraction_sigmoid", "rank"),
+                 [(r, *(rows[r].get(k, "") for k in columns), f"{held[r]} of {checked[r]}",
+                   round(mean[r], 3), order.index(r) + 1) for r in rows])

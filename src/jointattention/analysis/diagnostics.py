@@ -8,8 +8,12 @@ For each condition and bin (means over seeds):
   steps);
 - ``lm_error_deg``: the learning module's median angle error over the data sets' faces at
   the bin's end (the cell's ``lm_error_deg``), and its horizontal and vertical parts
-  (``lm_pan_error_deg``, ``lm_tilt_error_deg``: NaN for cells written before they were
-  measured).
+  (``lm_pan_error_deg``, ``lm_tilt_error_deg``), and ``lm_bias``, how alike its directions
+  are over those faces (1: the same direction for every face; NaN for cells written before
+  they were measured).
+
+:func:`seed_diagnostics` keeps every seed apart, with its final success, so that a failing
+seed can be told from one that learns (``diagnostics_seeds.csv``, ``diagnostics_seeds.png``).
 """
 
 from __future__ import annotations
@@ -22,10 +26,11 @@ import numpy as np
 from ..config import Config, ExperimentConfig
 from ..experiment.results import cell_path, load_cell
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
-from .metrics import bin_index
+from .metrics import bin_index, final_success, success_by_bin
 from .tables import Table
 
-__all__ = ["METRICS", "condition_diagnostics", "diagnostics_table"]
+__all__ = ["METRICS", "SeedDiagnostics", "condition_diagnostics", "diagnostics_table",
+           "seed_diagnostics", "seeds_table"]
 
 METRICS = {
     "on_target": "fraction of the evaluator's firings on the caregiver's target",
@@ -39,6 +44,8 @@ METRICS = {
     "lm_error_deg": "learning module's median angle error at the data sets' faces (deg)",
     "lm_pan_error_deg": "its median horizontal error: where a turn along it ends (deg)",
     "lm_tilt_error_deg": "its median vertical error (deg)",
+    "lm_bias": "how alike its directions are over those faces: the length of the mean of its "
+               "unit outputs (1: one direction for every face, whatever the caregiver looks at)",
 }
 
 Diagnostics = dict[str, tuple[np.ndarray, dict[str, np.ndarray]]]
@@ -62,7 +69,8 @@ def _cell_metrics(rec: dict[str, np.ndarray], exp: ExperimentConfig) -> np.ndarr
     lm, rand = per_bin(rec["n_lm_steps"]), per_bin(rec["n_random_steps"])
     errors = [np.pad(e[:n_bins], (0, n_bins - len(e[:n_bins])), constant_values=np.nan)
               for e in (rec.get(k, np.full(n_bins, np.nan)) for k in
-                        ("lm_error_deg", "lm_pan_error_deg", "lm_tilt_error_deg"))]
+                        ("lm_error_deg", "lm_pan_error_deg", "lm_tilt_error_deg",
+                         "lm_bias"))]
     return np.array([
         _ratio(per_bin(fired & rec["success"]), per_bin(fired)),
         _ratio(per_bin(fired), trials),
@@ -72,18 +80,33 @@ def _cell_metrics(rec: dict[str, np.ndarray], exp: ExperimentConfig) -> np.ndarr
         *errors])
 
 
-def condition_diagnostics(out: Path, config: Config) -> Diagnostics:
-    """{condition: (bin ends, {metric: mean over seeds per bin})} from a run folder's cells."""
+# {condition: (bin ends, (seeds, metrics, bins) in the order of METRICS, final success per seed)}
+SeedDiagnostics = dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
+
+
+def seed_diagnostics(out: Path, config: Config) -> SeedDiagnostics:
+    """Every seed's metrics per bin and its final success, from a run folder's cells."""
     exp = config.experiment
-    ends = exp.bin_ends_steps()
     result = {}
     for c in exp.conditions:
-        per_seed = np.array([_cell_metrics(load_cell(cell_path(out, c.name, i)), exp)
-                             for i in range(exp.n_seeds)])
+        cells = [load_cell(cell_path(out, c.name, i)) for i in range(exp.n_seeds)]
+        finals = [final_success(success_by_bin(r["learning_time"], r["success"], exp.bin_steps,
+                                               exp.n_steps)) for r in cells]
+        result[c.name] = (exp.bin_ends_steps(), np.array([_cell_metrics(r, exp) for r in cells]),
+                          np.array(finals))
+    return result
+
+
+def condition_diagnostics(out: Path, config: Config,
+                          seeds: SeedDiagnostics | None = None) -> Diagnostics:
+    """{condition: (bin ends, {metric: mean over seeds per bin})} from a run folder's cells."""
+    seeds = seed_diagnostics(out, config) if seeds is None else seeds
+    result = {}
+    for name, (ends, per_seed, _) in seeds.items():
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # a bin no seed has data for: NaN
             means = np.nanmean(per_seed, axis=0)
-        result[c.name] = (ends, dict(zip(METRICS, means, strict=True)))
+        result[name] = (ends, dict(zip(METRICS, means, strict=True)))
     return result
 
 
@@ -94,3 +117,14 @@ def diagnostics_table(diagnostics: Diagnostics) -> Table:
         for k, end in enumerate(ends):
             rows.append((name, int(end), *(round(float(metrics[m][k]), 3) for m in METRICS)))
     return Table(("condition", "bin_end_steps", *METRICS), rows)
+
+
+def seeds_table(seeds: SeedDiagnostics) -> Table:
+    """One row per condition, seed and bin: the seed's final success and every metric."""
+    rows = []
+    for name, (ends, per_seed, finals) in seeds.items():
+        for i, (metrics, final) in enumerate(zip(per_seed, finals, strict=True)):
+            rows += [(name, i, round(float(final), 3), int(end),
+                      *(round(float(v), 3) for v in metrics[:, k]))
+                     for k, end in enumerate(ends)]
+    return Table(("condition", "seed", "final_success", "bin_end_steps", *METRICS), rows)

@@ -132,6 +132,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
         pan_start, tilt_start = pan, tilt
         n_steps, n_lm, n_random, end, attended, seen = 0, 0, 0, -1, -1, -1
+        last_module = -1
         limit_hit = False
         while True:
             m = detect_into(obj_pos, obj_rad, edge, rotation_matrix(pan, tilt), world.offset_m,
@@ -168,6 +169,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
                 d_pan, d_tilt = sweep
             else:
                 d_pan, d_tilt = random_step(move_rng, robot.step_rad)
+            last_module = module
             thetas[n_steps, 0], thetas[n_steps, 1] = pan, tilt
             steps[n_steps, 0], steps[n_steps, 1] = d_pan, d_tilt
             c[0] += robot.learning
@@ -189,7 +191,8 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
                 approved, state.caregiver[0], state.caregiver[1], robot.criterion_level,
                 robot.criterion_window_trials, robot.criterion_shrink)
         learns = (robot.learning and end == END_FIRED and n_steps > 0
-                  and (not robot.caregiver_judges or approved))
+                  and (not robot.caregiver_judges or approved)
+                  and (not robot.learn_from_vf or last_module == _VF))
         if learns:
             v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
                                                 robot.gain_rad_per_px)
@@ -217,14 +220,15 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])
             x_full[:n_pix] = face_x
-            for s in range(n_steps):
-                if keep[s]:
-                    scale_angle_into(thetas[s, 0], thetas[s, 1], robot.theta_mid_rad,
-                                     robot.theta_half_rad, x_full, n_pix)
-                    sgd_update(x_full, y[s], state.w1, state.b1, state.w2, state.b2, state.v1,
-                               state.vb1, state.v2, state.vb2, robot.learning_rate,
-                               robot.momentum)
-                    c[2] += 1
+            for _ in range(robot.n_passes):
+                for s in range(n_steps):
+                    if keep[s]:
+                        scale_angle_into(thetas[s, 0], thetas[s, 1], robot.theta_mid_rad,
+                                         robot.theta_half_rad, x_full, n_pix)
+                        sgd_update(x_full, y[s], state.w1, state.b1, state.w2, state.b2,
+                                   state.v1, state.vb1, state.v2, state.vb2,
+                                   robot.learning_rate, robot.momentum)
+                        c[2] += 1
         r = c[3]
         records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random
         records[4, r], records[5, r], records[6, r] = attended, target, end

@@ -49,6 +49,8 @@ class LoopRobot(NamedTuple):
     vf_fallback_lm: bool
     vf_fallback_sweep: bool
     learning_target: int  # its index in LEARNING_TARGETS
+    learn_from_vf: bool  # learn only from trials whose last move the visual controller made
+    n_passes: int  # back-propagation passes over a trial's samples
     theta_mid_rad: np.ndarray
     theta_half_rad: np.ndarray
     min_std: float

@@ -120,7 +120,8 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     module's median angle error over the data sets' faces at the first trial end past the
     bin (:func:`~.probes.median_error_deg`; NaN for a model without one), and its horizontal
     and vertical parts, ``lm_pan_error_deg`` and ``lm_tilt_error_deg``
-    (:func:`~.probes.axis_errors_deg`; all three from one pass, :func:`~.probes.lm_errors_deg`).
+    (:func:`~.probes.axis_errors_deg`), and ``lm_bias``, how alike its directions are over the
+    faces (:func:`~.probes.bias_of`); all four from one pass, :func:`~.probes.lm_errors_deg`.
     ``progress`` gets the learning time now and then; ``on_checkpoint(t, agent)`` is called
     at the first trial end at or past each learning time ``t`` of ``checkpoints``; ``observer``
     sees each step (see :func:`~jointattention.experiment.trial.run_trial`; the python engine
@@ -136,7 +137,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     exp = config.experiment
     bin_ends = [int(t) for t in exp.bin_ends_steps()]
     errors = np.full(len(bin_ends), np.nan)
-    axes = np.full((2, len(bin_ends)), np.nan)  # horizontal and vertical parts
+    axes = np.full((3, len(bin_ends)), np.nan)  # horizontal and vertical parts, bias
     measured = 0  # bins whose error is measured
 
     def reached(t: int) -> None:
@@ -144,7 +145,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
         while pending and t >= pending[0]:
             on_checkpoint(pending.pop(0), agent)
         while measured < len(bin_ends) and t >= bin_ends[measured]:
-            errors[measured], axes[0, measured], axes[1, measured] = lm_errors_deg(agent, ds)
+            errors[measured], *axes[:, measured] = lm_errors_deg(agent, ds)
             measured += 1
 
     if engine_of(config, condition) == "compiled":
@@ -157,7 +158,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
         records = _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached,
                              observer)
     return {**records, "lm_error_deg": errors, "lm_pan_error_deg": axes[0],
-            "lm_tilt_error_deg": axes[1]}
+            "lm_tilt_error_deg": axes[1], "lm_bias": axes[2]}
 
 
 def _run_compiled(config, condition, ds, agent, rngs, progress, stops,

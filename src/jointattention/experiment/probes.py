@@ -12,7 +12,8 @@ import numpy as np
 from ..datasets import CaregiverDatasets
 from ..world.kinematics import angle_rad
 
-__all__ = ["angle_deg", "angle_errors", "axis_errors_deg", "lm_errors_deg", "median_error_deg"]
+__all__ = ["angle_deg", "angle_errors", "axis_errors_deg", "bias_of", "lm_errors_deg",
+           "median_error_deg"]
 
 
 def angle_deg(a, b) -> np.ndarray:
@@ -68,12 +69,24 @@ def median_error_deg(agent, ds: CaregiverDatasets) -> float:
     return float(np.median(angle_errors(agent, ds)))
 
 
-def lm_errors_deg(agent, ds: CaregiverDatasets) -> tuple[float, float, float]:
-    """:func:`median_error_deg` and :func:`axis_errors_deg` from one pass of the module.
+def bias_of(u) -> float:
+    """How alike the directions ``u`` (N, 2) are: the length of their unit vectors' mean.
 
-    NaN for an agent without a learning module.
+    1: one direction whatever the face (a bias that ignores the face); near 0: spread out.
+    """
+    u = np.asarray(u, dtype=float)
+    unit = u / np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-12)
+    return float(np.linalg.norm(unit.mean(axis=0)))
+
+
+def lm_errors_deg(agent, ds: CaregiverDatasets) -> tuple[float, float, float, float]:
+    """:func:`median_error_deg`, :func:`axis_errors_deg` and the outputs' :func:`bias_of`.
+
+    All from one pass of the module over the data sets' faces; NaN for an agent without a
+    learning module.
     """
     if not hasattr(agent, "lm_command"):
-        return float("nan"), float("nan"), float("nan")
+        return float("nan"), float("nan"), float("nan"), float("nan")
     out = _outputs(agent, ds)
-    return (float(np.median(_angle_errors_of(out, ds))), *_axis_errors_of(out, ds))
+    return (float(np.median(_angle_errors_of(out, ds))), *_axis_errors_of(out, ds),
+            bias_of(out))

@@ -17,12 +17,17 @@ from pathlib import Path
 import numpy as np
 
 from .._checks import check_path
-from .._files import folder_lock, save_json
+from .._files import folder_lock, save_json, write_text
 from .._readers import read_json
 from ..agent.saved import check_savable
-from ..analysis.claims import Claim, check_claims, claims_table
+from ..analysis.claims import Claim, check_claims, claims_table, readings_table
 from ..analysis.curves import condition_axis_errors, condition_curves, final_table
-from ..analysis.diagnostics import condition_diagnostics, diagnostics_table
+from ..analysis.diagnostics import (
+    condition_diagnostics,
+    diagnostics_table,
+    seed_diagnostics,
+    seeds_table,
+)
 from ..analysis.held_out import held_out_claims, held_out_curves, held_out_table
 from ..config import Config, check_config
 from ..errors import JointAttentionError
@@ -157,8 +162,10 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json``, the oracle
     ceilings (``ceilings.json``, measured once), ``trials.csv``, the figures
     (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md``,
-    ``claims.csv``/``.md``, the diagnostics per learning-time bin
-    (``diagnostics.csv``/``.md``/``.png``, :mod:`jointattention.analysis.diagnostics`), and
+    ``claims.csv``/``.md``, one row per reading (``readings.csv``/``.md``), the diagnostics per
+    learning-time bin
+    (``diagnostics.csv``/``.md``/``.png``; per seed ``diagnostics_seeds.csv``/``.png``,
+    :mod:`jointattention.analysis.diagnostics`), and
     what the models carry over to held-out data sets (``held_out_ceilings.json``,
     ``held_out.csv``/``.md``/``.png``, :mod:`jointattention.analysis.held_out`).
     ``progress`` hears the runner's messages (see
@@ -166,7 +173,7 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     written unless the run passes :func:`~.preflight.check_runs` (at most ``max_cells``).
     ``save_models``: see :func:`run_experiment`.
     """
-    from ..figures.diagnostics import diagnostics_figure  # matplotlib only when drawn
+    from ..figures.diagnostics import diagnostics_figure, seeds_figure  # matplotlib: drawn
     from ..figures.held_out import held_out_figure
     from ..figures.paper import write_figures
 
@@ -186,12 +193,16 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
         held = held_out_curves(out, config)
         claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config))
         claims += held_out_claims(config, held, held_ceilings)
-        diagnostics = condition_diagnostics(out, config)
+        seeds = seed_diagnostics(out, config)
+        diagnostics = condition_diagnostics(out, config, seeds)
         files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
                  *final_table(config, curves, ceilings, held, held_ceilings).write(out / "table"),
                  *claims_table(claims).write(out / "claims"),
+                 *readings_table(config, curves, ceilings, claims).write(out / "readings"),
                  *diagnostics_table(diagnostics).write(out / "diagnostics"),
-                 diagnostics_figure(diagnostics, out / "diagnostics.png")]
+                 diagnostics_figure(diagnostics, out / "diagnostics.png"),
+                 write_text(out / "diagnostics_seeds.csv", seeds_table(seeds).to_csv()),
+                 seeds_figure(seeds, out / "diagnostics_seeds.png")]
         if held:
             files += [*held_out_table(config, held, held_ceilings).write(out / "held_out"),
                       held_out_figure(config, held, held_ceilings, out / "held_out.png")]

@@ -122,7 +122,8 @@ def save_cell(path: Path, records: dict[str, np.ndarray]) -> None:
     save_npz(path, records)
 
 
-_PER_BIN = ("lm_error_deg", "lm_pan_error_deg", "lm_tilt_error_deg")  # the last two optional
+# the last three optional (cells written before they were measured)
+_PER_BIN = ("lm_error_deg", "lm_pan_error_deg", "lm_tilt_error_deg", "lm_bias")
 # the held-out measures (experiment/held_out.py): optional, and all or none
 _HELD_OUT = ("held_out_steps", "held_out_success", "held_out_median_error_deg",
              "held_out_p90_error_deg", "held_out_share_over_10deg",
@@ -133,8 +134,9 @@ def load_cell(path: Path) -> dict[str, np.ndarray]:
     """A saved cell's records; a :class:`~..errors.FileError` if they are not whole.
 
     Whole: the columns of :data:`~.trial.RECORD`, one row per trial each and of its type, and
-    ``lm_error_deg`` (one value per learning-time bin); ``lm_pan_error_deg`` and
-    ``lm_tilt_error_deg`` too, except in cells written before they were measured; and all or
+    ``lm_error_deg`` (one value per learning-time bin); ``lm_pan_error_deg``,
+    ``lm_tilt_error_deg`` and ``lm_bias`` too, except in cells written before they were
+    measured; and all or
     none of the held-out measures (``held_out_steps`` and one (3, checkpoints) array each).
     """
     records = read_npz(path, "a cell's records (cells/*.npz)")

@@ -28,12 +28,17 @@ _FIGURES = {
     "diagnostics.png": "Diagnostics per learning-time bin: the share of learning situations on "
                        "the caregiver's target, the learning module's error, who moved the head, "
                        "how trials ended (diagnostics.csv).",
+    "diagnostics_seeds.png": "Why a seed fails: every seed's share of learning situations on "
+                             "the target, the learning module's error at the faces and its bias "
+                             "(1: one direction for every face), coloured by the seed's final "
+                             "success (diagnostics_seeds.csv).",
     "held_out.png": "Generalisation: each condition's model, frozen, on its training sets, new "
                     "poses of its caregivers and caregivers it never saw, as fractions of each "
                     "set's ceiling, against learning time (held_out.csv).",
 }
 _CONFIG = "a run's configuration (TOML)"
 _TABLES = {"claims": "The paper's claims, checked", "table": "Final success per condition",
+           "readings": "One row per reading, ranked by the rule (docs/readings.md)",
            "held_out": "Generalisation: training sets, new poses, unseen caregivers (frozen)",
            "summary": "Sweep summary"}
 _STYLE = """
