@@ -100,3 +100,14 @@ def test_the_readings_table_ranks_by_claims_then_by_fraction_of_the_ceiling():
     step, trial = rows[reading_of(CONDS[0], CONFIG)], rows[reading_of(CONDS[4], CONFIG)]
     assert step[-1] == 1 and trial[-1] == 2
     assert trial[2:6] == ("", "", "", "") and trial[1].endswith("(0.33)")
+
+
+def test_every_claim_states_its_rule():
+    """Each claim carries the rule it was checked by, and the table shows it."""
+    rng = np.random.default_rng(0)
+    curves = _curves(rng, sig=0.85, c07=0.5, c10=0.2, shuf=0.2, sig10=0.75,
+                     **{"trial-sig": 0.3, "c09-10": 0.3})
+    claims = check_claims(CONFIG, curves, CEILINGS)
+    assert all(c.rule for c in claims)
+    table = claims_table(claims)
+    assert table.columns[-1] == "rule" and "paired 95% lower bound > 0" in table.to_markdown()

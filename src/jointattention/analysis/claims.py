@@ -45,12 +45,13 @@ __all__ = ["Claim", "check_claims", "claims_table", "reading_of", "readings_tabl
 
 @dataclass(frozen=True)
 class Claim:
-    """One checked claim: which reading, what was claimed, whether it held, the numbers."""
+    """One checked claim: its reading, what was claimed, whether it held, numbers and rule."""
 
     reading: str
     claim: str
     holds: bool
     evidence: str
+    rule: str = ""
 
 
 def reading_of(condition, config: Config) -> str:
@@ -65,6 +66,18 @@ def reading_of(condition, config: Config) -> str:
     if getattr(options, "learner", "backprop") != "backprop":
         parts.insert(0, f"learner={options.learner}")
     return ", ".join(parts if kind == "bootstrap" else [f"model={kind}", *parts])
+
+
+_RULES = {  # each claim's rule, by a phrase of its name (the module docstring says why)
+    "starts at the ceiling": "final within 0.05 of the ceiling",
+    "starts no better than chance": "first bin <= chance + 0.05; final - first bin: paired "
+                                    "95% lower bound > 0",
+    "at least 0.9 of the ceiling": "mean final >= 0.9 x ceiling",
+    "worst seed": "lowest seed's final >= 0.75 x ceiling",
+    "beats": "final difference: paired 95% lower bound > 0",
+    "near or below chance": "mean final <= 1.25 x chance",
+    "stays at chance": "mean final <= 1.25 x chance",
+}
 
 
 def _paired_lower(a: np.ndarray, b: np.ndarray) -> float:
@@ -101,7 +114,8 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
     claims = []
     for reading, conds in groups.items():
         def add(claim, holds, evidence, reading=reading):
-            claims.append(Claim(reading, claim, bool(holds), evidence))
+            rule = next(r for key, r in _RULES.items() if key in claim)
+            claims.append(Claim(reading, claim, bool(holds), evidence, rule))
 
         finals = {c.name: _finals(curves[c.name][1]) for c in conds}
         sigmoid = [c for c in conds
@@ -160,9 +174,9 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
 
 
 def claims_table(claims: list[Claim]) -> Table:
-    """The claims as a table: reading, claim, holds, evidence."""
-    return Table(("reading", "claim", "holds", "evidence"),
-                 [(c.reading, c.claim, c.holds, c.evidence) for c in claims])
+    """The claims as a table: reading, claim, holds, evidence, rule."""
+    return Table(("reading", "claim", "holds", "evidence", "rule"),
+                 [(c.reading, c.claim, c.holds, c.evidence, c.rule) for c in claims])
 
 
 def readings_table(config: Config, curves: dict, ceilings: dict, claims: list[Claim]) -> Table:

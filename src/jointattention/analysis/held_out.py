@@ -106,5 +106,8 @@ def held_out_claims(config: Config, curves: HeldOut, ceilings: dict) -> list[Cla
             f"unseen caregivers {r['unseen_fraction']:.2f} of the ceiling (worst seed "
             f"{r['unseen_worst_seed_fraction']:.2f}), median error {r['unseen_median_deg']}°, "
             f"identities above 10° {r['unseen_share_over_10deg']:.2f}; training sets "
-            f"{r['training_fraction']:.2f}, new poses {r['new_poses_fraction']:.2f}"))
+            f"{r['training_fraction']:.2f}, new poses {r['new_poses_fraction']:.2f}",
+            f"unseen caregivers: mean frozen success >= {AIM['fraction_of_ceiling']} x ceiling, "
+            f"median error <= {AIM['median_error_deg']}°, identities above 10° <= "
+            f"{AIM['share_over_10deg']}"))
     return claims

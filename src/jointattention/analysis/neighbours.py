@@ -86,21 +86,24 @@ def neighbour_claims(config: Config, curves: dict,
                     reading, f"{c.name}: teacher at least bootstrap ({b.name})",
                     bool(upper[0] >= 0),
                     f"final {ft.mean():.3f} against {fb.mean():.3f}; paired difference "
-                    f"{(ft - fb).mean():+.3f}, 95% upper bound {upper[0]:+.3f}"))
+                    f"{(ft - fb).mean():+.3f}, 95% upper bound {upper[0]:+.3f}",
+                    "final difference: paired 95% upper bound >= 0"))
         if kind is DevelopmentalOptions:
             for t in _twins(config, options, TeacherOptions, o, n):
                 md, mt = curves[c.name][1].mean(axis=1), curves[t.name][1].mean(axis=1)
                 holds, evidence = _paired(md, mt)
                 claims.append(Claim(reading, f"{c.name}: developmental faster than teacher "
                                     f"({t.name})", holds, "mean success over the learning "
-                                    "time " + evidence.removeprefix("final ")))
+                                    "time " + evidence.removeprefix("final "),
+                                    "mean success difference: paired 95% lower bound > 0"))
             if o.blur_start_px > 0:
                 sharp = replace(o, blur_start_px=0.0)
                 for s in (s for s in config.experiment.conditions if not s.shuffle_faces
                           and s.n_objects == n and options[s.name] == sharp):
                     claims.append(Claim(
                         reading, f"{c.name}: visual development improves accuracy ({s.name})",
-                        *_paired(_finals(curves[c.name][1]), _finals(curves[s.name][1]))))
+                        *_paired(_finals(curves[c.name][1]), _finals(curves[s.name][1])),
+                        "final difference: paired 95% lower bound > 0"))
         if kind in (DevelopmentalOptions, TeacherOptions) and c.name in axis_errors:
             claims.append(_horizontal_first(c, reading, *axis_errors[c.name], ratio))
         if MODELS.name_of(o) == "rl" and n > 1:
@@ -112,7 +115,8 @@ def neighbour_claims(config: Config, curves: dict,
                 reading, f"{c.name}: gaze following emerges from the basic set",
                 above > 0 and rises > 0,
                 f"final {final.mean():.3f}, chance {chance:.3f}, first bin {first.mean():.3f}; "
-                f"95% lower bounds above chance {above:+.3f}, above the first bin {rises:+.3f}"))
+                f"95% lower bounds above chance {above:+.3f}, above the first bin {rises:+.3f}",
+                "final - chance and final - first bin: paired 95% lower bounds > 0"))
     return claims
 
 
@@ -127,4 +131,5 @@ def _horizontal_first(c, reading: str, pan: np.ndarray, tilt: np.ndarray,
         f"error over the learning time {h.mean():.2f}° horizontal, {v.mean():.2f}° vertical "
         f"(geometry alone: horizontal = {ratio:.2f} x vertical); horizontal - {ratio:.2f} x "
         f"vertical {d.mean():+.2f}°, below 0 in {(d < 0).sum()} of {len(d)} seeds, 95% upper "
-        f"bound {upper[0]:+.2f}°")
+        f"bound {upper[0]:+.2f}°",
+        "horizontal - geometry ratio x vertical error: 95% upper bound < 0")
