@@ -113,6 +113,18 @@ def test_a_run_folder_explains_itself_bin_by_bin(tmp_path):
             float(row[2 + list(METRICS).index("lm_error_deg")]), abs=0.002)
 
 
+def test_a_rerun_that_only_redraws_keeps_the_measured_time(tmp_path):
+    """timing.json keeps the wall time of the call that ran the cells, not of a redraw."""
+    cfg = Config(experiment=ExperimentConfig(n_steps=400, n_seeds=1, bin_steps=200,
+                                             n_ceiling_trials=20, conditions=(
+        ConditionConfig(name="one", n_objects=1),)))
+    reproduce(cfg, tmp_path / "run")
+    first = json.loads((tmp_path / "run" / "timing.json").read_text())
+    reproduce(cfg, tmp_path / "run")
+    assert json.loads((tmp_path / "run" / "timing.json").read_text()) == first
+    assert first["cells_run"] == 1
+
+
 def test_the_time_to_90pct_never_exceeds_the_learning_time():
     """With bins wider than the run (one bin ends at n_steps), the time is n_steps, not the bin."""
     from jointattention.analysis.metrics import time_to_fraction

@@ -159,7 +159,8 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
               max_cells: int = MAX_CELLS, save_models: bool = False) -> RunResult:
     """Run ``config``'s experiment into the run folder ``out`` and write what it shows.
 
-    Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json``, the oracle
+    Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json`` (the wall time
+    of this call's cells; a re-run that ran none keeps the one there), the oracle
     ceilings (``ceilings.json``, measured once), ``trials.csv``, the figures
     (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md``,
     ``claims.csv``/``.md``, one row per reading (``readings.csv``/``.md``), the diagnostics per
@@ -185,8 +186,9 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
                                      save_models, lock)
         wall_min = (time.perf_counter() - start) / 60
         cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
-        save_json({"wall_min": round(wall_min, 2), "workers": workers, "cells_run": cells_run,
-                   "cells_total": len(cells)}, out / "timing.json")
+        if cells_run or not (out / "timing.json").is_file():  # a re-run that only redraws
+            save_json({"wall_min": round(wall_min, 2), "workers": workers,  # keeps the measure
+                       "cells_run": cells_run, "cells_total": len(cells)}, out / "timing.json")
         ceilings = _ceilings(config, out / "ceilings.json", progress)
         held_ceilings = _held_out_ceilings(config, out / "held_out_ceilings.json", progress)
         curves = condition_curves(out, config)
