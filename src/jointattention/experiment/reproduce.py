@@ -154,6 +154,14 @@ class RunResult:
     wall_min: float
 
 
+def _measured(path: Path) -> bool:
+    """Whether ``path`` holds a readable measure of a run's wall time (``timing.json``)."""
+    try:
+        return "wall_min" in read_json(path, "a run's wall time (timing.json)")
+    except JointAttentionError:  # missing or unreadable: measured anew
+        return False
+
+
 def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str = "local",
               address: str | None = None, progress: Callable[[str], None] | None = None,
               max_cells: int = MAX_CELLS, save_models: bool = False) -> RunResult:
@@ -186,8 +194,8 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
                                      save_models, lock)
         wall_min = (time.perf_counter() - start) / 60
         cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
-        if cells_run or not (out / "timing.json").is_file():  # a re-run that only redraws
-            save_json({"wall_min": round(wall_min, 2), "workers": workers,  # keeps the measure
+        if cells_run or not _measured(out / "timing.json"):  # a redraw keeps the measure
+            save_json({"wall_min": round(wall_min, 2), "workers": workers,
                        "cells_run": cells_run, "cells_total": len(cells)}, out / "timing.json")
         ceilings = _ceilings(config, out / "ceilings.json", progress)
         held_ceilings = _held_out_ceilings(config, out / "held_out_ceilings.json", progress)

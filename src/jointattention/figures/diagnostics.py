@@ -80,6 +80,6 @@ def seeds_figure(seeds: SeedDiagnostics, path: Path) -> Path:
         row[0].set_ylabel(f"finals {finals.min():.2f}-{finals.max():.2f}", fontsize=7)
     for ax in axes[-1]:
         ax.set_xlabel("learning time [steps]", fontsize=8)
-    mappable = matplotlib.cm.ScalarMappable(cmap=cmap, norm=matplotlib.colors.Normalize(0, 1))
-    fig.colorbar(mappable, ax=axes.ravel().tolist(), label="seed's final success", shrink=0.6)
+    axes[-1, 1].set_xlabel("learning time [steps]\none line per seed, coloured by its final "
+                           "success (dark: 0, yellow: 1)", fontsize=8)
     return save_figure(fig, path)
