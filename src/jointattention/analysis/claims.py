@@ -29,43 +29,16 @@ learning) are :mod:`.neighbours`'; :func:`check_claims` returns them too.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
-from ..agent.models import MODELS
 from ..agent.teacher import TeacherOptions
 from ..config import Config, model_options
-from .metrics import final_success, mean_interval
+from .claim import Claim, finals_of, paired, paired_lower, reading_of
+from .neighbours import neighbour_claims
 from .tables import Table
 
 __all__ = ["Claim", "check_claims", "claims_table", "reading_of", "readings_table"]
-
-
-@dataclass(frozen=True)
-class Claim:
-    """One checked claim: its reading, what was claimed, whether it held, numbers and rule."""
-
-    reading: str
-    claim: str
-    holds: bool
-    evidence: str
-    rule: str = ""
-
-
-def reading_of(condition, config: Config) -> str:
-    """The condition's reading, e.g. ``gate_per=step, vf_fallback=lm, learning_target=...``.
-
-    Preceded by ``model=<kind>`` for models other than the bootstrap model, and by
-    ``learner=<kind>`` for a learning module other than the paper's.
-    """
-    options = model_options(config, condition)
-    kind = MODELS.name_of(options)
-    parts = [f"{k}={getattr(options, k)}" for k in options.readings]
-    if getattr(options, "learner", "backprop") != "backprop":
-        parts.insert(0, f"learner={options.learner}")
-    return ", ".join(parts if kind == "bootstrap" else [f"model={kind}", *parts])
 
 
 _RULES = {  # each claim's rule, by a phrase of its name (the module docstring says why)
@@ -80,22 +53,6 @@ _RULES = {  # each claim's rule, by a phrase of its name (the module docstring s
 }
 
 
-def _paired_lower(a: np.ndarray, b: np.ndarray) -> float:
-    """Lower end of the 95% interval of mean(a - b) over seeds (paired)."""
-    return float(mean_interval((a - b)[:, None])[1][0])
-
-
-def _paired(a: np.ndarray, b: np.ndarray) -> tuple[bool, str]:
-    """Whether finals ``a`` beat ``b`` (paired 95% lower bound above zero), and the numbers."""
-    lower = _paired_lower(a, b)
-    return lower > 0, (f"final {a.mean():.3f} against {b.mean():.3f}; paired difference "
-                       f"{(a - b).mean():+.3f}, 95% lower bound {lower:+.3f}")
-
-
-def _finals(per_seed: np.ndarray) -> np.ndarray:
-    return np.array([final_success(s) for s in per_seed])
-
-
 def check_claims(config: Config, curves: dict, ceilings: dict,
                  axis_errors: dict | None = None) -> list[Claim]:
     """Every claim each reading's conditions allow, the neighbours' included.
@@ -104,8 +61,6 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
     {str(n): ceiling}, ``axis_errors`` as from
     :func:`jointattention.analysis.curves.condition_axis_errors` (None: not checked).
     """
-    from .neighbours import neighbour_claims  # it builds on this module's helpers
-
     gates = {c.name: getattr(model_options(config, c), "gate", None)
              for c in config.experiment.conditions}
     groups: dict[str, list] = {}
@@ -117,7 +72,7 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
             rule = next(r for key, r in _RULES.items() if key in claim)
             claims.append(Claim(reading, claim, bool(holds), evidence, rule))
 
-        finals = {c.name: _finals(curves[c.name][1]) for c in conds}
+        finals = {c.name: finals_of(curves[c.name][1]) for c in conds}
         sigmoid = [c for c in conds
                    if isinstance(gates[c.name], SigmoidGate) and not c.shuffle_faces]
         performance = [c for c in conds
@@ -135,7 +90,7 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
                     final.mean() >= ceiling - 0.05, numbers)
             else:
                 add(f"{n_objects}: starts no better than chance and rises",
-                    first.mean() <= chance + 0.05 and _paired_lower(final, first) > 0, numbers)
+                    first.mean() <= chance + 0.05 and paired_lower(final, first) > 0, numbers)
             add(f"{n_objects}: final success at least 0.9 of the ceiling",
                 final.mean() >= 0.9 * ceiling,
                 f"final {final.mean():.3f} = {final.mean() / ceiling:.2f} of ceiling "
@@ -149,14 +104,14 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
                 if c.n_objects == 5 and not c.shuffle_faces and c is not p and isinstance(
                         gates[c.name], (SigmoidGate, ConstantGate)):
                     add(f"5 objects: performance gate beats {gates[c.name].label}",
-                        *_paired(finals[p.name], finals[c.name]))
+                        *paired(finals[p.name], finals[c.name]))
         for c in conds:
             if not isinstance(gates[c.name], ConstantGate) or c.shuffle_faces:
                 continue
             rate = gates[c.name].rate
             for s in (s for s in sigmoid if s.n_objects == c.n_objects):
                 add(f"{c.n_objects} objects: sigmoid beats constant {rate}",
-                    *_paired(finals[s.name], finals[c.name]))
+                    *paired(finals[s.name], finals[c.name]))
             if (rate == 1.0 and c.n_objects == 5
                     and not isinstance(model_options(config, c), TeacherOptions)):
                 # the paper's claim of a self-evaluating robot; a taught one learns (the
@@ -197,7 +152,7 @@ def readings_table(config: Config, curves: dict, ceilings: dict, claims: list[Cl
         gate = getattr(model_options(config, c), "gate", None)
         column = f"{c.n_objects} obj, {gate.label if gate is not None else 'no gate'}"
         columns += [column] if column not in columns else []
-        final = float(_finals(curves[c.name][1]).mean())
+        final = float(finals_of(curves[c.name][1]).mean())
         fraction = final / ceilings.get(str(c.n_objects), np.nan)
         reading = reading_of(c, config)
         rows.setdefault(reading, {})[column] = f"{final:.3f} ({fraction:.2f})"

@@ -39,7 +39,7 @@ from ..agent.models import MODELS
 from ..agent.teacher import TeacherOptions
 from ..config import Config, model_options
 from ..experiment.cells import datasets_of
-from .claims import Claim, _finals, _paired, _paired_lower, reading_of
+from .claim import Claim, finals_of, paired, paired_lower, reading_of
 from .metrics import mean_interval
 
 __all__ = ["AxisErrors", "geometry_ratio", "neighbour_claims"]
@@ -80,7 +80,7 @@ def neighbour_claims(config: Config, curves: dict,
         reading, n = reading_of(c, config), c.n_objects
         if kind is TeacherOptions:
             for b in _twins(config, options, BootstrapOptions, o, n):
-                ft, fb = _finals(curves[c.name][1]), _finals(curves[b.name][1])
+                ft, fb = finals_of(curves[c.name][1]), finals_of(curves[b.name][1])
                 _, _, upper = mean_interval((ft - fb)[:, None])
                 claims.append(Claim(
                     reading, f"{c.name}: teacher at least bootstrap ({b.name})",
@@ -91,7 +91,7 @@ def neighbour_claims(config: Config, curves: dict,
         if kind is DevelopmentalOptions:
             for t in _twins(config, options, TeacherOptions, o, n):
                 md, mt = curves[c.name][1].mean(axis=1), curves[t.name][1].mean(axis=1)
-                holds, evidence = _paired(md, mt)
+                holds, evidence = paired(md, mt)
                 claims.append(Claim(reading, f"{c.name}: developmental faster than teacher "
                                     f"({t.name})", holds, "mean success over the learning "
                                     "time " + evidence.removeprefix("final "),
@@ -102,14 +102,14 @@ def neighbour_claims(config: Config, curves: dict,
                           and s.n_objects == n and options[s.name] == sharp):
                     claims.append(Claim(
                         reading, f"{c.name}: visual development improves accuracy ({s.name})",
-                        *_paired(_finals(curves[c.name][1]), _finals(curves[s.name][1])),
+                        *paired(finals_of(curves[c.name][1]), finals_of(curves[s.name][1])),
                         "final difference: paired 95% lower bound > 0"))
         if kind in (DevelopmentalOptions, TeacherOptions) and c.name in axis_errors:
             claims.append(_horizontal_first(c, reading, *axis_errors[c.name], ratio))
         if MODELS.name_of(o) == "rl" and n > 1:
-            final, first = _finals(curves[c.name][1]), curves[c.name][1][:, 0]
+            final, first = finals_of(curves[c.name][1]), curves[c.name][1][:, 0]
             chance = 1 / n
-            above, rises = _paired_lower(final, np.full_like(final, chance)), _paired_lower(
+            above, rises = paired_lower(final, np.full_like(final, chance)), paired_lower(
                 final, first)
             claims.append(Claim(
                 reading, f"{c.name}: gaze following emerges from the basic set",
