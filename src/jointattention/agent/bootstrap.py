@@ -40,8 +40,9 @@ class BootstrapOptions(ModelOptions):
     """
 
     readings: ClassVar[tuple[str, ...]] = ("gate_per", "vf_fallback", "learning_target",
-                                           "learn_from", "n_passes", "learning_rate",
-                                           "init_scale")
+                                           "learn_from", "n_passes", "learning_rate", "init_scale")
+    compiled: ClassVar[bool] = True
+    python_only: ClassVar[dict[str, tuple]] = {"learner": ("population",)}
 
     n_hidden: int = param(7, "hidden units of the learning module (paper: 7)", lo=1, hi=1000)
     learning_rate: float = param(
@@ -291,9 +292,6 @@ class BootstrapAgent(NetworkState):
         return int(keep.sum())
 
     def _learns(self, outcome: Outcome) -> bool:
-        """Whether the trial teaches: the evaluator fired (Eq. 3) after a move of the head.
-
-        With ``learn_from = "vf"``, only if the visual controller made the last move.
-        """
+        """Whether the trial teaches: Eq. 3 fired after a move (the last by VF if learn_from=vf)."""
         return (self.learning and outcome.fired and bool(self._thetas)
                 and (self.options.learn_from == "every" or self._last_module == VF))

@@ -45,6 +45,8 @@ class DevelopmentalOptions(TeacherOptions):
     The claims tell its variants apart by all six readings of the developments.
     """
 
+    compiled: ClassVar[bool] = True
+
     readings: ClassVar[tuple[str, ...]] = (
         *TeacherOptions.readings, "criterion_start_deg", "criterion_level",
         "criterion_window_trials", "criterion_shrink", "blur_start_px", "blur_sharp_steps")

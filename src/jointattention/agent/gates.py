@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -30,6 +31,8 @@ def sigmoid_rate(t: float, midpoint_steps: float, width_steps: float) -> float:
 class Gate(Section):
     """Base of the gates: a rate of choosing the learning module at each learning time."""
 
+    compiled: ClassVar[bool] = False  # declared True by the gates the compiled engine runs
+
     def rate_at(self, learning_time_steps):
         """The rate (0 to 1) at learning time(s) ``learning_time_steps``."""
         raise NotImplementedError
@@ -43,6 +46,8 @@ class Gate(Section):
 @dataclass(frozen=True)
 class SigmoidGate(Gate):
     """The paper's gate: the rate rises from 0 to 1 as a sigmoid of learning time."""
+
+    compiled: ClassVar[bool] = True  # the compiled engine runs it
 
     midpoint_steps: float = param(
         1.2e5, "learning time at which the sigmoid gate chooses each module equally", lo=0)
@@ -59,6 +64,8 @@ class SigmoidGate(Gate):
 @dataclass(frozen=True)
 class ConstantGate(Gate):
     """A constant rate (the paper compares 0.7, 0.9 and 1.0 with the sigmoid in Fig. 5)."""
+
+    compiled: ClassVar[bool] = True  # the compiled engine runs it
 
     rate: float = param(0.9, "rate of choosing the learning module", lo=0, hi=1)
 
@@ -102,6 +109,8 @@ class PerformanceGate(Gate):
     (:func:`agreement_update`). The rate rises from 0 at chance agreement to 1 at
     ``full_agreement`` (:func:`performance_rate`). The learning time plays no part.
     """
+
+    compiled: ClassVar[bool] = True  # the compiled engine runs it
 
     agree_deg: float = param(
         20.0, "a trial agrees if the module's command points within this angle of the place "

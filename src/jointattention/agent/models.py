@@ -41,6 +41,11 @@ class ModelOptions(Section):
     """
 
     readings: ClassVar[tuple[str, ...]] = ()
+    # The compiled engine runs a model only if its own class says so (a subclass does not
+    # inherit it: the compiled loop knows only what it was written for), and not the option
+    # values named here (e.g. a learning module it has no kernels for).
+    compiled: ClassVar[bool] = False
+    python_only: ClassVar[dict[str, tuple]] = {}
 
     def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> Agent:
         """The untrained agent.
@@ -49,6 +54,26 @@ class ModelOptions(Section):
         random generator.
         """
         raise NotImplementedError
+
+    def compiled_refusal(self) -> str | None:
+        """Why the compiled engine cannot run these options, as an error message (None if it can).
+
+        The model's own class and its gate's own class must declare ``compiled = True``.
+        """
+        gate = getattr(self, "gate", None)
+        values = [(k, getattr(self, k)) for k, v in type(self).python_only.items()
+                  if getattr(self, k) in v]
+        if not type(self).__dict__.get("compiled", False):
+            what = f"model kind {MODELS.name_of(self)!r}"
+        elif gate is not None and not type(gate).__dict__.get("compiled", False):
+            what = f"gate kind {gate.label!r}"
+        elif values:
+            what = f"{values[0][0]} {values[0][1]!r}"
+        else:
+            return None
+        return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap, "
+                "teacher or developmental model with a sigmoid, constant or performance gate, or "
+                "experiment.engine = 'python' or 'auto'")
 
     @property
     def label(self) -> str:

@@ -11,6 +11,7 @@ gains over the bootstrap model bounds what the self-evaluation gives up.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -25,6 +26,8 @@ __all__ = ["TeacherAgent", "TeacherOptions"]
 @dataclass(frozen=True)
 class TeacherOptions(BootstrapOptions):
     """The teacher's options: the bootstrap model's (README, *The models side by side*)."""
+
+    compiled: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         super().__post_init__()

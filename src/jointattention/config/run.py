@@ -180,9 +180,7 @@ class Config(Section):
 
 def _check_compiled(options: ModelOptions, where: str) -> None:
     """Refuse, naming it, a model the compiled engine does not run."""
-    from ..experiment.compiled import unsupported  # numba: loaded only when configs are made
-
-    refusal = unsupported(options)
+    refusal = options.compiled_refusal()  # each model and gate says what runs compiled
     if refusal is not None:
         raise ConfigError(f"{where}: {refusal}")
 

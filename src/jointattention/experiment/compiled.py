@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.bootstrap import LEARNING_TARGETS, BootstrapAgent, BootstrapOptions
+from ..agent.bootstrap import LEARNING_TARGETS, BootstrapAgent
 from ..agent.developmental import DevelopmentalOptions
-from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
-from ..agent.models import MODELS, ModelOptions
+from ..agent.gates import ConstantGate, PerformanceGate
+from ..agent.models import ModelOptions
 from ..agent.teacher import TeacherOptions
 from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
@@ -38,18 +38,11 @@ __all__ = ["CompiledCell", "pack_world", "unsupported"]
 
 
 def unsupported(options: ModelOptions) -> str | None:
-    """Why the compiled engine cannot run ``options``, as an error message (None if it can)."""
-    if type(options) not in (BootstrapOptions, TeacherOptions, DevelopmentalOptions):
-        what = f"model kind {MODELS.name_of(options)!r}"
-    elif type(options.gate) not in (SigmoidGate, ConstantGate, PerformanceGate):
-        what = f"gate kind {options.gate.label!r}"
-    elif options.learner == "population":
-        what = "learner 'population'"
-    else:
-        return None
-    return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap, "
-            "teacher or developmental model with a sigmoid, constant or performance gate, or "
-            "experiment.engine = 'python' or 'auto'")
+    """Why the compiled engine cannot run ``options`` (None if it can): their own say.
+
+    See :meth:`~jointattention.agent.models.ModelOptions.compiled_refusal`.
+    """
+    return options.compiled_refusal()
 
 
 def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_objects: int,
