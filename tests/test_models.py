@@ -321,3 +321,19 @@ def test_claim_visual_development_improves_accuracy(blurred, holds):
     claims = check_claims(config, _curves({"d": blurred, "s": [0.7, 0.72, 0.71]}), {"5": 0.9})
     [claim] = [c for c in claims if "visual development improves accuracy" in c.claim]
     assert claim.holds is holds and claim.claim.startswith("d:")
+
+
+def test_only_classes_that_say_so_run_compiled():
+    """A model class runs compiled only if it declares it itself: a subclass must say so too."""
+    from dataclasses import dataclass
+
+    from jointattention.agent.bootstrap import BootstrapOptions
+
+    @dataclass(frozen=True)
+    class Changed(BootstrapOptions):
+        """A bootstrap model with something the compiled loop was not written for."""
+
+    assert BootstrapOptions().compiled_refusal() is None
+    assert "does not run model kind" in Changed().compiled_refusal()
+    assert "does not run learner 'population'" in BootstrapOptions(
+        learner="population").compiled_refusal()

@@ -64,7 +64,7 @@ class ModelOptions(Section):
         values = [(k, getattr(self, k)) for k, v in type(self).python_only.items()
                   if getattr(self, k) in v]
         if not type(self).__dict__.get("compiled", False):
-            what = f"model kind {MODELS.name_of(self)!r}"
+            what = f"model kind {self._kind()!r}"
         elif gate is not None and not type(gate).__dict__.get("compiled", False):
             what = f"gate kind {gate.label!r}"
         elif values:
@@ -74,6 +74,13 @@ class ModelOptions(Section):
         return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap, "
                 "teacher or developmental model with a sigmoid, constant or performance gate, or "
                 "experiment.engine = 'python' or 'auto'")
+
+    def _kind(self) -> str:
+        """The registered name of this kind, or the class's name if it is not registered."""
+        try:
+            return MODELS.name_of(self)
+        except KeyError:
+            return type(self).__name__
 
     @property
     def label(self) -> str:
