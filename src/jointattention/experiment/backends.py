@@ -13,9 +13,10 @@ import os
 import shutil
 import signal
 import sys
+import threading
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from contextlib import closing
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from contextlib import closing, contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -76,6 +77,27 @@ def _stop_workers(pool: ProcessPoolExecutor) -> None:
         p.join(5)
 
 
+@contextmanager
+def _signals_noted() -> Iterator[list[int]]:
+    """SIGINT and SIGTERM only noted while the pool is waited on; then their own handlers run.
+
+    A handler that raises at any bytecode can land inside the executor's locks (e.g. half-way
+    through acquiring its futures' conditions), and the process then hangs at exit. Noted,
+    the signal is raised again from the caller's own code (:func:`_local`), at once.
+    """
+    noted: list[int] = []
+    if threading.current_thread() is not threading.main_thread():
+        yield noted
+        return
+    previous = {s: signal.signal(s, lambda signum, frame: noted.append(signum))
+                for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield noted
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+
+
 def _local(run: CellFunction, jobs: Sequence[CellJob], workers: int) -> Iterator[tuple]:
     workers = min(workers, len(jobs))  # no idle processes
     if workers <= 1:
@@ -83,10 +105,15 @@ def _local(run: CellFunction, jobs: Sequence[CellJob], workers: int) -> Iterator
         return
     pool = ProcessPoolExecutor(max_workers=workers, initializer=_end_with_parent,
                                initargs=(os.getpid(),))
-    futures = [pool.submit(_run, run, j) for j in jobs]
     try:
-        for f in as_completed(futures):
-            yield f.result()
+        with _signals_noted() as noted:
+            pending = {pool.submit(_run, run, j) for j in jobs}
+            while pending and not noted:
+                done, pending = wait(pending, timeout=0.1, return_when=FIRST_COMPLETED)
+                for f in done:
+                    yield f.result()
+        if noted:  # its own handler now: KeyboardInterrupt, or the command's SIGTERM
+            signal.raise_signal(noted[0])
     except BaseException:  # an interrupt, SIGTERM, or a failed cell: stop the rest at once
         _stop_workers(pool)
         raise
