@@ -14,7 +14,7 @@ from ..agent.models import MODELS
 from ..config import Config, model_options
 from .metrics import final_success, mean_interval
 
-__all__ = ["Claim", "finals_of", "paired", "paired_lower", "reading_of"]
+__all__ = ["PAIRED_RULE", "Claim", "finals_of", "paired", "paired_lower", "reading_of"]
 
 
 @dataclass(frozen=True)
@@ -45,6 +45,9 @@ def reading_of(condition, config: Config) -> str:
 def paired_lower(a: np.ndarray, b: np.ndarray) -> float:
     """Lower end of the 95% interval of mean(a - b) over seeds (paired)."""
     return float(mean_interval((a - b)[:, None])[1][0])
+
+
+PAIRED_RULE = "final difference: paired 95% lower bound > 0"  # the rule :func:`paired` checks
 
 
 def paired(a: np.ndarray, b: np.ndarray) -> tuple[bool, str]:

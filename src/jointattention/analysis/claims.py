@@ -34,22 +34,20 @@ import numpy as np
 from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from ..agent.teacher import TeacherOptions
 from ..config import Config, model_options
-from .claim import Claim, finals_of, paired, paired_lower, reading_of
+from .claim import PAIRED_RULE, Claim, finals_of, paired, paired_lower, reading_of
 from .neighbours import neighbour_claims
 from .tables import Table
 
 __all__ = ["Claim", "check_claims", "claims_table", "reading_of", "readings_table"]
 
 
-_RULES = {  # each claim's rule, by a phrase of its name (the module docstring says why)
-    "starts at the ceiling": "final within 0.05 of the ceiling",
-    "starts no better than chance": "first bin <= chance + 0.05; final - first bin: paired "
-                                    "95% lower bound > 0",
-    "at least 0.9 of the ceiling": "mean final >= 0.9 x ceiling",
+_RULES = {  # each claim's rule (the module docstring says why)
+    "ceiling kept": "final within 0.05 of the ceiling",
+    "rises": "first bin <= chance + 0.05; final - first bin: paired 95% lower bound > 0",
+    "0.9 of ceiling": "mean final >= 0.9 x ceiling",
     "worst seed": "lowest seed's final >= 0.75 x ceiling",
-    "beats": "final difference: paired 95% lower bound > 0",
-    "near or below chance": "mean final <= 1.25 x chance",
-    "stays at chance": "mean final <= 1.25 x chance",
+    "beats": PAIRED_RULE,
+    "chance": "mean final <= 1.25 x chance",
 }
 
 
@@ -68,9 +66,8 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
         groups.setdefault(reading_of(c, config), []).append(c)
     claims = []
     for reading, conds in groups.items():
-        def add(claim, holds, evidence, reading=reading):
-            rule = next(r for key, r in _RULES.items() if key in claim)
-            claims.append(Claim(reading, claim, bool(holds), evidence, rule))
+        def add(rule, claim, holds, evidence, reading=reading):
+            claims.append(Claim(reading, claim, bool(holds), evidence, _RULES[rule]))
 
         finals = {c.name: finals_of(curves[c.name][1]) for c in conds}
         sigmoid = [c for c in conds
@@ -86,16 +83,16 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
             n_objects = (f"{c.n_objects} objects" if c in sigmoid
                          else f"{c.n_objects} objects, performance gate")
             if first.mean() >= ceiling - 0.05:
-                add(f"{n_objects}: starts at the ceiling and stays there",
+                add("ceiling kept", f"{n_objects}: starts at the ceiling and stays there",
                     final.mean() >= ceiling - 0.05, numbers)
             else:
-                add(f"{n_objects}: starts no better than chance and rises",
+                add("rises", f"{n_objects}: starts no better than chance and rises",
                     first.mean() <= chance + 0.05 and paired_lower(final, first) > 0, numbers)
-            add(f"{n_objects}: final success at least 0.9 of the ceiling",
+            add("0.9 of ceiling", f"{n_objects}: final success at least 0.9 of the ceiling",
                 final.mean() >= 0.9 * ceiling,
                 f"final {final.mean():.3f} = {final.mean() / ceiling:.2f} of ceiling "
                 f"{ceiling:.3f}")
-            add(f"{n_objects}: worst seed at least 0.75 of the ceiling",
+            add("worst seed", f"{n_objects}: worst seed at least 0.75 of the ceiling",
                 final.min() >= 0.75 * ceiling,
                 f"worst seed {final.min():.3f} = {final.min() / ceiling:.2f} of ceiling "
                 f"{ceiling:.3f}")
@@ -103,26 +100,26 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
             for c in conds:
                 if c.n_objects == 5 and not c.shuffle_faces and c is not p and isinstance(
                         gates[c.name], (SigmoidGate, ConstantGate)):
-                    add(f"5 objects: performance gate beats {gates[c.name].label}",
+                    add("beats", f"5 objects: performance gate beats {gates[c.name].label}",
                         *paired(finals[p.name], finals[c.name]))
         for c in conds:
             if not isinstance(gates[c.name], ConstantGate) or c.shuffle_faces:
                 continue
             rate = gates[c.name].rate
             for s in (s for s in sigmoid if s.n_objects == c.n_objects):
-                add(f"{c.n_objects} objects: sigmoid beats constant {rate}",
+                add("beats", f"{c.n_objects} objects: sigmoid beats constant {rate}",
                     *paired(finals[s.name], finals[c.name]))
             if (rate == 1.0 and c.n_objects == 5
                     and not isinstance(model_options(config, c), TeacherOptions)):
                 # the paper's claim of a self-evaluating robot; a taught one learns (the
                 # neighbours' claims)
-                add("5 objects: constant 1.0 stays near or below chance",
+                add("chance", "5 objects: constant 1.0 stays near or below chance",
                     finals[c.name].mean() <= 1.25 * 0.2,
                     f"final {finals[c.name].mean():.3f}, chance 0.200")
         for c in conds:
             if c.shuffle_faces:
                 chance = 1 / c.n_objects
-                add(f"{c.n_objects} objects, shuffled faces: stays at chance",
+                add("chance", f"{c.n_objects} objects, shuffled faces: stays at chance",
                     finals[c.name].mean() <= 1.25 * chance,
                     f"final {finals[c.name].mean():.3f}, chance {chance:.3f}")
     return claims + neighbour_claims(config, curves, axis_errors)

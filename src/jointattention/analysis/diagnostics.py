@@ -26,7 +26,9 @@ import numpy as np
 from ..config import Config, ExperimentConfig
 from ..experiment.results import cell_path, load_cell
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
-from .metrics import bin_index, final_success, success_by_bin
+from .claim import finals_of
+from .curves import Curves, condition_curves
+from .metrics import bin_index
 from .tables import Table
 
 __all__ = ["METRICS", "SeedDiagnostics", "condition_diagnostics", "diagnostics_table",
@@ -84,16 +86,19 @@ def _cell_metrics(rec: dict[str, np.ndarray], exp: ExperimentConfig) -> np.ndarr
 SeedDiagnostics = dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 
-def seed_diagnostics(out: Path, config: Config) -> SeedDiagnostics:
-    """Every seed's metrics per bin and its final success, from a run folder's cells."""
+def seed_diagnostics(out: Path, config: Config, curves: Curves | None = None) -> SeedDiagnostics:
+    """Every seed's metrics per bin and its final success, from a run folder's cells.
+
+    The final success is the claims' and tables' (:func:`~.claim.finals_of` of the success
+    curves, ``curves`` as from :func:`~.curves.condition_curves`: read from the cells if None).
+    """
     exp = config.experiment
+    curves = condition_curves(out, config) if curves is None else curves
     result = {}
     for c in exp.conditions:
         cells = [load_cell(cell_path(out, c.name, i)) for i in range(exp.n_seeds)]
-        finals = [final_success(success_by_bin(r["learning_time"], r["success"], exp.bin_steps,
-                                               exp.n_steps)) for r in cells]
         result[c.name] = (exp.bin_ends_steps(), np.array([_cell_metrics(r, exp) for r in cells]),
-                          np.array(finals))
+                          finals_of(curves[c.name][1]))
     return result
 
 

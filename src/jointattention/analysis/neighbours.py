@@ -39,7 +39,7 @@ from ..agent.models import MODELS
 from ..agent.teacher import TeacherOptions
 from ..config import Config, model_options
 from ..experiment.cells import datasets_of
-from .claim import Claim, finals_of, paired, paired_lower, reading_of
+from .claim import PAIRED_RULE, Claim, finals_of, paired, paired_lower, reading_of
 from .metrics import mean_interval
 
 __all__ = ["AxisErrors", "geometry_ratio", "neighbour_claims"]
@@ -103,7 +103,7 @@ def neighbour_claims(config: Config, curves: dict,
                     claims.append(Claim(
                         reading, f"{c.name}: visual development improves accuracy ({s.name})",
                         *paired(finals_of(curves[c.name][1]), finals_of(curves[s.name][1])),
-                        "final difference: paired 95% lower bound > 0"))
+                        PAIRED_RULE))
         if kind in (DevelopmentalOptions, TeacherOptions) and c.name in axis_errors:
             claims.append(_horizontal_first(c, reading, *axis_errors[c.name], ratio))
         if MODELS.name_of(o) == "rl" and n > 1:

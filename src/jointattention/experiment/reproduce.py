@@ -203,7 +203,7 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
         held = held_out_curves(out, config)
         claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config))
         claims += held_out_claims(config, held, held_ceilings)
-        seeds = seed_diagnostics(out, config)
+        seeds = seed_diagnostics(out, config, curves)
         diagnostics = condition_diagnostics(out, config, seeds)
         files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
                  *final_table(config, curves, ceilings, held, held_ceilings).write(out / "table"),
