@@ -38,6 +38,19 @@ def test_round_trip_from_head_angle(theta, dist):
     np.testing.assert_allclose(KIN.centring_angles(point), theta, atol=1e-9)
 
 
+def test_project_takes_many_points_at_once():
+    """Several points project in one call, each as it does alone (a scalar radius broadcasts)."""
+    rng = np.random.default_rng(0)
+    theta = np.array([0.2, -0.1])
+    points = KIN.camera_position(theta) + rng.uniform(0.5, 2.0, (5, 1)) * (
+        KIN.gaze_direction(theta) + rng.normal(0, 0.1, (5, 3)))
+    uv, depth = KIN.project(points, theta)
+    for p, q, d in zip(points, uv, depth, strict=True):
+        one_uv, one_depth = KIN.project(p, theta)
+        np.testing.assert_allclose(one_uv[0], q)
+        assert one_depth[0] == pytest.approx(d)
+
+
 def test_offset_matters():
     """The offset camera needs a different angle than a plain atan2 would give."""
     point = np.array([0.3, 0.5, 0.2])

@@ -49,15 +49,16 @@ def recording(tmp_path_factory, gl_available):
     return folder, rows, np.array(true_windows)
 
 
-def test_import_finds_the_faces_and_reports_the_rest(recording):
+@pytest.mark.parametrize(("face", "most"), [("blazeface", 12), ("template", 8)])
+def test_import_finds_the_faces_and_reports_the_rest(recording, face, most):
     """Every caregiver view is imported, near the data sets' own window; views away are listed."""
     folder, rows, true_windows = recording
-    ds, missed = import_recording(folder)
+    ds, missed = import_recording(folder, face=face)
     assert [m.row for m in missed] == [13, 14]
     assert len(ds) == 12 and ds.meta["rows_without_face"] == [13, 14]
     np.testing.assert_allclose(ds.theta_face_rad[:, 0], [r["pan_rad"] for r in rows[:12]])
     diff = np.abs(ds.face.astype(float) - true_windows[:12]).mean()
-    assert diff < 8, diff  # grey levels; a window of another place differs by about 40
+    assert diff < most, diff  # grey levels; a window of another place differs by about 40
 
 
 def test_cli_import_writes_a_valid_file_and_warns(recording, tmp_path, capsys):
@@ -92,7 +93,7 @@ def test_datasets_cut_by_the_robots_finder(needs_gl):
     assert len(found) == 6 and found.meta["without_face"] == []
     np.testing.assert_array_equal(found.command_rad, box.command_rad)
     diff = np.abs(found.face.astype(float) - box.face).mean()
-    assert 0 < diff < 8, diff  # the same faces, cut a little differently
+    assert 0 < diff < 12, diff  # the same faces, cut a little differently (another place: ~40)
 
 
 def _broken(folder: Path, tmp: Path) -> dict[str, Path]:

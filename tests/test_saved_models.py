@@ -207,6 +207,14 @@ def test_follow_on_a_damaged_video_prints_only_its_own_lines(saved, tmp_path, ca
     assert err == "" and 1 <= len(out.splitlines()) < 5
 
 
+def test_follow_with_no_camera_is_one_clear_line(saved, capfd):
+    """--camera N where there is none: one error line, and OpenCV's own lines stay out."""
+    _, path = saved
+    assert main(["follow", str(path), "--camera", "7"]) == 2
+    out, err = capfd.readouterr()
+    assert out == "" and err.count("\n") == 1 and "camera 7" in err, err
+
+
 def test_closed_loop_runs_a_saved_model_through_images(saved, tmp_path, capsys, needs_gl):
     """The closed loop finds the face in every rendered start image and prints its table."""
     from jointattention.experiment.closed_loop import closed_loop

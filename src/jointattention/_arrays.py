@@ -45,7 +45,8 @@ def floats(name: str, value, shape: tuple | None, *, what: str = "numbers",
                f"a {type(value).__name__}")
         raise ArgumentError(f"{name}: {got}; expected {_shape_text(shape)} "
                             f"{'finite ' if finite else ''}{what}")
-    return np.ascontiguousarray(a, dtype=float)
+    # ascontiguousarray makes a 0-d array 1-d; a number stays a number
+    return np.ascontiguousarray(a, dtype=float).reshape(a.shape)
 
 
 def windows(name: str, value, face_size_px, n: int | None = 0) -> np.ndarray:

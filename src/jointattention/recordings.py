@@ -37,8 +37,8 @@ import numpy as np
 from . import __version__
 from ._checks import check_path
 from ._readers import read_image, read_text
-from .agent.faces import face_template, finder_for, window_of
-from .config import DetectorConfig
+from .agent.faces import face_template, window_of
+from .agent.finders import finder_for
 from .datasets import CaregiverDatasets, default_datasets
 from .errors import DatasetError, FileError
 
@@ -131,18 +131,18 @@ def _checked(row: dict, i: int, where: Path, folder: Path) -> dict:
     return out
 
 
-def import_recording(folder: str | Path, *, face: str = "template",
+def import_recording(folder: str | Path, *, face: str = "blazeface",
                      template: np.ndarray | None = None, face_size_px: tuple[int, int] = (30, 25),
                      min_score: float | None = None,
                      progress: Callable[[int], None] | None = None
                      ) -> tuple[CaregiverDatasets, list[Missed]]:
     """The data sets of a recorded folder, and the rows whose face was not found.
 
-    ``face``: ``"template"`` (normalised correlation with ``template``, by default the mean face
-    window of the shipped data sets: the simulated caregiver) or ``"haar"`` (OpenCV's cascade:
-    people); ``min_score``: the least template score (default: the detector's
-    ``face_min_score``). ``face_size_px``: the windows' (width, height). Every row and image
-    is checked before the data sets are built; nothing is written here.
+    ``face``: ``"blazeface"`` (the shipped neural detector), ``"template"`` (normalised
+    correlation with ``template``, by default the mean face window of the shipped data sets:
+    the simulated caregiver) or ``"haar"`` (OpenCV's cascade); ``min_score``: the least score
+    of a face (default: the finder's own). ``face_size_px``: the windows' (width, height).
+    Every row and image is checked before the data sets are built; nothing is written here.
     """
     check_path(folder, "folder")
     folder = Path(folder)
@@ -152,8 +152,6 @@ def import_recording(folder: str | Path, *, face: str = "template",
     rows, optional = _rows(folder)
     if face == "template" and template is None:
         template = face_template(default_datasets().face)
-    if min_score is None:
-        min_score = DetectorConfig().face_min_score
     finder = finder_for(face, template, min_score)
     kept, faces, missed = [], [], []
     for i, row in enumerate(rows, start=1):

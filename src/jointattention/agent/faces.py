@@ -1,7 +1,8 @@
 """The caregiver's face in an image, and the face window cut around it.
 
-Faces are found by template matching, as the paper's robot did, or by OpenCV's Haar cascade for real
-photographs (shipped with opencv-python-headless). The face window is the paper's 30 x 25 pixels.
+Faces are found by template matching, as the paper's robot did, or by OpenCV's Haar cascade;
+:mod:`~jointattention.agent.finders` adds BlazeFace, the robot's default, and chooses among
+them. The face window is the paper's 30 x 25 pixels.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-__all__ = ["MAX_SEARCH_SIDE_PX", "Face", "FaceFinder", "face_template", "face_window", "finder_for",
+__all__ = ["MAX_SEARCH_SIDE_PX", "Face", "FaceFinder", "face_template", "face_window",
            "window_of"]
 
 
@@ -19,14 +20,16 @@ __all__ = ["MAX_SEARCH_SIDE_PX", "Face", "FaceFinder", "face_template", "face_wi
 class Face:
     """A face found in an image.
 
-    Its centre, the height of its box (both in pixels), the match score (normalised correlation; 1.0
-    for the Haar cascade, which gives none) and the box's width / height.
+    Its centre, the height of its box (both in pixels), the match score (normalised correlation
+    for the template; 1.0 for the Haar cascade, which gives none; BlazeFace's probability), the
+    box's width / height and, from BlazeFace, the six landmarks (6, 2).
     """
 
     centre_px: np.ndarray
     height_px: float
     score: float
     aspect: float = 1.0
+    landmarks_px: np.ndarray | None = None
 
     @property
     def box_px(self) -> tuple[int, int, int, int]:
@@ -198,16 +201,6 @@ def _gray_window(gray: np.ndarray, centre_px, height_px: float,
 # faces are looked for from this fraction of an image's height up to all of it
 _LEAST_FACE_FRACTION = 0.08
 MAX_SEARCH_SIDE_PX = 1280  # larger images are searched reduced to this longer side
-
-
-def finder_for(method: str, template: np.ndarray | None = None,
-               min_score: float = 0.7) -> FaceFinder:
-    """The robot's face finder: faces from 8% of each image's height (8 px at least) to all.
-
-    Templates are tried at heights 2% apart: the learning module answers a window cut a few
-    percent too large or too small differently (README, *The loop closed in the simulator*).
-    """
-    return FaceFinder(method, template, min_score=min_score, heights_px=None, scale_step=1.02)
 
 
 def window_of(image_rgb: np.ndarray, face: Face, size_px: tuple[int, int]) -> np.ndarray:

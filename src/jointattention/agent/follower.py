@@ -8,8 +8,9 @@
     ...     if command is not None:
     ...         head.move_by(command)
 
-Each frame: the caregiver's face is found (template matching with the mean face the model
-learned from, or OpenCV's Haar cascade for people), its window is cut by
+Each frame: the caregiver's face is found (by default BlazeFace, the shipped neural face
+detector; or template matching with the mean face the model learned from, or OpenCV's Haar
+cascade), its window is cut by
 :func:`~jointattention.agent.faces.window_of` (the function imported recordings are
 made with), and the learning module gives one step toward where the caregiver looks.
 """
@@ -22,14 +23,12 @@ from pathlib import Path
 import numpy as np
 
 from .._arrays import angles
-from ..config import DetectorConfig
 from ..errors import ArgumentError
-from .faces import Face, finder_for, window_of
+from .faces import Face, window_of
+from .finders import FACE_METHODS, finder_for
 from .saved import LearnedModel, Robot, load_model
 
 __all__ = ["FACE_METHODS", "GazeFollower", "Look"]
-
-FACE_METHODS = ("template", "haar")
 
 
 @dataclass(frozen=True)
@@ -52,28 +51,26 @@ class GazeFollower:
 
     Args:
         model: the learned model (:func:`~jointattention.agent.saved.load_model`).
-        face: ``"template"`` (the mean face window the model learned from: for the simulated
-            caregiver, or a robot's own recordings) or ``"haar"`` (OpenCV's frontal-face
-            cascade: for people).
-        min_score: least score of a template match (default: the detector's
-            ``face_min_score``); a run-time choice, not part of what was learned.
+        face: ``"blazeface"`` (the shipped neural face detector, calibrated to cut the
+            windows the data sets cut: docs/faces/detectors.md), ``"template"`` (the mean face
+            window the model learned from) or ``"haar"`` (OpenCV's frontal-face cascade).
+        min_score: least score of a face (None: the finder's own; BlazeFace's probability
+            from 0 to 1, the template's normalised correlation from -1 to 1); a run-time
+            choice, not part of what was learned.
     """
 
-    def __init__(self, model: LearnedModel, face: str = "template",
+    def __init__(self, model: LearnedModel, face: str = "blazeface",
                  min_score: float | None = None):
         if face not in FACE_METHODS:
             raise ArgumentError(f"face {face!r}: expected one of {', '.join(FACE_METHODS)}")
         self.model, self.face = model, face
-        min_score = DetectorConfig().face_min_score if min_score is None else min_score
-        if isinstance(min_score, bool) or not isinstance(min_score, (int, float)) or not (
-                -1 <= min_score <= 1):  # NaN fails too
-            raise ArgumentError(f"min_score {min_score!r}: expected a number from -1 to 1 (a "
-                                "normalised correlation)")
-        self.finder = finder_for(face, model.face_template() if face == "template" else None,
+        if min_score is not None:
+            _check_min_score(min_score, face)
+        self.finder = finder_for(face, model.face_template() if "template" in face else None,
                                  min_score)
 
     @classmethod
-    def load(cls, path: str | Path, *, face: str = "template", robot: Robot | None = None,
+    def load(cls, path: str | Path, *, face: str = "blazeface", robot: Robot | None = None,
              min_score: float | None = None) -> GazeFollower:
         """A follower of the model saved at ``path`` (refused if learned on another ``robot``)."""
         return cls(load_model(path, robot=robot), face, min_score)
@@ -112,3 +109,15 @@ class GazeFollower:
                 raise ArgumentError(f"theta_rad: {name} {np.rad2deg(value):.1f} deg is outside "
                                     f"the model's robot's joint range [{lo}, {hi}] deg")
         return theta
+
+
+def _check_min_score(min_score, face: str) -> None:
+    """One ArgumentError line unless ``min_score`` is a score of ``face``'s finder."""
+    probability = face.startswith("blazeface")
+    number = not isinstance(min_score, bool) and isinstance(min_score, (int, float))
+    inside = number and (0 < min_score < 1 if probability else -1 <= min_score <= 1)  # NaN: no
+    if not inside:
+        what = "above 0 and below 1 (a probability" if probability else (
+            "from -1 to 1 (a normalised correlation")
+        raise ArgumentError(f"min_score {min_score!r}: expected a number {what}, for face "
+                            f"{face!r})")

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 from .._files import check_writable
+from ..agent.finders import FACE_METHODS
 from ..errors import ArgumentError, FileError
 from ._common import add_cell, add_config, int_in
 
@@ -149,13 +150,13 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     start = time.perf_counter()
     for n in args.objects:
         with tqdm(total=args.trials, desc=f"{n} objects", unit="trial") as bar:
-            r = closed_loop(model, n, args.trials, seed=args.seed,
+            r = closed_loop(model, n, args.trials, seed=args.seed, face=args.face,
                             progress=lambda i: bar.update(1), datasets=datasets)
         rows.append(f"| {n} | {r.n_trials} | {r.rendered_success:.3f} | "
                     f"{r.rendered_dataset_face_success:.3f} | {r.fast_success:.3f} | "
                     f"{r.faces_found:.3f} | {r.image_error_deg:.1f}°, {r.dataset_error_deg:.1f}° |")
-    text = "\n".join(rows) + (f"\n\nSuccess of {args.model} (learning time "
-                              f"{model.agent.learning_time_steps:,} steps), "
+    text = "\n".join(rows) + (f"\n\nSuccess of {args.model} (face finder {args.face}; "
+                              f"learning time {model.agent.learning_time_steps:,} steps), "
                               f"{(time.perf_counter() - start) / 60:.1f} min.\n")
     text += _held_out_lines(model.held_out)
     print(text, end="")
@@ -195,7 +196,8 @@ def _cmd_datasets_import(args: argparse.Namespace) -> None:
     with tqdm(desc="images", unit="image", disable=args.quiet) as bar:
         ds, missed = import_recording(args.folder, face=args.face, template=template,
                                       face_size_px=(fw.width_px, fw.height_px),
-                                      min_score=config.detector.face_min_score,
+                                      min_score=(config.detector.face_min_score
+                                                 if args.face == "template" else None),
                                       progress=lambda i: bar.update(i - bar.n))
     for m in missed:
         print(f"jointattention: warning: row {m.row} ({m.image}): no face found; left out",
@@ -215,9 +217,10 @@ def add_import(dsub) -> None:
                     "are listed and left out (README, Saved models and real heads).")
     q.add_argument("folder", metavar="FOLDER", type=Path, help="the recording folder")
     add_config(q)
-    q.add_argument("--face", choices=("template", "haar"), default="template",
-                   help="face finder: a template (default: the shipped data sets' mean face, "
-                        "the simulated caregiver) or OpenCV's Haar cascade (people)")
+    q.add_argument("--face", choices=FACE_METHODS, default="blazeface",
+                   help="face finder: BlazeFace (default: the shipped neural detector, "
+                        "docs/faces/detectors.md), a template (the shipped data sets' mean "
+                        "face) or OpenCV's Haar cascade")
     q.add_argument("--template", metavar="DATASETS.npz",
                    help="with --face template: the mean face of these data sets as the template")
     q.add_argument("--out", required=True, help="output data-set file, ending in .npz")
@@ -251,9 +254,10 @@ def add_commands(sub) -> None:
     p.add_argument("--theta-deg", "--theta", type=_theta, default=[0.0, 0.0],
                    metavar="PAN,TILT", help="the head angle of the frames, degrees "
                                             "(default: 0,0)")
-    p.add_argument("--face", choices=("template", "haar"), default="template",
-                   help="face finder: the model's mean face (default: the simulated caregiver "
-                        "or your recordings) or OpenCV's Haar cascade (people)")
+    p.add_argument("--face", choices=FACE_METHODS, default="blazeface",
+                   help="face finder: BlazeFace (default: the shipped neural detector, "
+                        "docs/faces/detectors.md), the model's mean face (template) or "
+                        "OpenCV's Haar cascade")
     p.add_argument("--out", help="folder for the overlay images (default: none written)")
     p.set_defaults(func=_cmd_follow)
 
@@ -272,5 +276,7 @@ def add_commands(sub) -> None:
                    help="trials per object count (default: 200)")
     p.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
                    help="seed of the trials (default: 0)")
+    p.add_argument("--face", choices=FACE_METHODS, default="blazeface",
+                   help="face finder (default: blazeface; template: the model's mean face)")
     p.add_argument("--out", help="also write the table to this Markdown file")
     p.set_defaults(func=_cmd_closed_loop)

@@ -79,20 +79,22 @@ class ClosedLoopResult:
 
 def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int = 0,
                 progress: Callable[[int], None] | None = None,
-                datasets: CaregiverDatasets | None = None) -> ClosedLoopResult:
+                datasets: CaregiverDatasets | None = None, face: str = "blazeface"
+                ) -> ClosedLoopResult:
     """Run ``model`` for ``n_trials`` trials of ``n_objects`` objects, rendered and fast.
 
     The trials are the model's own world (its configuration and data sets); ``seed`` draws them.
     The rendered caregiver is the data sets' first identity (the world seed's own), so data
     sets of several caregivers are narrowed to hers. A trial whose first image shows no face the
     finder accepts is a failure. ``datasets``: the model's data sets, if already loaded and
-    checked (:func:`~.training.model_datasets`).
+    checked (:func:`~.training.model_datasets`). ``face``: the face finder
+    (:data:`~jointattention.agent.faces.FACE_METHODS`).
     """
     config = with_n_objects(model.config, n_objects)
     ds = _first_caregiver(datasets if datasets is not None else datasets_of(config))
     kin = HeadKinematics.from_config(config.world)
     evaluate = evaluator(config)
-    follower, agent = GazeFollower(model), FollowingAgent(model)
+    follower, agent = GazeFollower(model, face), FollowingAgent(model)
     rng = stream(seed, "closed-loop", n_objects)
     seed_of_world = int(ds.meta.get("seed", config.seed))  # the caregiver the data sets show
     scenes = RenderedScenes(config.world, config.detector, n_objects, seed=seed_of_world,

@@ -16,8 +16,9 @@ import numpy as np
 
 from .. import __version__
 from .. import rng as rngs
-from ..agent.faces import face_template, face_window, finder_for, window_of
-from ..config import Config, DetectorConfig, WorldConfig, to_toml
+from ..agent.faces import face_window, window_of
+from ..agent.finders import finder_for
+from ..config import Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets, load
 from ..errors import DatasetError
 from .identity import Caregiver, caregiver_from_dict, sample_caregiver
@@ -29,6 +30,7 @@ __all__ = ["CUTS", "HELD_OUT", "capture_face_window", "caregivers_of", "face_box
 HELD_OUT = "held-out"  # the stream of held-out recordings; no training world draws from it
 
 CUTS = ("box", "finder")  # where make_datasets cuts the face windows
+FACE_FINDER = "blazeface"  # the robot's face finder, as follow and the closed loop use it
 
 
 def face_box(world: World) -> tuple[np.ndarray, float]:
@@ -52,9 +54,8 @@ def capture_face_window(world: World, image: np.ndarray | None = None) -> np.nda
 
 
 def _cut_by_finder(images: list[np.ndarray], faces: np.ndarray, size_px) -> np.ndarray:
-    """Re-cut ``faces`` in place around the faces the robot finds; which ones were found."""
-    template = face_template(faces)
-    finder = finder_for("template", template, DetectorConfig().face_min_score)
+    """Re-cut ``faces`` in place around the faces the robot's finder finds; which were found."""
+    finder = finder_for(FACE_FINDER)
     found = np.zeros(len(faces), bool)
     for i, image in enumerate(images):
         match = finder.find(image)
@@ -93,9 +94,9 @@ def make_datasets(
 
     ``cut``: where each face window is cut. ``"box"``: around the head's projection (what only
     the experimenter knows). ``"finder"``: around the face the robot's own face finder
-    finds, with the mean of the recording's box windows as its template, as a robot's
-    recordings are made (``datasets import``) and as ``follow`` and the closed loop cut their
-    windows; data sets whose face it does not find are left out (``meta["without_face"]``).
+    finds (:data:`FACE_FINDER`), as a robot's recordings are made (``datasets import``) and as
+    ``follow`` and the closed loop cut their windows; data sets whose face it does not find are
+    left out (``meta["without_face"]``).
 
     ``stream``: the world's random stream (:class:`World`); another than ``"world"`` is kept in
     ``meta["stream"]``. ``identities``: the data sets are posed by these caregivers instead,
@@ -154,7 +155,8 @@ def make_datasets(
         keep = _cut_by_finder(images, faces, (fw.width_px, fw.height_px))
         faces, theta_face, command, target, who = (
             a[keep] for a in (faces, theta_face, command, target, who))
-        meta.update(cut="finder", without_face=np.flatnonzero(~keep).tolist())
+        meta.update(cut="finder", face_finder=FACE_FINDER,
+                    without_face=np.flatnonzero(~keep).tolist())
     if identities is not None or caregivers > 1:
         meta["caregivers"] = people
     if caregivers == 1:

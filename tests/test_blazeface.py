@@ -1,0 +1,112 @@
+"""BlazeFace, the shipped face detector: it finds faces, places windows where data sets cut them."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from jointattention._readers import read_image
+from jointattention.agent.blazeface import BlazeFace, Calibration, Detection
+from jointattention.agent.finders import finder_for
+from jointattention.config import load_config
+
+PHOTO = Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg"
+
+
+def test_finds_the_one_face_of_a_photograph_and_its_landmarks():
+    """Grace Hopper's photograph: one face, her eyes above her mouth, inside the box."""
+    found = BlazeFace().detect(read_image(PHOTO))
+    assert len(found) == 1 and found[0].score > 0.8
+    x, y, w, h = found[0].box_px
+    marks = found[0].landmarks_px
+    assert ((marks[:4, 0] > x) & (marks[:4, 0] < x + w) & (marks[:4, 1] > y)
+            & (marks[:4, 1] < y + h)).all()
+    assert marks[3, 1] > max(marks[0, 1], marks[1, 1])  # the mouth below the eyes
+    assert marks[0, 0] < marks[1, 0]  # the person's right eye on the image's left
+
+
+@pytest.mark.parametrize("image", [np.zeros((240, 320, 3), np.uint8),
+                                   np.full((480, 640, 3), 128, np.uint8),
+                                   np.random.default_rng(0).integers(0, 256, (240, 320, 3),
+                                                                     dtype=np.uint8)])
+def test_finds_no_face_where_there_is_none(image):
+    """A black, a grey and a noise image hold no face."""
+    assert finder_for("blazeface").find(image) == []
+
+
+def test_finds_held_out_caregivers_where_their_heads_are(needs_gl):
+    """30 views of 30 caregivers no calibration saw: all found, windows where data sets cut them."""
+    from jointattention.world.face_views import face_views
+
+    config = load_config("many-caregivers").world
+    finder = finder_for("blazeface")
+    errors, ratios = [], []
+    for view in face_views(config, 30, 30, seed=5, stream="held-out"):
+        faces = finder.find(view.image)
+        assert faces, "a face was missed"
+        errors.append(np.hypot(*(faces[0].centre_px - view.centre_px)) / view.height_px)
+        ratios.append(faces[0].height_px / (1.15 * view.height_px))  # the data sets' window
+    assert np.median(errors) < 0.1 and max(errors) < 0.25
+    assert np.median(np.abs(np.log(ratios))) < 0.08 and np.max(np.abs(np.log(ratios))) < 0.3
+
+
+@settings(max_examples=30, deadline=None)
+@given(weights=st.lists(st.floats(-0.5, 0.5), min_size=39, max_size=39), seed=st.integers(0, 99))
+def test_calibration_recovers_a_linear_map_of_the_landmarks(weights, seed):
+    """Heads made from detections by a known map give that map back, and head() applies it."""
+    rng = np.random.default_rng(seed)
+    w = np.array(weights).reshape(13, 3)
+    w[0, 2] += 2.0  # heads are taller than nothing
+    detections = [Detection(np.r_[rng.uniform(0, 200, 2), s, s], 0.9,
+                            rng.uniform(0, 200, 2) + rng.normal(0, 0.3, (6, 2)) * s)
+                  for s in rng.uniform(20, 80, 40)]
+    truth = Calibration(w, {})
+    heads = [truth.head(d) for d in detections]
+    fitted = Calibration.fit(detections, [c for c, _ in heads], [h for _, h in heads], {})
+    np.testing.assert_allclose(fitted.weights, w, atol=1e-6)
+
+
+def test_calibration_round_trips_through_a_file(tmp_path):
+    """The shipped calibration saves and loads with its weights and how it was fitted."""
+    shipped = Calibration.load()
+    assert shipped.meta["command"] == "python docs/faces/calibrate.py"
+    shipped.save(tmp_path / "c.npz")
+    again = Calibration.load(tmp_path / "c.npz")
+    np.testing.assert_array_equal(again.weights, shipped.weights)
+    assert again.meta == shipped.meta
+
+
+@pytest.mark.parametrize("bad", [0.0, 1.0, float("nan"), -0.2])
+def test_a_score_that_is_not_a_probability_is_refused(bad):
+    """min_score outside (0, 1) is one ValueError naming it."""
+    with pytest.raises(ValueError, match="min_score"):
+        BlazeFace(bad)
+
+
+def test_the_faces_command_prints_and_writes_the_comparison(tmp_path, capsys, needs_gl):
+    """`jointattention faces` measures every finder on held-out views and on photographs."""
+    from jointattention.cli import main
+
+    out = tmp_path / "detectors.md"
+    assert main(["faces", "--n", "6", "--caregivers", "3", "--out", str(out)]) == 0
+    text = out.read_text()
+    assert text == capsys.readouterr().out
+    row = next(line for line in text.splitlines() if line.startswith("| blazeface |"))
+    found = int(row.split("(")[1].split("/")[0])
+    assert 5 <= found <= 6  # BlazeFace finds (almost) every rendered face
+    assert "| template |" in text and "| haar |" in text
+    assert "lfw_subset" in text or "not measured" in text
+
+
+def test_the_faces_command_refuses_more_caregivers_than_views(capsys):
+    """--caregivers above --n is one error line."""
+    from jointattention.cli import main
+
+    assert main(["faces", "--n", "2", "--caregivers", "3"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--caregivers 3" in err
