@@ -44,6 +44,7 @@ class BlazeFaceFinder:
         faces = []
         for d in self.net.detect(np.ascontiguousarray(image_rgb)):
             centre, height = self.calibration.head(d)
+            # the box drawn is the paper's 30 x 25 window's shape
             faces.append(Face(centre, self.margin * height, d.score, 30 / 25, d.landmarks_px))
         return faces
 
@@ -53,8 +54,9 @@ class AlignedFinder:
 
     Around each face BlazeFace finds, the template (the mean window a model learned from) is
     matched at heights 2% apart within ``reach`` of the face's, and at places within a third of
-    its height: the window is then cut where the model's own windows were, to the pixel and the
-    percent, which a model learned from one caregiver needs (README, *Face finders*).
+    its height, so the window is cut nearer where the model's own windows were: a model learned
+    from one caregiver's box-cut windows answers a window a few pixels or percent off
+    differently (README, *The loop closed in the simulator*).
     """
 
     method = "blazeface-template"

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import cv2
 import numpy as np
@@ -41,7 +41,7 @@ class FinderScore:
     faces: int = 0  # faces shown
     found: int = 0  # faces found (recall = found / faces)
     false: int = 0  # faces reported where there is none
-    errors_px: list = None  # centre error of each face found
+    errors_px: list = field(default_factory=list)  # centre error of each face found
     fps_640: float = float("nan")  # frames per second at 640 x 480
 
     @property
@@ -118,7 +118,7 @@ def finders(template: np.ndarray | None) -> dict[str, Find]:
 def _score(name: str, find: Find, views: Iterable[tuple[np.ndarray, np.ndarray | None, float]]
            ) -> FinderScore:
     """``find`` on (image, true centre or None for no face, true height) views."""
-    score = FinderScore(name, errors_px=[])
+    score = FinderScore(name)
     for image, centre, height in views:
         faces = find(image)
         hit = None
@@ -188,7 +188,7 @@ def photo_scores(chosen: dict[str, Find]) -> list[FinderScore] | None:
 def finders_table(rendered: list[FinderScore], photos: list[FinderScore] | None,
                   command: str) -> str:
     """The comparison as Markdown: one row per finder, rendered faces then photographs."""
-    head = rendered[0] if rendered else FinderScore("", errors_px=[])
+    head = rendered[0] if rendered else FinderScore("")
     lines = [f"Face finders on {head.faces} rendered views of held-out caregivers "
              f"(`{command}`).", "",
              "| finder | recall | precision | median centre error (px) | frames/s at 640x480 |",
