@@ -157,6 +157,9 @@ def test_cli_train_and_follow(saved, tmp_path, capsys, needs_gl):
     assert code == 0
     record = json.loads(capsys.readouterr().out.strip())
     assert record["face"] is not None and record["face"]["score"] > 0.5
+    x, y, w, h = record["face"]["box_px"]
+    cx, cy = record["face"]["centre_px"]
+    assert w > 0 and h > 0 and x <= cx <= x + w and y <= cy <= y + h
     assert np.hypot(*record["command_deg"]) == pytest.approx(load_config(TINY).agent.lm_step_deg,
                                                             abs=1e-3)  # rounded in the JSON
     assert (tmp_path / "out" / "view_follow.png").is_file()
@@ -180,6 +183,7 @@ def test_cli_follow_refuses_bad_input_in_one_line(saved, tmp_path, capsys):
     cases = [[str(tmp_path / "junk.npz"), str(tmp_path / "junk.png")],
              [str(path), str(tmp_path / "junk.png")],
              [str(path), str(tmp_path / "junk.png"), "--theta", "200,0"],
+             [str(path), str(tmp_path / "junk.png"), "--min-score", "1.5"],
              [str(path)],
              [str(path), "--video", str(tmp_path / "junk.png")]]
     for args in cases:
@@ -223,14 +227,36 @@ def test_closed_loop_runs_a_saved_model_through_images(saved, tmp_path, capsys, 
     before = model.agent.learner.w1_.copy()
     result = closed_loop(model, 1, 6, seed=1)
     assert result.faces_found == 1.0 and result.n_trials == 6
-    for value in (result.rendered_success, result.rendered_dataset_face_success,
-                  result.fast_success):
+    for value in (result.rendered_success, result.rendered_box_face_success,
+                  result.rendered_dataset_face_success, result.fast_success):
         assert 0 <= value <= 1
     assert 0 <= result.image_error_deg <= 180 and 0 <= result.dataset_error_deg <= 180
     np.testing.assert_array_equal(model.agent.learner.w1_, before)  # following learns nothing
     assert main(["closed-loop", str(path), "--objects", "1", "--trials", "2",
                  "--out", str(tmp_path / "cl.md")]) == 0
     assert "| 1 | 2 |" in (tmp_path / "cl.md").read_text()
+
+
+def test_closed_loop_on_other_caregivers_shows_each_trials_caregiver(saved, needs_gl,
+                                                                    monkeypatch):
+    """--datasets of two unseen caregivers: each trial renders the one who posed its data set."""
+    from jointattention.experiment import closed_loop as cl
+    from jointattention.world.recording import HELD_OUT, caregivers_of, make_datasets
+
+    model, _ = saved
+    ds = make_datasets(model.config.world, 4, 0, caregivers=2, stream=HELD_OUT)
+    people = [repr(c) for c in caregivers_of(ds, model.config.world)]
+    shown = []
+    real_show = cl.RenderedScenes.show
+
+    def show(self, fast, face_m):
+        shown.append(repr(self.world.caregiver))
+        return real_show(self, fast, face_m)
+
+    monkeypatch.setattr(cl.RenderedScenes, "show", show)
+    result = cl.closed_loop(model, 1, 6, seed=2, datasets=ds)
+    assert result.n_trials == 6 and result.faces_found == 1.0
+    assert len(shown) == 18 and set(shown) == set(people)  # both, and no one else
 
 
 def test_a_wrong_window_or_angle_is_refused_before_the_kernels(saved):

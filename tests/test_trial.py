@@ -88,3 +88,34 @@ def test_records_follow_the_schema():
     assert list(rec) == list(RECORD)
     for name, (dtype, _) in RECORD.items():
         assert rec[name].dtype == np.dtype(dtype) and len(rec[name]) == 4
+
+
+def test_both_scenes_keep_the_scene_contract_with_object_places(needs_gl):
+    """Fast and rendered scenes are Scenes with object places; the outcome's error uses them."""
+    from jointattention.config import DetectorConfig
+    from jointattention.rng import stream
+    from jointattention.world.protocol import Scene
+    from jointattention.world.rendered import RenderedScenes
+
+    world = World(WorldConfig(objects=ObjectsConfig(n_objects=3)), seed=4)
+    world.reset()
+    fast = world.fast_scene()
+    scenes = RenderedScenes(world.config, DetectorConfig(), 3, seed=4, rng=stream(0, "t"))
+    try:
+        rendered = scenes.show(fast, world.state.head_pos_m)
+        for scene in (fast, rendered):
+            assert isinstance(scene, Scene)
+            np.testing.assert_array_equal(scene.object_pos_m, world.state.object_pos_m)
+    finally:
+        scenes.close()
+    kin = world.kinematics
+    checked = 0
+    for i in range(3):  # fire on each object: the error is its angle from the target
+        trial = SceneTrial(fast, kin.centring_angles(world.state.object_pos_m[i]),
+                           kinematics=kin, max_steps=5,
+                           evaluate=partial(attended_object, d_th_px=320 / 6))
+        out = trial.outcome
+        if out.fired and trial.attended == i:
+            assert (out.caregiver_error_rad == 0) == (i == fast.target_index)
+            checked += 1
+    assert checked >= 2

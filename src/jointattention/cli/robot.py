@@ -104,7 +104,7 @@ def _cmd_follow(args: argparse.Namespace) -> None:
     if sum(x is not None and x != [] for x in (args.images, args.video, args.camera)) != 1:
         raise ArgumentError("follow: expected IMAGE files, --video FILE or --camera N (one "
                             "of them)")
-    follower = GazeFollower.load(args.model, face=args.face)
+    follower = GazeFollower.load(args.model, face=args.face, min_score=args.min_score)
     theta = np.deg2rad(args.theta_deg)
     follower.check_angle(theta)  # before any frame is read
     out = check_writable(args.out, "folder") if args.out else None
@@ -115,6 +115,7 @@ def _cmd_follow(args: argparse.Namespace) -> None:
         if look is not None:
             record["face"] = {"centre_px": [round(float(v), 1) for v in look.face.centre_px],
                               "height_px": round(look.face.height_px, 1),
+                              "box_px": [int(v) for v in look.face.box_px],
                               "score": round(look.face.score, 3)}
             record["command_deg"] = [round(float(v), 3) for v in np.rad2deg(look.command_rad)]
         if out is not None:
@@ -140,22 +141,33 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     from ..world import _gl
 
     model = load_model(args.model)
-    datasets = model_datasets(model, args.model)  # the model's own, by content
+    if args.datasets is None:
+        datasets = model_datasets(model, args.model)  # the model's own, by content
+    else:
+        from ..datasets import load
+        from ..world.recording import caregivers_of
+
+        datasets = load(args.datasets)
+        caregivers_of(datasets, model.config.world)  # who posed them: checked before rendering
     if args.out:
         check_writable(args.out, "file")
     _gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start
-    rows = ["| objects | trials | images only | rendered, the data set's face window | fast world "
-            "| faces found | first command's error: image window, data set's window |",
-            "|---|---|---|---|---|---|---|"]
+    rows = ["| objects | trials | faces found | images only | rendered, the head's box window "
+            "| rendered, the data set's window | fast world | first command's error: image "
+            "window, data set's window |",
+            "|---|---|---|---|---|---|---|---|"]
     start = time.perf_counter()
     for n in args.objects:
         with tqdm(total=args.trials, desc=f"{n} objects", unit="trial") as bar:
             r = closed_loop(model, n, args.trials, seed=args.seed, face=args.face,
                             progress=lambda i: bar.update(1), datasets=datasets)
-        rows.append(f"| {n} | {r.n_trials} | {r.rendered_success:.3f} | "
+        rows.append(f"| {n} | {r.n_trials} | {r.faces_found:.3f} | {r.rendered_success:.3f} | "
+                    f"{r.rendered_box_face_success:.3f} | "
                     f"{r.rendered_dataset_face_success:.3f} | {r.fast_success:.3f} | "
-                    f"{r.faces_found:.3f} | {r.image_error_deg:.1f}°, {r.dataset_error_deg:.1f}° |")
-    text = "\n".join(rows) + (f"\n\nSuccess of {args.model} (face finder {args.face}; "
+                    f"{r.image_error_deg:.1f}°, {r.dataset_error_deg:.1f}° |")
+    where = ("its own data sets" if args.datasets is None else
+             f"the data sets of {args.datasets}")
+    text = "\n".join(rows) + (f"\n\nSuccess of {args.model} on {where} (face finder {args.face}; "
                               f"learning time {model.agent.learning_time_steps:,} steps), "
                               f"{(time.perf_counter() - start) / 60:.1f} min.\n")
     text += _held_out_lines(model.held_out)
@@ -258,6 +270,9 @@ def add_commands(sub) -> None:
                    help="face finder: BlazeFace (default: the shipped neural detector, "
                         "docs/faces/detectors.md), the model's mean face (template) or "
                         "OpenCV's Haar cascade")
+    p.add_argument("--min-score", type=float, metavar="S",
+                   help="least score of a face (default: the finder's own; BlazeFace's 0.4 "
+                        "suits the simulated caregivers, 0.6 photographs of people)")
     p.add_argument("--out", help="folder for the overlay images (default: none written)")
     p.set_defaults(func=_cmd_follow)
 
@@ -266,7 +281,9 @@ def add_commands(sub) -> None:
         description="For each object count: trials in the rendered world where the face is "
                     "found in the first image, its window cut, and the learning module moves "
                     "the head while OpenCV detects and the evaluator (Eq. 3) ends the trial; "
-                    "the same trials with the data set's face window, and in the fast world. "
+                    "the same trials with the window cut around the head's projection in the "
+                    "same first image (the experimenter's box), with the data set's window, "
+                    "and in the fast world. "
                     "Prints a Markdown table of success, and the median angle between the "
                     "module's first command and the direction to the target with each window.")
     p.add_argument("model", metavar="MODEL", type=Path, help="a model file (train --out)")
@@ -278,5 +295,9 @@ def add_commands(sub) -> None:
                    help="seed of the trials (default: 0)")
     p.add_argument("--face", choices=FACE_METHODS, default="blazeface",
                    help="face finder (default: blazeface; template: the model's mean face)")
+    p.add_argument("--datasets", metavar="FILE",
+                   help="trials from these data sets of the model's world, their caregivers "
+                        "rendered (e.g. unseen ones: datasets make --held-out); default: the "
+                        "model's own")
     p.add_argument("--out", help="also write the table to this Markdown file")
     p.set_defaults(func=_cmd_closed_loop)

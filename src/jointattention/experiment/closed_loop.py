@@ -5,8 +5,9 @@ found in it (:class:`~jointattention.agent.follower.GazeFollower`), its window c
 then on the learning module moves the head, step by step, while the OpenCV detector looks at
 each rendered image and the internal evaluator (Eq. 3) ends the trial. The same model, on the
 same trials, in the fast world (data-set face windows, projected objects) is the comparison;
-between the two, the rendered trials given the data set's face window instead of the one cut
-from the image tell the face route's share of the difference from the detector's.
+between the two, the rendered trials given the experimenter's window (cut around the head's
+projection in the same image) and the data set's window tell where the loss is: the finder's
+window, the image, or the object detector and evaluator.
 """
 
 from __future__ import annotations
@@ -23,22 +24,13 @@ from ..config import with_n_objects
 from ..datasets import CaregiverDatasets
 from ..rng import stream
 from ..world.kinematics import HeadKinematics
+from ..world.recording import capture_face_window, caregivers_of
 from ..world.rendered import RenderedScenes
 from .cells import datasets_of, evaluator, random_scene
 from .probes import angle_deg
 from .trial import SceneTrial, run_trial
 
 __all__ = ["ClosedLoopResult", "FollowingAgent", "closed_loop"]
-
-
-def _first_caregiver(ds: CaregiverDatasets) -> CaregiverDatasets:
-    """The data sets of identity 0 (all of them if the file names no caregivers)."""
-    if ds.caregiver is None:
-        return ds
-    keep = ds.caregiver == 0
-    return CaregiverDatasets(ds.face[keep], ds.theta_face_rad[keep], ds.command_rad[keep],
-                             None if ds.target_m is None else ds.target_m[keep], ds.meta,
-                             ds.caregiver[keep])
 
 
 class FollowingAgent:
@@ -70,6 +62,7 @@ class ClosedLoopResult:
     n_objects: int
     n_trials: int
     rendered_success: float
+    rendered_box_face_success: float  # rendered, the window cut around the head's projection
     rendered_dataset_face_success: float  # rendered, but the data set's face window
     fast_success: float
     faces_found: float  # fraction of trials whose first image gave a face
@@ -83,43 +76,46 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
                 ) -> ClosedLoopResult:
     """Run ``model`` for ``n_trials`` trials of ``n_objects`` objects, rendered and fast.
 
-    The trials are the model's own world (its configuration and data sets); ``seed`` draws them.
-    The rendered caregiver is the data sets' first identity (the world seed's own), so data
-    sets of several caregivers are narrowed to hers. A trial whose first image shows no face the
-    finder accepts is a failure. ``datasets``: the model's data sets, if already loaded and
-    checked (:func:`~.training.model_datasets`). ``face``: the face finder
-    (:data:`~jointattention.agent.faces.FACE_METHODS`).
+    The trials are drawn (by ``seed``) from ``datasets``: by default the model's own, else
+    others recorded in its world (e.g. unseen caregivers, ``datasets make --held-out``). Each
+    trial shows the caregiver who posed its data set (:func:`~jointattention.world.recording.
+    caregivers_of`). A trial whose first image shows no face the finder accepts is a failure.
+    ``face``: the face finder (:data:`~jointattention.agent.finders.FACE_METHODS`).
     """
     config = with_n_objects(model.config, n_objects)
-    ds = _first_caregiver(datasets if datasets is not None else datasets_of(config))
+    ds = datasets if datasets is not None else datasets_of(config)
+    people = caregivers_of(ds, config.world)
     kin = HeadKinematics.from_config(config.world)
     evaluate = evaluator(config)
     follower, agent = GazeFollower(model, face), FollowingAgent(model)
     rng = stream(seed, "closed-loop", n_objects)
-    seed_of_world = int(ds.meta.get("seed", config.seed))  # the caregiver the data sets show
-    scenes = RenderedScenes(config.world, config.detector, n_objects, seed=seed_of_world,
+    scenes = RenderedScenes(config.world, config.detector, n_objects, seed=config.seed,
                             rng=stream(seed, "closed-loop-render", n_objects))
-    wins = {"rendered": 0, "rendered_dataset_face": 0, "fast": 0}
+    wins = {"rendered": 0, "rendered_box_face": 0, "rendered_dataset_face": 0, "fast": 0}
     found, errors = 0, {"image": [], "dataset": []}
     try:
         for i in range(n_trials):
             k, fast, face_m = random_scene(config, ds, kin, n_objects, rng)
             theta = ds.theta_face_rad[k]
+            scenes.world.caregiver = people[0 if ds.caregiver is None else ds.caregiver[k]]
             rendered = scenes.show(fast, face_m)
             trial = SceneTrial(rendered, theta, kinematics=kin, max_steps=config.agent.max_steps,
                                evaluate=evaluate)  # its first look renders the start image
             look = follower.look(rendered.last_image, theta)
+            box = capture_face_window(scenes.world, rendered.last_image)
             errors["dataset"].append(angle_deg(model.lm_command(ds.face[k], theta),
                                                ds.command_rad[k]))
             if look is not None:
                 found += 1
                 errors["image"].append(angle_deg(look.command_rad, ds.command_rad[k]))
                 wins["rendered"] += run_trial(trial, agent, look.window).success
-            for name, scene in (("rendered_dataset_face", scenes.show(fast, face_m)),
-                                ("fast", fast)):
+            for name, scene, window in (
+                    ("rendered_box_face", scenes.show(fast, face_m), box),
+                    ("rendered_dataset_face", scenes.show(fast, face_m), ds.face[k]),
+                    ("fast", fast, ds.face[k])):
                 trial = SceneTrial(scene, theta, kinematics=kin,
                                    max_steps=config.agent.max_steps, evaluate=evaluate)
-                wins[name] += run_trial(trial, agent, ds.face[k]).success
+                wins[name] += run_trial(trial, agent, window).success
             if progress is not None:
                 progress(i + 1)
     finally:

@@ -149,8 +149,8 @@ class SceneTrial:
         """How the trial ended, as the robot knows it."""
         fired = self.end == END_FIRED
         error = None
-        pos = getattr(self.scene, "object_pos_m", None)
-        if fired and self.attended >= 0 and pos is not None:
+        pos = self.scene.object_pos_m
+        if fired and self.attended >= 0:
             error = separation_rad(pos[self.attended], pos[self.target])
         return Outcome(fired, self.theta_rad, self.detections, self.seen,
                        approved=fired and self.attended == self.target,

@@ -1,9 +1,10 @@
 """The ``jointattention follow`` overlay: a frame with what the saved model made of it.
 
-The face window's box (green), the window itself magnified in the corner with the module's
-direction drawn from its centre (red, as in the paper's Fig. 6), and from the image centre
-the line along which the head will turn (red arrow; pan right is image right, tilt up is
-image up).
+The face window's box (green), the face finder's landmarks where it gives them (yellow:
+BlazeFace's eyes, nose, mouth and ears), the window itself magnified in the corner with the
+module's direction drawn from its centre (red, as in the paper's Fig. 6), and from the image
+centre the line along which the head will turn (red arrow; pan right is image right, tilt up
+is image up).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from ..agent.follower import Look
 __all__ = ["draw_look"]
 
 GREEN, RED, WHITE, BLACK = (0, 230, 0), (255, 40, 40), (255, 255, 255), (0, 0, 0)
+YELLOW = (255, 220, 0)
 
 
 def _text(out: np.ndarray, text: str, org: tuple[int, int], scale: float, thick: int) -> None:
@@ -37,6 +39,9 @@ def draw_look(frame_rgb: np.ndarray, look: Look | None) -> np.ndarray:
     cx, cy = look.face.centre_px
     cv2.rectangle(out, (int(cx - crop_w / 2), int(cy - crop_h / 2)),
                   (int(cx + crop_w / 2), int(cy + crop_h / 2)), GREEN, 2 * thick)
+    if look.face.landmarks_px is not None:
+        for x, y in look.face.landmarks_px:
+            cv2.circle(out, (int(round(x)), int(round(y))), 2 * thick, YELLOW, -1)
     direction = np.array([look.command_rad[0], -look.command_rad[1]])
     direction = direction / max(float(np.hypot(*direction)), 1e-12)
     centre = np.array([w / 2, h / 2])

@@ -1,0 +1,48 @@
+"""docs/faces/photos.png: `follow` on photographs that packages ship, with BlazeFace.
+
+    python docs/faces/photos.py
+
+The shipped generalising model (docs/generalise/population_n10.npz) follows scikit-image's
+astronaut and coffee (no face), matplotlib's Grace Hopper and two of lfw_subset's faces (4x
+enlarged amid grey, as `jointattention faces` shows them): the face window (green),
+BlazeFace's landmarks (yellow), the window as the model sees it and its command (red). The
+model learned simulated caregivers only: its commands for real people are not validated, and
+mean nothing here; the pipeline is what is shown.
+"""
+
+from pathlib import Path
+
+import cv2
+import matplotlib
+import numpy as np
+from skimage import data
+
+from jointattention import GazeFollower
+from jointattention._readers import read_image
+from jointattention.figures.follow import draw_look
+
+SIDE_PX = 360
+follower = GazeFollower.load("docs/generalise/population_n10.npz", min_score=0.6)
+hopper = read_image(Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg")
+faces = data.lfw_subset()
+lfw = []
+for i in (0, 7):  # as `jointattention faces` shows them: 4x enlarged amid grey
+    canvas = np.full((200, 200), 0.5)
+    canvas[50:150, 50:150] = cv2.resize(faces[i], (100, 100), interpolation=cv2.INTER_CUBIC)
+    lfw.append(np.repeat((canvas * 255).round().astype(np.uint8)[..., None], 3, axis=2))
+photos = [data.astronaut(), hopper, *lfw, data.coffee()]
+tiles = []
+for photo in photos:
+    look = follower.look(photo, np.zeros(2))
+    tile = draw_look(photo, look)
+    scale = SIDE_PX / max(tile.shape[:2])
+    tile = cv2.resize(tile, (round(tile.shape[1] * scale), round(tile.shape[0] * scale)),
+                      interpolation=cv2.INTER_AREA)
+    canvas = np.full((SIDE_PX, SIDE_PX, 3), 255, np.uint8)
+    canvas[:tile.shape[0], :tile.shape[1]] = tile
+    tiles.append(canvas)
+    print("face" if look else "no face", None if look is None else
+          np.round(np.rad2deg(look.command_rad), 1))
+out = Path("docs/faces/photos.png")
+cv2.imwrite(str(out), cv2.cvtColor(np.hstack(tiles), cv2.COLOR_RGB2BGR))
+print(out)
