@@ -211,6 +211,21 @@ def test_follow_on_a_damaged_video_prints_only_its_own_lines(saved, tmp_path, ca
     assert err == "" and 1 <= len(out.splitlines()) < 5
 
 
+def test_follow_on_a_truncated_jpeg_is_one_line_without_libjpeg_noise(saved, tmp_path, capfd):
+    """A JPEG cut in half: one error line on stderr, nothing from libjpeg, nothing written."""
+    import cv2
+
+    _, path = saved
+    noise = np.random.default_rng(1).integers(0, 256, (240, 320, 3), dtype=np.uint8)
+    data = cv2.imencode(".jpg", noise)[1].tobytes()
+    (tmp_path / "cut.jpg").write_bytes(data[: len(data) // 2])
+    assert main(["follow", str(path), str(tmp_path / "cut.jpg"), "--out",
+                 str(tmp_path / "out")]) == 2
+    out, err = capfd.readouterr()
+    assert out == "" and err.count("\n") == 1 and "cut.jpg" in err, err
+    assert not (tmp_path / "out").exists()
+
+
 def test_follow_with_no_camera_is_one_clear_line(saved, capfd):
     """--camera N where there is none: one error line, and OpenCV's own lines stay out."""
     _, path = saved

@@ -2,31 +2,35 @@
 
     python docs/faces/calibrate.py [OUT.npz]
 
-Renders 1,000 views of 64 caregivers of the many-caregiver world (stream "faces", seed 0:
-no measurement of docs/faces/detectors.md uses it) and fits the linear map from BlazeFace's
-landmarks to the head's centre and height (jointattention.agent.blazeface.Calibration).
+Renders 12,000 views of 128 caregivers of the many-caregiver world (stream "faces", seed 1: no
+measurement of docs/faces/detectors.md uses it) and fits the map from BlazeFace's landmarks,
+then from the pixels around the head, to the head's centre and height
+(jointattention.agent.face_calibration.Calibration). About 3 min.
 """
 
 import sys
 
+import cv2
 from tqdm import tqdm
 
-from jointattention.agent.blazeface import BlazeFace, Calibration
+from jointattention.agent.blazeface import BlazeFace
+from jointattention.agent.face_calibration import Calibration
 from jointattention.config import load_config
 from jointattention.world.face_views import face_views
 
-N, CAREGIVERS, SEED, STREAM = 1000, 64, 0, "faces"
+N, CAREGIVERS, SEED, STREAM = 12000, 128, 1, "faces"
 out = sys.argv[1] if len(sys.argv) > 1 else "src/jointattention/data/blazeface_calibration.npz"
 net = BlazeFace()
-found, centres, heights = [], [], []
+grays, found, centres, heights = [], [], [], []
 views = face_views(load_config("many-caregivers").world, N, CAREGIVERS, SEED, stream=STREAM)
 for view in tqdm(views, total=N, unit="view"):
     detections = net.detect(view.image)
     if detections:
+        grays.append(cv2.cvtColor(view.image, cv2.COLOR_RGB2GRAY))
         found.append(detections[0])
         centres.append(view.centre_px)
         heights.append(view.height_px)
 meta = {"command": "python docs/faces/calibrate.py", "world": "many-caregivers", "seed": SEED,
         "stream": STREAM, "views": N, "caregivers": CAREGIVERS, "found": len(found)}
-Calibration.fit(found, centres, heights, meta).save(out)
+Calibration.fit(grays, found, centres, heights, meta, n_stages=4).save(out)
 print(f"{out}: fitted on {len(found)} of {N} views")

@@ -82,12 +82,14 @@ class BlazeFace:
     def detect(self, image_rgb: np.ndarray) -> list[Detection]:
         """The faces in an RGB uint8 image (H, W, 3), best first."""
         h, w = image_rgb.shape[:2]
-        side = max(h, w)
-        # letterbox: the image centred in a black square, as MediaPipe feeds the network
-        square = np.zeros((side, side, 3), np.uint8)
-        top, left = (side - h) // 2, (side - w) // 2
-        square[top:top + h, left:left + w] = image_rgb
-        small = cv2.resize(square, (INPUT_SIDE_PX, INPUT_SIDE_PX), interpolation=cv2.INTER_AREA)
+        # letterbox, as MediaPipe feeds the network: the image shrunk to fit 128 x 128 and
+        # centred in black (shrunk first, so that a large photograph costs no large square)
+        scale = INPUT_SIDE_PX / max(h, w)
+        nw, nh = max(1, round(w * scale)), max(1, round(h * scale))
+        left, top = (INPUT_SIDE_PX - nw) // 2, (INPUT_SIDE_PX - nh) // 2
+        small = np.zeros((INPUT_SIDE_PX, INPUT_SIDE_PX, 3), np.uint8)
+        small[top:top + nh, left:left + nw] = cv2.resize(
+            np.ascontiguousarray(image_rgb), (nw, nh), interpolation=cv2.INTER_AREA)
         blob = (small.astype(np.float32) / 127.5 - 1.0).transpose(2, 0, 1)[None]
         self._net.setInput(blob)
         first, second = self._net.forward(self._outputs)
@@ -97,83 +99,18 @@ class BlazeFace:
         keep = np.flatnonzero(scores >= self.min_score)
         if len(keep) == 0:
             return []
-        # offsets are in input pixels from the anchor's centre; sizes in input pixels
+        # offsets from the anchor's centre and sizes, in input pixels -> units of the input
         reg = raw[0, keep].astype(float) / INPUT_SIDE_PX
         anchor = self._anchors[keep]
-        centre = reg[:, :2] + anchor
-        size = reg[:, 2:4]
-        shift = np.array([left, top], float)
-        boxes = np.concatenate([centre - size / 2, size], axis=1) * side
-        boxes[:, :2] -= shift
-        marks = (reg[:, 4:].reshape(-1, 6, 2) + anchor[:, None]) * side - shift
+        origin = np.array([left, top], float) / INPUT_SIDE_PX
+        # input units -> image pixels, each axis by its own factor (the sizes were rounded)
+        to_px = np.array([INPUT_SIDE_PX * w / nw, INPUT_SIDE_PX * h / nh])
+        centre = (reg[:, :2] + anchor - origin) * to_px
+        size = reg[:, 2:4] * to_px
+        boxes = np.concatenate([centre - size / 2, size], axis=1)
+        marks = (reg[:, 4:].reshape(-1, 6, 2) + anchor[:, None] - origin) * to_px
         chosen = cv2.dnn.NMSBoxes(boxes.tolist(), scores[keep].tolist(), self.min_score,
                                   self.nms_iou)
         order = sorted(np.asarray(chosen, int).ravel(), key=lambda i: -scores[keep][i])
         return [Detection(boxes[i], float(scores[keep][i]), marks[i]) for i in order]
 
-
-CALIBRATION_FILE = "blazeface_calibration.npz"
-
-
-def _features(detections: list[Detection]) -> np.ndarray:
-    """(n, 13): 1 and each landmark's offset from its box's centre, in box heights."""
-    rows = []
-    for d in detections:
-        x, y, w, h = d.box_px
-        rows.append(np.r_[1.0, ((d.landmarks_px - [x + w / 2, y + h / 2]) / h).ravel()])
-    return np.array(rows).reshape(len(rows), 13)
-
-
-@dataclass(frozen=True)
-class Calibration:
-    """Where the head is, from a detection: a linear map of its landmarks.
-
-    The network's box is the face's (brows to chin); the data sets cut their windows around
-    the head's centre, ``margin`` times the head's height tall. The map gives, from the
-    landmarks' offsets in the box, the head's centre and height in box heights, so that a
-    window cut around a detection is the window a data set would hold.
-
-    Attributes:
-        weights: (13, 3) least-squares weights: features -> (dx, dy, height) in box heights.
-        meta: how it was fitted (command, world, seed, faces).
-    """
-
-    weights: np.ndarray
-    meta: dict
-
-    def head(self, detection: Detection) -> tuple[np.ndarray, float]:
-        """The head's centre (px) and height (px) for one detection."""
-        x, y, w, h = detection.box_px
-        dx, dy, height = (_features([detection]) @ self.weights)[0] * h
-        return np.array([x + w / 2 + dx, y + h / 2 + dy]), float(height)
-
-    @classmethod
-    def fit(cls, detections: list[Detection], centres_px, heights_px, meta: dict) -> Calibration:
-        """The least-squares map from ``detections`` to the true head centres and heights."""
-        if len(detections) < 13:
-            raise ValueError(f"{len(detections)} detections: expected at least 13 to fit 13 "
-                             "weights")
-        boxes = np.array([d.box_px for d in detections])
-        h = boxes[:, 3:4]
-        target = np.c_[(np.asarray(centres_px) - boxes[:, :2] - boxes[:, 2:] / 2) / h,
-                       np.asarray(heights_px)[:, None] / h]
-        weights = np.linalg.lstsq(_features(detections), target, rcond=None)[0]
-        return cls(weights, dict(meta))
-
-    def save(self, path) -> None:
-        """Write the weights and how they were fitted to an .npz file."""
-        import json
-
-        np.savez(path, weights=self.weights, meta=json.dumps(self.meta))
-
-    @classmethod
-    def load(cls, path=None) -> Calibration:
-        """The calibration at ``path``; None: the one shipped with the package."""
-        import json
-
-        if path is None:
-            with resources.as_file(resources.files("jointattention.data")
-                                   / CALIBRATION_FILE) as p, np.load(p) as f:
-                return cls(f["weights"], json.loads(str(f["meta"])))
-        with np.load(path) as f:
-            return cls(f["weights"], json.loads(str(f["meta"])))

@@ -66,7 +66,7 @@ class GazeFollower:
         self.model, self.face = model, face
         if min_score is not None:
             _check_min_score(min_score, face)
-        self.finder = finder_for(face, model.face_template() if "template" in face else None,
+        self.finder = finder_for(face, model.face_template() if face == "template" else None,
                                  min_score)
 
     @classmethod
@@ -113,7 +113,7 @@ class GazeFollower:
 
 def _check_min_score(min_score, face: str) -> None:
     """One ArgumentError line unless ``min_score`` is a score of ``face``'s finder."""
-    probability = face.startswith("blazeface")
+    probability = face == "blazeface"
     number = not isinstance(min_score, bool) and isinstance(min_score, (int, float))
     inside = number and (0 < min_score < 1 if probability else -1 <= min_score <= 1)  # NaN: no
     if not inside:

@@ -85,7 +85,7 @@ def _cmd_faces(args: argparse.Namespace) -> None:
     _gl.mujoco()
     template = ff.template_of(config)
     chosen = ff.finders(template)
-    with tqdm(total=args.n, desc="rendering", unit="view") as bar:
+    with tqdm(total=args.n, desc="views", unit="view") as bar:
         rendered = ff.rendered_scores(config, args.n, args.caregivers, args.seed, chosen,
                                       progress=lambda i: bar.update(i - bar.n))
     command = (f"jointattention faces --config {args.config} --n {args.n} "

@@ -14,7 +14,7 @@ each shown 4x enlarged amid grey), and scikit-image's astronaut and matplotlib's
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import cv2
@@ -23,10 +23,11 @@ import numpy as np
 from ..agent.faces import FaceFinder, face_template, face_window
 from ..agent.finders import finder_for
 from ..config import WorldConfig
-from ..world.face_views import FaceView, face_views
+from ..world.face_views import face_views
 from ..world.recording import HELD_OUT
 
-__all__ = ["FinderScore", "finders", "photo_scores", "rendered_scores", "template_of"]
+__all__ = ["FinderScore", "finders", "finders_table", "photo_scores", "rendered_scores",
+           "template_of"]
 
 # A finder: an RGB image -> the faces it finds, each (centre (2,), height), best first.
 Find = Callable[[np.ndarray], list[tuple[np.ndarray, float]]]
@@ -115,23 +116,20 @@ def finders(template: np.ndarray | None) -> dict[str, Find]:
     return out
 
 
-def _score(name: str, find: Find, views: Iterable[tuple[np.ndarray, np.ndarray | None, float]]
-           ) -> FinderScore:
-    """``find`` on (image, true centre or None for no face, true height) views."""
-    score = FinderScore(name)
-    for image, centre, height in views:
-        faces = find(image)
-        hit = None
-        if centre is not None:
-            score.faces += 1
-            errors = [float(np.hypot(*(c - centre))) for c, _ in faces]
-            near = [i for i, e in enumerate(errors) if e <= height / 2]
-            if near:
-                hit = near[0]
-                score.found += 1
-                score.errors_px.append(errors[hit])
-        score.false += len(faces) - (hit is not None)
-    return score
+def _add(score: FinderScore, find: Find, image: np.ndarray, centre: np.ndarray | None,
+         height: float) -> None:
+    """Count ``find`` on one view (true centre None: no face in it) into ``score``."""
+    faces = find(image)
+    hit = None
+    if centre is not None:
+        score.faces += 1
+        errors = [float(np.hypot(*(c - centre))) for c, _ in faces]
+        near = [i for i, e in enumerate(errors) if e <= height / 2]
+        if near:
+            hit = near[0]
+            score.found += 1
+            score.errors_px.append(errors[hit])
+    score.false += len(faces) - (hit is not None)
 
 
 def _fps(find: Find, images: list[np.ndarray]) -> float:
@@ -147,19 +145,23 @@ def _fps(find: Find, images: list[np.ndarray]) -> float:
 def rendered_scores(config: WorldConfig, n: int, caregivers: int, seed: int,
                     chosen: dict[str, Find], progress: Callable[[int], None] | None = None
                     ) -> list[FinderScore]:
-    """Each finder on ``n`` held-out views of ``caregivers`` caregivers."""
-    views: list[FaceView] = []
+    """Each finder on ``n`` held-out views of ``caregivers`` caregivers.
+
+    Each view is scored by every finder as it is rendered and then dropped (the first
+    :data:`SPEED_FRAMES` are kept to time the finders): memory does not grow with ``n``.
+    """
+    scores = {name: FinderScore(name) for name in chosen}
+    kept = []
     for i, v in enumerate(face_views(config, n, caregivers, seed, stream=HELD_OUT)):
-        views.append(v)
+        for name, find in chosen.items():
+            _add(scores[name], find, v.image, v.centre_px, v.height_px)
+        if len(kept) < SPEED_FRAMES:
+            kept.append(v.image)
         if progress is not None:
             progress(i + 1)
-    triples = [(v.image, v.centre_px, v.height_px) for v in views]
-    scores = []
     for name, find in chosen.items():
-        s = _score(name, find, triples)
-        s.fps_640 = _fps(find, [v.image for v in views[:SPEED_FRAMES]])
-        scores.append(s)
-    return scores
+        scores[name].fps_640 = _fps(find, kept)
+    return list(scores.values())
 
 
 def photo_scores(chosen: dict[str, Find]) -> list[FinderScore] | None:
@@ -182,7 +184,11 @@ def photo_scores(chosen: dict[str, Find]) -> list[FinderScore] | None:
     # the faces' centres and heights, read off the photographs by eye
     views.append((data.astronaut(), np.array([220.0, 110.0]), 130.0))
     views.append((hopper, np.array([260.0, 220.0]), 240.0))
-    return [_score(name, find, views) for name, find in chosen.items()]
+    scores = {name: FinderScore(name) for name in chosen}
+    for image, centre, height in views:
+        for name, find in chosen.items():
+            _add(scores[name], find, image, centre, height)
+    return list(scores.values())
 
 
 def finders_table(rendered: list[FinderScore], photos: list[FinderScore] | None,
