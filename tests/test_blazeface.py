@@ -153,3 +153,15 @@ def test_a_long_thin_image_costs_no_square_of_its_long_side():
     finally:
         tracemalloc.stop()
     assert peak < 20 * 2**20  # a square of the long side would be 2.7 GB
+
+
+def test_landmarks_only_places_the_window_by_the_landmark_map_alone():
+    """refine=False: the face is where the landmark map puts it; the default refines it."""
+    photo = read_image(PHOTO)
+    detection = BlazeFace(0.4).detect(photo)[0]
+    centre, height = Calibration.load().head(detection)
+    plain = finder_for("blazeface", refine=False).find(photo)[0]
+    np.testing.assert_allclose(plain.centre_px, centre)
+    assert plain.height_px == pytest.approx(1.15 * height)
+    refined = finder_for("blazeface").find(photo)[0]
+    assert not np.allclose(refined.centre_px, plain.centre_px)

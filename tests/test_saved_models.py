@@ -163,6 +163,9 @@ def test_cli_train_and_follow(saved, tmp_path, capsys, needs_gl):
     assert np.hypot(*record["command_deg"]) == pytest.approx(load_config(TINY).agent.lm_step_deg,
                                                             abs=1e-3)  # rounded in the JSON
     assert (tmp_path / "out" / "view_follow.png").is_file()
+    assert main(["follow", str(path), str(tmp_path / "view.png"), "--landmarks-only"]) == 0
+    plain = json.loads(capsys.readouterr().out.strip())
+    assert plain["face"]["centre_px"] != record["face"]["centre_px"]  # not refined
     video = cv2.VideoWriter(str(tmp_path / "v.avi"), cv2.VideoWriter_fourcc(*"MJPG"), 5,
                             (320, 240))
     for _ in range(3):

@@ -4,10 +4,11 @@
 
 The shipped generalising model (docs/generalise/population_n10.npz) follows scikit-image's
 astronaut and coffee (no face), matplotlib's Grace Hopper and two of lfw_subset's faces (4x
-enlarged amid grey, as `jointattention faces` shows them): the face window (green),
-BlazeFace's landmarks (yellow), the window as the model sees it and its command (red). The
-model learned simulated caregivers only: its commands for real people are not validated, and
-mean nothing here; the pipeline is what is shown.
+enlarged amid grey, as `jointattention faces` shows them): the face window (green, placed by
+the landmarks alone: refine=False, as for people), BlazeFace's landmarks (yellow), the window
+as the model sees it and its command (red). The model learned simulated caregivers only: its
+commands for real people are not validated, and mean nothing here; the pipeline is what is
+shown.
 """
 
 from pathlib import Path
@@ -22,7 +23,7 @@ from jointattention._readers import read_image
 from jointattention.figures.follow import draw_look
 
 SIDE_PX = 360
-follower = GazeFollower.load("docs/generalise/population_n10.npz", min_score=0.6)
+follower = GazeFollower.load("docs/generalise/population_n10.npz", min_score=0.6, refine=False)
 hopper = read_image(Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg")
 faces = data.lfw_subset()
 lfw = []

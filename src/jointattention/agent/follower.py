@@ -57,23 +57,25 @@ class GazeFollower:
         min_score: least score of a face (None: the finder's own; BlazeFace's probability
             from 0 to 1, the template's normalised correlation from -1 to 1); a run-time
             choice, not part of what was learned.
+        refine: BlazeFace's pixel refinements of where the window is cut, learned on the
+            simulated heads; False for photographs of people (the landmarks alone).
     """
 
     def __init__(self, model: LearnedModel, face: str = "blazeface",
-                 min_score: float | None = None):
+                 min_score: float | None = None, *, refine: bool = True):
         if face not in FACE_METHODS:
             raise ArgumentError(f"face {face!r}: expected one of {', '.join(FACE_METHODS)}")
         self.model, self.face = model, face
         if min_score is not None:
             _check_min_score(min_score, face)
         self.finder = finder_for(face, model.face_template() if face == "template" else None,
-                                 min_score)
+                                 min_score, refine=refine)
 
     @classmethod
     def load(cls, path: str | Path, *, face: str = "blazeface", robot: Robot | None = None,
-             min_score: float | None = None) -> GazeFollower:
+             min_score: float | None = None, refine: bool = True) -> GazeFollower:
         """A follower of the model saved at ``path`` (refused if learned on another ``robot``)."""
-        return cls(load_model(path, robot=robot), face, min_score)
+        return cls(load_model(path, robot=robot), face, min_score, refine=refine)
 
     def find(self, frame_rgb: np.ndarray) -> Face | None:
         """The caregiver's face in an RGB uint8 frame (H, W, 3): the best match, or None."""

@@ -104,7 +104,8 @@ def _cmd_follow(args: argparse.Namespace) -> None:
     if sum(x is not None and x != [] for x in (args.images, args.video, args.camera)) != 1:
         raise ArgumentError("follow: expected IMAGE files, --video FILE or --camera N (one "
                             "of them)")
-    follower = GazeFollower.load(args.model, face=args.face, min_score=args.min_score)
+    follower = GazeFollower.load(args.model, face=args.face, min_score=args.min_score,
+                                 refine=not args.landmarks_only)
     theta = np.deg2rad(args.theta_deg)
     follower.check_angle(theta)  # before any frame is read
     out = check_writable(args.out, "folder") if args.out else None
@@ -273,6 +274,9 @@ def add_commands(sub) -> None:
     p.add_argument("--min-score", type=float, metavar="S",
                    help="least score of a face (default: the finder's own; BlazeFace's 0.4 "
                         "suits the simulated caregivers, 0.6 photographs of people)")
+    p.add_argument("--landmarks-only", action="store_true",
+                   help="place BlazeFace's window by its landmarks alone, without the pixel "
+                        "refinements learned on the simulated heads (for photographs of people)")
     p.add_argument("--out", help="folder for the overlay images (default: none written)")
     p.set_defaults(func=_cmd_follow)
 

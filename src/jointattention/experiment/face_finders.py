@@ -105,7 +105,8 @@ def template_of(config: WorldConfig, n: int = 500, caregivers: int = 64, seed: i
 def finders(template: np.ndarray | None) -> dict[str, Find]:
     """The finders compared: the robot's three and, where installed, libfacedetection."""
     out = {"blazeface": _faces_of(finder_for("blazeface")),
-           "blazeface, min score 0.6": _faces_of(finder_for("blazeface", min_score=0.6))}
+           "blazeface, min score 0.6": _faces_of(finder_for("blazeface", min_score=0.6)),
+           "blazeface, landmarks only": _faces_of(finder_for("blazeface", refine=False))}
     if template is not None:
         out["template"] = _faces_of(finder_for("template", template))
     out["haar"] = _faces_of(FaceFinder("haar", heights_px=None))
