@@ -155,3 +155,15 @@ def test_robot_round_trip_learns_to_follow(tmp_path, needs_gl):
     # 8000 steps on 30 poses: about 17 deg measured; chance is 90 deg
     assert result["learned_poses"]["median_error_deg"] < 35
     assert (tmp_path / "model.npz").is_file()
+
+
+def test_the_closed_loop_shows_who_posed_the_data_sets(recording):
+    """A robot's recording names no simulated caregiver: the closed loop shows the seed's own."""
+    from jointattention.datasets import default_datasets
+    from jointattention.experiment.closed_loop import caregivers_shown
+
+    folder, _, _ = recording
+    ds, _ = import_recording(folder)
+    assert caregivers_shown(ds, load_config().world) is None
+    shipped = caregivers_shown(default_datasets(), load_config().world)
+    assert shipped is not None and len(shipped) == 1

@@ -146,10 +146,10 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
         datasets = model_datasets(model, args.model)  # the model's own, by content
     else:
         from ..datasets import load
-        from ..world.recording import caregivers_of
+        from ..experiment.closed_loop import caregivers_shown
 
         datasets = load(args.datasets)
-        caregivers_of(datasets, model.config.world)  # who posed them: checked before rendering
+        caregivers_shown(datasets, model.config.world)  # who posed them, before rendering
     if args.out:
         check_writable(args.out, "file")
     _gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start

@@ -20,9 +20,10 @@ import numpy as np
 from ..agent.follower import GazeFollower
 from ..agent.protocol import LM, Outcome
 from ..agent.saved import LearnedModel
-from ..config import with_n_objects
+from ..config import WorldConfig, with_n_objects
 from ..datasets import CaregiverDatasets
 from ..rng import stream
+from ..world.identity import Caregiver
 from ..world.kinematics import HeadKinematics
 from ..world.recording import capture_face_window, caregivers_of
 from ..world.rendered import RenderedScenes
@@ -30,7 +31,20 @@ from .cells import datasets_of, evaluator, random_scene
 from .probes import angle_deg
 from .trial import SceneTrial, run_trial
 
-__all__ = ["ClosedLoopResult", "FollowingAgent", "closed_loop"]
+__all__ = ["ClosedLoopResult", "FollowingAgent", "caregivers_shown", "closed_loop"]
+
+
+def caregivers_shown(ds: CaregiverDatasets, world: WorldConfig) -> list[Caregiver] | None:
+    """Who poses each data set's trials (by ``ds.caregiver``); None: the world seed's own.
+
+    Data sets that name neither caregivers nor the seed they were recorded from (a robot's
+    recording) show the world seed's caregiver, as version 0.3 did; malformed ones raise
+    :class:`~jointattention.errors.DatasetError` (:func:`~jointattention.world.recording.
+    caregivers_of`).
+    """
+    if "caregivers" not in ds.meta and "seed" not in ds.meta:
+        return None
+    return caregivers_of(ds, world)
 
 
 class FollowingAgent:
@@ -79,12 +93,13 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
     The trials are drawn (by ``seed``) from ``datasets``: by default the model's own, else
     others recorded in its world (e.g. unseen caregivers, ``datasets make --held-out``). Each
     trial shows the caregiver who posed its data set (:func:`~jointattention.world.recording.
-    caregivers_of`). A trial whose first image shows no face the finder accepts is a failure.
+    caregivers_of`; data sets that name none, a robot's recording, show the world seed's
+    caregiver). A trial whose first image shows no face the finder accepts is a failure.
     ``face``: the face finder (:data:`~jointattention.agent.finders.FACE_METHODS`).
     """
     config = with_n_objects(model.config, n_objects)
     ds = datasets if datasets is not None else datasets_of(config)
-    people = caregivers_of(ds, config.world)
+    people = caregivers_shown(ds, config.world)
     kin = HeadKinematics.from_config(config.world)
     evaluate = evaluator(config)
     follower, agent = GazeFollower(model, face), FollowingAgent(model)
@@ -97,7 +112,8 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
         for i in range(n_trials):
             k, fast, face_m = random_scene(config, ds, kin, n_objects, rng)
             theta = ds.theta_face_rad[k]
-            scenes.world.caregiver = people[0 if ds.caregiver is None else ds.caregiver[k]]
+            if people is not None:
+                scenes.world.caregiver = people[0 if ds.caregiver is None else ds.caregiver[k]]
             rendered = scenes.show(fast, face_m)
             trial = SceneTrial(rendered, theta, kinematics=kin, max_steps=config.agent.max_steps,
                                evaluate=evaluate)  # its first look renders the start image
