@@ -14,24 +14,18 @@ shown.
 from pathlib import Path
 
 import cv2
-import matplotlib
 import numpy as np
 from skimage import data
 
 from jointattention import GazeFollower
-from jointattention._readers import read_image
+from jointattention.experiment.face_finders import hopper_photo, lfw_view
 from jointattention.figures.follow import draw_look
 
 SIDE_PX = 360
 follower = GazeFollower.load("docs/generalise/population_n10.npz", min_score=0.6, refine=False)
-hopper = read_image(Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg")
 faces = data.lfw_subset()
-lfw = []
-for i in (0, 7):  # as `jointattention faces` shows them: 4x enlarged amid grey
-    canvas = np.full((200, 200), 0.5)
-    canvas[50:150, 50:150] = cv2.resize(faces[i], (100, 100), interpolation=cv2.INTER_CUBIC)
-    lfw.append(np.repeat((canvas * 255).round().astype(np.uint8)[..., None], 3, axis=2))
-photos = [data.astronaut(), hopper, *lfw, data.coffee()]
+lfw = [lfw_view(faces[i]) for i in (0, 7)]
+photos = [data.astronaut(), hopper_photo(), *lfw, data.coffee()]
 tiles = []
 for photo in photos:
     look = follower.look(photo, np.zeros(2))

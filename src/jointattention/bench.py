@@ -117,17 +117,14 @@ def run_follow_benchmark(n_frames: int = 30) -> list[tuple[str, float, str]]:
     matplotlib's photograph; the template on the rendered view; Haar on the photograph. With an
     untrained model whose face statistics are the shipped data sets' (speed only).
     """
-    from pathlib import Path
-
     import cv2
-    import matplotlib
 
-    from ._readers import read_image
     from .agent.follower import GazeFollower
     from .agent.saved import LearnedModel
     from .config import load_config
     from .datasets import default_datasets
     from .experiment.cells import make_agent
+    from .experiment.face_finders import hopper_photo
     from .world.simulator import World
 
     config = load_config()
@@ -138,8 +135,7 @@ def run_follow_benchmark(n_frames: int = 30) -> list[tuple[str, float, str]]:
     with World(config.world, seed=0) as world:
         world.set_head_angle(world.face_angle_rad)
         view = world.render()
-    photo = read_image(Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg")
-    rows = []
+    photo, rows = hopper_photo(), []
     camera = cv2.resize(view, (640, 480), interpolation=cv2.INTER_LINEAR)
     threads = cv2.getNumThreads()
     cv2.setNumThreads(1)  # one core, as a robot's control loop would have it

@@ -38,7 +38,7 @@ from . import __version__
 from ._checks import check_path
 from ._readers import read_image, read_text
 from .agent.faces import face_template, window_of
-from .agent.finders import finder_for
+from .agent.finders import DEFAULT_FACE, finder_for
 from .datasets import CaregiverDatasets, default_datasets
 from .errors import DatasetError, FileError
 
@@ -131,7 +131,7 @@ def _checked(row: dict, i: int, where: Path, folder: Path) -> dict:
     return out
 
 
-def import_recording(folder: str | Path, *, face: str = "blazeface",
+def import_recording(folder: str | Path, *, face: str = DEFAULT_FACE,
                      template: np.ndarray | None = None, face_size_px: tuple[int, int] = (30, 25),
                      min_score: float | None = None,
                      progress: Callable[[int], None] | None = None

@@ -124,5 +124,4 @@ class Calibration:
                                    / CALIBRATION_FILE) as p:
                 return cls.load(p)
         with np.load(path) as f:
-            stages = f["stages"] if "stages" in f.files else np.zeros((0, 1 + SIDE_PX ** 2, 3))
-            return cls(f["weights"], stages, json.loads(str(f["meta"])))
+            return cls(f["weights"], f["stages"], json.loads(str(f["meta"])))

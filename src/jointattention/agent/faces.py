@@ -67,12 +67,14 @@ class FaceFinder:
             a wall can match a mean face's grey levels but has none. Measured with
             ``examples/recorded_head.py --look-away 50``: 125 views of the caregiver score
             0.68 or more, the 11 of 50 views away that pass the grey-level test 0.62 or less.
+        cascade: the Haar cascade's file among those OpenCV ships (``cv2.data.haarcascades``).
     """
 
     def __init__(self, method: str = "template", template: np.ndarray | None = None, *,
                  min_score: float = 0.5,
                  heights_px: tuple[float, float] | None = (50.0, 200.0),
-                 scale_step: float = 1.1, min_edge_score: float = 0.65):
+                 scale_step: float = 1.1, min_edge_score: float = 0.65,
+                 cascade: str = "haarcascade_frontalface_default.xml"):
         if method not in ("template", "haar"):
             raise ValueError(f"face method {method!r}: expected 'template' or 'haar'")
         if method == "template" and template is None:
@@ -84,7 +86,7 @@ class FaceFinder:
         self.template = None if template is None else np.asarray(template, np.uint8)
         self._cascade = None
         if method == "haar":
-            path = cv2.data.haarcascades + "haarcascade_frontalface_default.xml"
+            path = cv2.data.haarcascades + cascade
             self._cascade = cv2.CascadeClassifier(path)
             if self._cascade.empty():
                 raise RuntimeError(f"{path}: OpenCV's Haar cascade did not load; expected "

@@ -14,10 +14,11 @@ from .blazeface import BlazeFace
 from .face_calibration import Calibration
 from .faces import Face, FaceFinder
 
-__all__ = ["FACE_METHODS", "BlazeFaceFinder", "finder_for"]
+__all__ = ["DEFAULT_FACE", "FACE_METHODS", "BlazeFaceFinder", "finder_for"]
 
 # the robot's face finders, default first
 FACE_METHODS = ("blazeface", "template", "haar")
+DEFAULT_FACE = FACE_METHODS[0]  # the finder of follow, the closed loop and the finder cut
 
 
 class BlazeFaceFinder:

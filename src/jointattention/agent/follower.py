@@ -25,7 +25,7 @@ import numpy as np
 from .._arrays import angles
 from ..errors import ArgumentError
 from .faces import Face, window_of
-from .finders import FACE_METHODS, finder_for
+from .finders import DEFAULT_FACE, FACE_METHODS, finder_for
 from .saved import LearnedModel, Robot, load_model
 
 __all__ = ["FACE_METHODS", "GazeFollower", "Look"]
@@ -61,7 +61,7 @@ class GazeFollower:
             simulated heads; False for photographs of people (the landmarks alone).
     """
 
-    def __init__(self, model: LearnedModel, face: str = "blazeface",
+    def __init__(self, model: LearnedModel, face: str = DEFAULT_FACE,
                  min_score: float | None = None, *, refine: bool = True):
         if face not in FACE_METHODS:
             raise ArgumentError(f"face {face!r}: expected one of {', '.join(FACE_METHODS)}")
@@ -72,7 +72,7 @@ class GazeFollower:
                                  min_score, refine=refine)
 
     @classmethod
-    def load(cls, path: str | Path, *, face: str = "blazeface", robot: Robot | None = None,
+    def load(cls, path: str | Path, *, face: str = DEFAULT_FACE, robot: Robot | None = None,
              min_score: float | None = None, refine: bool = True) -> GazeFollower:
         """A follower of the model saved at ``path`` (refused if learned on another ``robot``)."""
         return cls(load_model(path, robot=robot), face, min_score, refine=refine)

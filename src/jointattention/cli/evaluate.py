@@ -1,4 +1,8 @@
-"""The command line's ``evaluate``: a saved model, frozen, on held-out data sets."""
+"""The command line's ``evaluate`` and ``closed-loop``: a saved model, frozen, measured.
+
+``evaluate`` runs it on held-out data sets in the fast world; ``closed-loop`` drives the
+rendered head with it through images alone.
+"""
 
 from __future__ import annotations
 
@@ -8,6 +12,7 @@ import math
 from pathlib import Path
 
 from .._files import check_writable
+from ..agent.finders import DEFAULT_FACE, FACE_METHODS
 from ..errors import ArgumentError
 from ._common import int_in
 
@@ -70,8 +75,61 @@ def _cmd_evaluate(args: argparse.Namespace) -> None:
         print(out / "evaluation.json")
 
 
+def _cmd_closed_loop(args: argparse.Namespace) -> None:
+    import time
+
+    from tqdm import tqdm
+
+    from .._files import write_text
+    from ..agent.saved import load_model
+    from ..experiment.closed_loop import TABLE_HEAD, closed_loop
+    from ..experiment.training import model_datasets
+    from ..world import _gl
+
+    model = load_model(args.model)
+    if args.datasets is None:
+        datasets = model_datasets(model, args.model)  # the model's own, by content
+    else:
+        from ..datasets import load
+        from ..experiment.closed_loop import caregivers_shown
+
+        datasets = load(args.datasets)
+        caregivers_shown(datasets, model.config.world)  # who posed them, before rendering
+    if args.out:
+        check_writable(args.out, "file")
+    _gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start
+    rows = list(TABLE_HEAD)
+    start = time.perf_counter()
+    for n in args.objects:
+        with tqdm(total=args.trials, desc=f"{n} objects", unit="trial") as bar:
+            r = closed_loop(model, n, args.trials, seed=args.seed, face=args.face,
+                            progress=lambda i: bar.update(1), datasets=datasets)
+        rows.append(r.row())
+    where = ("its own data sets" if args.datasets is None else
+             f"the data sets of {args.datasets}")
+    text = "\n".join(rows) + (f"\n\nSuccess of {args.model} on {where} (face finder {args.face}; "
+                              f"learning time {model.agent.learning_time_steps:,} steps), "
+                              f"{(time.perf_counter() - start) / 60:.1f} min.\n")
+    text += _held_out_lines(model.held_out)
+    print(text, end="")
+    if args.out:
+        write_text(args.out, text)
+
+
+def _held_out_lines(held_out: dict | None) -> str:
+    """What a model file says of its model on held-out sets at the end of its learning."""
+    if not held_out:
+        return "The model file holds no held-out measures (learned before version 0.3).\n"
+    lines = ["The model when it was learned, frozen, in the fast world (its held-out measures):"]
+    for kind, m in held_out.items():
+        error = m.get("median_error_deg")
+        lines.append(f"- {kind}: success {m.get('success', float('nan')):.3f}"
+                     + ("" if error is None else f", median angle error {error:.1f}°"))
+    return "\n".join(lines) + "\n"
+
+
 def add_commands(sub) -> None:
-    """Register ``evaluate`` on the subparsers ``sub``."""
+    """Register ``evaluate`` and ``closed-loop`` on the subparsers ``sub``."""
     p = sub.add_parser(
         "evaluate", help="a saved model, frozen, on held-out data sets",
         description="Run a saved model, frozen (it learns nothing), on held-out data sets in "
@@ -96,3 +154,29 @@ def add_commands(sub) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object instead")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_evaluate)
+
+    p = sub.add_parser(
+        "closed-loop", help="a saved model driving the rendered head through images alone",
+        description="For each object count: trials in the rendered world where the face is "
+                    "found in the first image, its window cut, and the learning module moves "
+                    "the head while OpenCV detects and the evaluator (Eq. 3) ends the trial; "
+                    "the same trials with the window cut around the head's projection in the "
+                    "same first image (the experimenter's box), with the data set's window, "
+                    "and in the fast world. "
+                    "Prints a Markdown table of success, and the median angle between the "
+                    "module's first command and the direction to the target with each window.")
+    p.add_argument("model", metavar="MODEL", type=Path, help="a model file (train --out)")
+    p.add_argument("--objects", type=int_in(1, 20), nargs="+", default=[1, 3, 5, 10],
+                   help="object counts (default: 1 3 5 10)")
+    p.add_argument("--trials", type=int_in(1, 10**6), default=200,
+                   help="trials per object count (default: 200)")
+    p.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
+                   help="seed of the trials (default: 0)")
+    p.add_argument("--face", choices=FACE_METHODS, default=DEFAULT_FACE,
+                   help="face finder (default: blazeface; template: the model's mean face)")
+    p.add_argument("--datasets", metavar="FILE",
+                   help="trials from these data sets of the model's world, their caregivers "
+                        "rendered (e.g. unseen ones: datasets make --held-out); default: the "
+                        "model's own")
+    p.add_argument("--out", help="also write the table to this Markdown file")
+    p.set_defaults(func=_cmd_closed_loop)

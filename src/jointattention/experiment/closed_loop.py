@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..agent.finders import DEFAULT_FACE
 from ..agent.follower import GazeFollower
 from ..agent.protocol import LM, Outcome
 from ..agent.saved import LearnedModel
@@ -31,7 +32,8 @@ from .cells import datasets_of, evaluator, random_scene
 from .probes import angle_deg
 from .trial import SceneTrial, run_trial
 
-__all__ = ["ClosedLoopResult", "FollowingAgent", "caregivers_shown", "closed_loop"]
+__all__ = ["TABLE_HEAD", "ClosedLoopResult", "FollowingAgent", "caregivers_shown",
+           "closed_loop"]
 
 
 def caregivers_shown(ds: CaregiverDatasets, world: WorldConfig) -> list[Caregiver] | None:
@@ -83,10 +85,23 @@ class ClosedLoopResult:
     image_error_deg: float  # median angle of the first command to the target's, image window
     dataset_error_deg: float  # the same with the data set's window
 
+    def row(self) -> str:
+        """This result as a row of the Markdown table under :data:`TABLE_HEAD`."""
+        return (f"| {self.n_objects} | {self.n_trials} | {self.faces_found:.3f} | "
+                f"{self.rendered_success:.3f} | {self.rendered_box_face_success:.3f} | "
+                f"{self.rendered_dataset_face_success:.3f} | {self.fast_success:.3f} | "
+                f"{self.image_error_deg:.1f}°, {self.dataset_error_deg:.1f}° |")
+
+
+# the closed loop's Markdown table: its header lines; ClosedLoopResult.row gives the rows
+TABLE_HEAD = ("| objects | trials | faces found | images only | rendered, the head's box window "
+              "| rendered, the data set's window | fast world | first command's error: image "
+              "window, data set's window |", "|---|---|---|---|---|---|---|---|")
+
 
 def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int = 0,
                 progress: Callable[[int], None] | None = None,
-                datasets: CaregiverDatasets | None = None, face: str = "blazeface"
+                datasets: CaregiverDatasets | None = None, face: str = DEFAULT_FACE
                 ) -> ClosedLoopResult:
     """Run ``model`` for ``n_trials`` trials of ``n_objects`` objects, rendered and fast.
 

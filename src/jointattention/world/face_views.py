@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import rng as rngs
 from ..config import WorldConfig
-from .recording import split_evenly
+from .recording import head_box, split_evenly
 from .simulator import World
 
 __all__ = ["FaceView", "face_views"]
@@ -26,7 +26,7 @@ class FaceView(NamedTuple):
     Attributes:
         image: RGB uint8 (H, W, 3), the robot's camera image (sensor effects included).
         centre_px: (2,) the projection of the head's centre: where the data sets' windows are
-            cut (:func:`~jointattention.world.recording.face_box`).
+            cut (:func:`~jointattention.world.recording.head_box`).
         height_px: the head's apparent height (twice its apparent radius).
         caregiver: which of the views' caregivers (0 to ``caregivers`` - 1).
     """
@@ -47,11 +47,8 @@ def face_views(config: WorldConfig, n: int, caregivers: int, seed: int, *,
     aim = rngs.stream(seed, stream, 1)  # the head's offsets: apart from the world's draws
     jitter = np.deg2rad(np.asarray(jitter_deg, float))
     with World(config, seed=seed, stream=stream) as world:
-        kin = world.kinematics
         for i in range(n):
-            state = world.reset(new_identity=i > 0 and who[i] != who[i - 1])
-            theta = kin.clip(world.face_angle_rad + aim.uniform(-1, 1, 2) * jitter)
-            world.set_head_angle(theta)
-            centre = kin.project(state.head_pos_m, theta)[0][0]
-            radius = kin.apparent_radius_px(state.head_pos_m, [state.face_radius_m], theta)[0]
-            yield FaceView(world.render(), centre, float(2 * radius), int(who[i]))
+            world.reset(new_identity=i > 0 and who[i] != who[i - 1])
+            world.set_head_angle(world.kinematics.clip(
+                world.face_angle_rad + aim.uniform(-1, 1, 2) * jitter))
+            yield FaceView(world.render(), *head_box(world), int(who[i]))

@@ -17,33 +17,39 @@ import numpy as np
 from .. import __version__
 from .. import rng as rngs
 from ..agent.faces import face_window, window_of
-from ..agent.finders import finder_for
+from ..agent.finders import DEFAULT_FACE, finder_for
 from ..config import Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets, load
 from ..errors import DatasetError
 from .identity import Caregiver, caregiver_from_dict, sample_caregiver
 from .simulator import World
 
-__all__ = ["CUTS", "HELD_OUT", "capture_face_window", "caregivers_of", "face_box",
+__all__ = ["CUTS", "HELD_OUT", "capture_face_window", "caregivers_of", "face_box", "head_box",
            "make_datasets", "split_evenly"]
 
 HELD_OUT = "held-out"  # the stream of held-out recordings; no training world draws from it
 
 CUTS = ("box", "finder")  # where make_datasets cuts the face windows
-FACE_FINDER = "blazeface"  # the robot's face finder, as follow and the closed loop use it
+FACE_FINDER = DEFAULT_FACE  # the robot's face finder, as follow and the closed loop use it
+
+
+def head_box(world: World) -> tuple[np.ndarray, float]:
+    """The image position of the caregiver's head centre and the head's apparent height."""
+    kin, state = world.kinematics, world.state
+    theta = world.head_angle_rad
+    centre = kin.project(state.head_pos_m, theta)[0][0]
+    radius = kin.apparent_radius_px(state.head_pos_m, [state.face_radius_m], theta)[0]
+    return centre, float(2 * radius)
 
 
 def face_box(world: World) -> tuple[np.ndarray, float]:
     """Where the face window is cut in the robot's current view.
 
     The image position of the caregiver's head centre, and the crop's height (``face_window.margin``
-    times the head's apparent height).
+    times the head's apparent height, :func:`head_box`).
     """
-    kin, state = world.kinematics, world.state
-    theta = world.head_angle_rad
-    centre = kin.project(state.head_pos_m, theta)[0][0]
-    radius = kin.apparent_radius_px(state.head_pos_m, [state.face_radius_m], theta)[0]
-    return centre, world.config.face_window.margin * 2 * radius
+    centre, height = head_box(world)
+    return centre, world.config.face_window.margin * height
 
 
 def capture_face_window(world: World, image: np.ndarray | None = None) -> np.ndarray:
