@@ -8,8 +8,9 @@ BASE := $(VENV)/.installed-base
 RL_VENV := .venv-rl
 RL_BIN := $(RL_VENV)/bin
 RL_STAMP := $(RL_VENV)/.installed
+DOCS_STAMP := $(VENV)/.installed-docs
 
-.PHONY: demo test test-rl lint bench clean
+.PHONY: demo test test-rl lint bench docs clean
 
 # The main job needs only the package; the tests need the extras too (gym, ray, rl).
 $(BASE): pyproject.toml
@@ -50,5 +51,14 @@ lint: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/jointattention bench
 
+# The manual (mkdocs.yml): docs/*.md, the tables the runs wrote and the docstrings, into site/.
+# --strict: a broken link, a missing included table or a docstring griffe cannot read fails.
+$(DOCS_STAMP): $(BASE)
+	$(BIN)/python -m pip install --quiet -e ".[docs]"
+	touch $(DOCS_STAMP)
+
+docs: $(DOCS_STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict --site-dir site
+
 clean:
-	rm -rf $(VENV) $(RL_VENV) runs build src/*.egg-info
+	rm -rf $(VENV) $(RL_VENV) runs build site src/*.egg-info

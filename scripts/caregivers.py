@@ -143,7 +143,7 @@ def recorded(cache: Path, kind: str, n: int, seed: int, k: int) -> tuple[Path, C
             ds = None
         if (ds is not None and len(ds) == n and (ds.n_caregivers or 1) == k
                 and ds.meta.get("seed") == seed
-                and ds.meta.get("world_config_toml") == to_toml(Config(world=world))):
+                and ds.meta.get("world_config_toml") == world.to_toml()):
             print(f"cached   {path}", flush=True)
             return path, ds
     t0 = time.perf_counter()

@@ -108,8 +108,8 @@ def test_bench_estimates_every_preset():
     beyond preset) by the memory rate, the reinforcement learner's (models) and the population
     learner's (generalise) by their own.
     """
-    from jointattention.bench import preset_estimates
     from jointattention.config import preset_names
+    from jointattention.jobs.bench import preset_estimates
 
     rates = {"compiled": 1e5, "python": 1e4, "rendered": 50.0, "memory": 1e4, "rl": 1e4,
              "population": 1e4}

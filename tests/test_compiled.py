@@ -16,12 +16,12 @@ from hypothesis import strategies as st
 
 from jointattention import run_cell, run_experiment
 from jointattention.agent.attention import attended_index, interest_argmax, visual_feedback_rad
-from jointattention.agent.bootstrap import BootstrapOptions
 from jointattention.agent.gates import SigmoidGate
 from jointattention.agent.learner import LearningModule
-from jointattention.analysis.learned import train
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 from jointattention.experiment.cells import datasets_of
+from jointattention.jobs.learned import train
+from jointattention.models.bootstrap import BootstrapOptions
 from jointattention.world.kinematics import HeadKinematics
 
 READINGS = [  # each reading and gate of the bootstrap model, early enough to be quick

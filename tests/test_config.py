@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jointattention._fields import from_mapping
-from jointattention.agent.bootstrap import BootstrapOptions
 from jointattention.agent.gates import ConstantGate, SigmoidGate
 from jointattention.config import (
     CameraConfig,
@@ -21,6 +23,7 @@ from jointattention.config import (
     to_toml,
 )
 from jointattention.errors import ConfigError
+from jointattention.models.bootstrap import BootstrapOptions
 
 
 def test_defaults_are_valid_and_match_the_paper():
@@ -195,3 +198,18 @@ def load_config_text(text: str) -> Config:
         p = Path(d) / "c.toml"
         p.write_text(text)
         return load_config(p)
+
+
+def test_loading_every_preset_imports_no_engine_and_no_world():
+    """load_config loads no numba, MuJoCo, OpenCV or matplotlib, and of the world its options."""
+    code = (
+        "import sys\n"
+        "from jointattention.config import load_config, preset_names\n"
+        "for name in preset_names():\n"
+        "    load_config(name)\n"
+        "heavy = [m for m in ('numba', 'mujoco', 'cv2', 'matplotlib') if m in sys.modules]\n"
+        "world = sorted(m for m in sys.modules if m.startswith('jointattention.world.'))\n"
+        "assert not heavy, heavy\n"
+        "assert world == ['jointattention.world.options', 'jointattention.world.variation']\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)

@@ -9,11 +9,11 @@ import typing
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from jointattention.agent.bootstrap import BootstrapOptions
 from jointattention.agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from jointattention.agent.memory import MemoryOptions
 from jointattention.config import ConditionConfig, Config, load_config, to_toml
 from jointattention.errors import ConfigError
+from jointattention.models.bootstrap import BootstrapOptions
 
 
 def _field_names(*classes) -> list[str]:

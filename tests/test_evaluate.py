@@ -20,9 +20,9 @@ from jointattention.experiment.held_out import (
     held_out_sets,
     shipped_held_out,
 )
-from jointattention.experiment.reproduce import reproduce
 from jointattention.experiment.results import cell_path, load_cell, save_cell
 from jointattention.experiment.training import train
+from jointattention.jobs.reproduce import reproduce
 from jointattention.world.recording import caregivers_of
 
 QUICK = {"experiment": {"n_steps": 6000, "n_seeds": 1, "bin_steps": 2000,

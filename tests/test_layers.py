@@ -1,26 +1,76 @@
-"""The package's import graph: which modules import which, lazy imports included."""
+"""The package's layers: every import, lazy ones included, runs down the documented order."""
 
 from __future__ import annotations
 
 import ast
+import importlib
+import sys
 from pathlib import Path
 
+import pytest
+
 import jointattention
+from jointattention._moved import MOVED
 
 ROOT = Path(jointattention.__file__).parent
 
-# The import cycle left (docs/architecture.md; issue 30 removes it). A new cycle, or a
-# module joining one, fails the test; removing one means taking it off this list.
-KNOWN_CYCLES = [
-    {"agent.bootstrap", "agent.episodic", "agent.population_agent"},
+# The layers, lowest first (docs/architecture.md): a module may import its own layer's and
+# lower layers' modules. Two folders of one layer never import each other (the world and the
+# models: the robot's side never sees the world). Each entry: the layer's name and
+# the top-level names (folders or modules) in it.
+LAYERS = [
+    ("plumbing", {"errors", "rng", "datasets", "_arrays", "_checks", "_fields", "_files", "_jit",
+                  "_moved", "_readers", "_toml", "_version", "data", "presets"}),
+    ("robot", {"agent"}),
+    ("world and models", {"world", "models"}),
+    ("config", {"config"}),
+    ("data and deployment", {"recordings", "deploy"}),
+    ("runner", {"experiment"}),
+    ("analysis and env", {"analysis", "env"}),
+    ("figures", {"figures"}),
+    ("jobs", {"jobs"}),
+    ("cli", {"cli", "__main__"}),
 ]
+# The package's root (``jointattention/__init__``) is above them all: it names its exports
+# as strings and loads each on first use.
+ROOT_MODULE = ""
 
 
-def module_graph(root: Path) -> dict[str, set[str]]:
+
+def layer_of(module: str) -> int:
+    """The index in :data:`LAYERS` of ``module``'s layer (KeyError if it has none)."""
+    head = module.split(".")[0]
+    for i, (_, heads) in enumerate(LAYERS):
+        if head in heads:
+            return i
+    raise KeyError(module)
+
+
+def wrong_imports(graph: dict[str, set[str]]) -> list[str]:
+    """Every import that runs up the layers or across folders of one layer, as text."""
+    wrong = []
+    for module, imported in sorted(graph.items()):
+        if module == ROOT_MODULE:
+            continue
+        here = layer_of(module)
+        for other in sorted(imported):
+            there = layer_of(other)
+            heads = {module.split(".")[0], other.split(".")[0]}
+            apart = (here == there and len(heads) == 2
+                     and all((ROOT / head).is_dir() for head in heads))
+            if there > here or apart:
+                wrong.append(f"{module} ({LAYERS[here][0]}) imports {other} "
+                             f"({LAYERS[there][0]})")
+    return wrong
+
+
+def module_graph(root: Path, unresolved: dict[str, set[str]] | None = None
+                 ) -> dict[str, set[str]]:
     """{module: modules of the same package it imports}, imports in function bodies included.
 
     Names are relative to ``root`` (``agent.bootstrap``; a package is its folder's name).
     ``from X import name`` counts as importing ``X.name`` when that is a module, else ``X``.
+    Imports of the package that name no module go into ``unresolved`` if it is given.
     """
     def name_of(path: Path) -> str:
         parts = list(path.relative_to(root).with_suffix("").parts)
@@ -49,6 +99,8 @@ def module_graph(root: Path) -> dict[str, set[str]]:
                     sub = f"{target}.{alias.name}".lstrip(".")
                     found.add(sub if sub in modules else target)
         graph[name] = {m for m in found if m in modules and m != name}
+        if unresolved is not None and found - set(modules):
+            unresolved[name] = found - set(modules)
     return graph
 
 
@@ -84,10 +136,45 @@ def cycles(graph: dict[str, set[str]]) -> list[set[str]]:
     return result
 
 
-def test_no_import_cycle_beyond_the_known_ones():
-    """The package's import cycles, lazy imports counted, are exactly the listed ones."""
-    found = cycles(module_graph(ROOT))
-    assert sorted(map(sorted, found)) == sorted(map(sorted, KNOWN_CYCLES))
+def test_every_module_has_a_layer():
+    """Each module of the package belongs to one documented layer (a new folder needs one)."""
+    graph = module_graph(ROOT)
+    missing = []
+    for module in graph:
+        if module != ROOT_MODULE:
+            try:
+                layer_of(module)
+            except KeyError:
+                missing.append(module)
+    assert not missing
+
+
+def test_imports_run_down_the_layers():
+    """No module imports a higher layer, or another folder of its own layer; lazy ones count."""
+    assert wrong_imports(module_graph(ROOT)) == []
+
+
+def test_each_folder_states_its_layer():
+    """Each folder's docstring names its layer's number, as the test's order has it."""
+    for i, (name, heads) in enumerate(LAYERS):
+        for head in heads:
+            init = ROOT / head / "__init__.py"
+            if head.startswith("_") or not init.exists() or head in ("data", "presets"):
+                continue
+            doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
+            assert f"Layer {i + 1}" in doc, f"{head}/: expected 'Layer {i + 1}' ({name})"
+
+
+def test_the_layer_check_sees_an_upward_import():
+    """A figure that imports a job, and the world importing a model, are both caught."""
+    graph = {"figures.x": {"jobs.y"}, "world.a": {"models.b"}, "jobs.y": set(),
+             "models.b": set(), "agent.c": {"errors"}, "errors": set()}
+    assert len(wrong_imports(graph)) == 2
+
+
+def test_no_import_cycle():
+    """The package has no import cycle, lazy imports counted."""
+    assert cycles(module_graph(ROOT)) == []
 
 
 def test_the_scan_sees_a_cycle_closed_by_a_lazy_import(tmp_path):
@@ -100,3 +187,21 @@ def test_the_scan_sees_a_cycle_closed_by_a_lazy_import(tmp_path):
     (pkg / "sub" / "b.py").write_text("def thing():\n    from . import a\n    return a\n")
     (pkg / "c.py").write_text("from .sub.a import thing\n")
     assert cycles(module_graph(pkg)) == [{"sub.a", "sub.b"}]
+
+
+def test_the_package_imports_no_old_path():
+    """Every import of the package names one of its modules: none goes through an old path."""
+    unresolved: dict[str, set[str]] = {}
+    module_graph(ROOT, unresolved)
+    assert unresolved == {}
+
+
+@pytest.mark.parametrize("old", sorted(MOVED))
+def test_an_old_module_path_warns_and_gives_the_new_objects(old):
+    """Importing a path of version 0.3 warns, naming the new one, and holds the same objects."""
+    new = importlib.import_module(f"jointattention.{MOVED[old]}")
+    sys.modules.pop(f"jointattention.{old}", None)
+    with pytest.warns(DeprecationWarning, match=f"jointattention.{MOVED[old]}"):
+        module = importlib.import_module(f"jointattention.{old}")
+    assert module.__all__ == new.__all__
+    assert all(getattr(module, name) is getattr(new, name) for name in new.__all__)

@@ -7,11 +7,11 @@ import dataclasses
 import numpy as np
 import pytest
 
-from jointattention.analysis import learned
 from jointattention.config import load_config
 from jointattention.errors import ConfigError
 from jointattention.experiment import probes
 from jointattention.experiment.cells import datasets_of
+from jointattention.jobs import learned
 
 
 @pytest.fixture(scope="module")

@@ -9,12 +9,12 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from jointattention.agent.bootstrap import BootstrapOptions
 from jointattention.agent.gates import PerformanceGate, agreement_update, performance_rate
 from jointattention.agent.memory import EpisodicMemory, MemoryOptions
 from jointattention.agent.protocol import Body
 from jointattention.config import AgentConfig
 from jointattention.errors import ConfigError
+from jointattention.models.bootstrap import BootstrapOptions
 
 LIMITS = ((-1.0, 1.0), (-0.7, 0.6))
 BODY = Body(image_size_px=(320, 240), joint_limits_rad=LIMITS, face_size_px=(4, 3))
@@ -71,9 +71,9 @@ def test_an_empty_memory_recalls_nothing_and_the_agent_does_not_move():
     agent = BootstrapOptions(learner="memory").build(AgentConfig(), BODY,
                                                      np.random.default_rng(0))
     face = np.zeros((3, 4))
-    assert agent.memory.recall(agent.memory.code(face)) == (None, -1.0)
+    assert agent.module.memory.recall(agent.module.memory.code(face)) == (None, -1.0)
     assert np.array_equal(agent.lm_command(face, (0.1, 0.2)), [0.0, 0.0])
-    assert np.isnan(agent.memory.predict(face.reshape(1, -1))).all()
+    assert np.isnan(agent.module.memory.predict(face.reshape(1, -1))).all()
 
 
 def test_the_memory_agent_draws_the_bootstrap_agents_streams_unchanged():

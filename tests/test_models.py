@@ -14,7 +14,7 @@ from jointattention.analysis.metrics import final_success
 from jointattention.config import load_config, model_options
 from jointattention.errors import ConfigError
 from jointattention.experiment.cells import run_cell
-from jointattention.experiment.reproduce import run_experiment
+from jointattention.jobs.reproduce import run_experiment
 
 SHORT = {"seed": 0, "model": {"gate": {"midpoint_steps": 25000.0, "width_steps": 5000.0}},
          "experiment": {"n_steps": 60000, "n_seeds": 2, "bin_steps": 5000,
@@ -198,7 +198,7 @@ def test_the_blur_is_opencvs_gaussian_blur(sigma, seed):
     """blur_into equals cv2.GaussianBlur with the same s.d., 3 s.d. wide, borders repeated."""
     import cv2
 
-    from jointattention.agent.developmental import blur_into
+    from jointattention.models.developmental import blur_into
 
     face = np.random.default_rng(seed).uniform(0, 255, (25, 30))
     out = np.empty(face.size)
@@ -250,7 +250,7 @@ def test_engine_auto_compiles_what_it_can():
 
 def test_a_developmental_model_is_saved_once_it_sees_sharp_faces(tmp_path):
     """Saving while the face is still blurred is one ConfigError line; once sharp, it loads."""
-    from jointattention.agent.saved import load_model, save_model
+    from jointattention.deploy.saved import load_model, save_model
 
     config = load_config({"model": {"kind": "developmental", "blur_sharp_steps": 10.0}})
     name = config.experiment.conditions[0].name
@@ -327,7 +327,7 @@ def test_only_classes_that_say_so_run_compiled():
     """A model class runs compiled only if it declares it itself: a subclass must say so too."""
     from dataclasses import dataclass
 
-    from jointattention.agent.bootstrap import BootstrapOptions
+    from jointattention.models.bootstrap import BootstrapOptions
 
     @dataclass(frozen=True)
     class Changed(BootstrapOptions):

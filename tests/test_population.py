@@ -9,23 +9,23 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jointattention.agent.bootstrap import BootstrapOptions
 from jointattention.agent.face_features import face_features, n_features
 from jointattention.agent.population import PopulationCode, PopulationOptions
-from jointattention.agent.population_agent import PopulationAgent, line_step
 from jointattention.agent.protocol import Body
-from jointattention.agent.saved import LearnedModel, load_model
 from jointattention.config import AgentConfig, ConditionConfig, load_config
 from jointattention.datasets import default_datasets
+from jointattention.deploy.saved import LearnedModel, load_model
 from jointattention.experiment.cells import run_cell
 from jointattention.experiment.evaluate import freeze, frozen_success
 from jointattention.experiment.probes import angle_errors
+from jointattention.models.bootstrap import BootstrapAgent, BootstrapOptions
+from jointattention.models.population import PopulationModule, line_step
 
 BODY = Body(image_size_px=(320, 240), joint_limits_rad=((-1.0, 1.0), (-0.8, 0.6)),
             face_size_px=(30, 25))
 
 
-def _agent(**population) -> PopulationAgent:
+def _agent(**population) -> BootstrapAgent:
     options = BootstrapOptions(learner="population", vf_fallback="sweep",
                                population=PopulationOptions(**population))
     return options.build(AgentConfig(), BODY, np.random.default_rng(0))
@@ -117,14 +117,14 @@ def test_the_population_model_round_trips_through_its_file(tmp_path, standardise
     path = model.save(tmp_path / "pop.npz")
     loaded = load_model(path)
     ds = default_datasets()
-    assert isinstance(loaded, LearnedModel) and isinstance(loaded.agent, PopulationAgent)
+    assert isinstance(loaded, LearnedModel) and isinstance(loaded.agent.module, PopulationModule)
     assert np.array_equal(angle_errors(model.agent, ds), angle_errors(loaded.agent, ds))
     assert int(np.load(path)["schema_version"]) == 2
 
 
 def test_a_saved_population_model_follows_gaze_on_a_rendered_frame(tmp_path, needs_gl):
     """GazeFollower with a population model file: the command is the model's for the window."""
-    from jointattention.agent.follower import GazeFollower
+    from jointattention.deploy.follower import GazeFollower
     from jointattention.experiment.training import train
     from jointattention.world.simulator import World
 
@@ -138,7 +138,7 @@ def test_a_saved_population_model_follows_gaze_on_a_rendered_frame(tmp_path, nee
         world.reset()
         world.set_head_angle(world.face_angle_rad)
         look = follower.look(world.render(), world.face_angle_rad)
-    assert look is not None and isinstance(follower.model.agent, PopulationAgent)
+    assert look is not None and isinstance(follower.model.agent.module, PopulationModule)
     np.testing.assert_allclose(look.command_rad, follower.model.agent.lm_command(
         look.window, world.face_angle_rad))
     assert np.hypot(*look.command_rad) == pytest.approx(np.deg2rad(config.agent.lm_step_deg))

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 import jointattention as ja
 from jointattention._readers import read_json
 from jointattention.errors import JointAttentionError
-from jointattention.experiment.sweep import load_sweep
+from jointattention.jobs.sweep import load_sweep
 
 SETTINGS = settings(max_examples=60, deadline=None,
                     suppress_health_check=[HealthCheck.function_scoped_fixture])

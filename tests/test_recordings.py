@@ -160,7 +160,7 @@ def test_robot_round_trip_learns_to_follow(tmp_path, needs_gl):
 def test_the_closed_loop_shows_who_posed_the_data_sets(recording):
     """A robot's recording names no simulated caregiver: the closed loop shows the seed's own."""
     from jointattention.datasets import default_datasets
-    from jointattention.experiment.closed_loop import caregivers_shown
+    from jointattention.jobs.closed_loop import caregivers_shown
 
     folder, _, _ = recording
     ds, _ = import_recording(folder)

@@ -9,11 +9,11 @@ import pytest
 
 from jointattention.agent.detections import Detections
 from jointattention.agent.protocol import LM, Body, Outcome
-from jointattention.agent.rl import STAY, RLAgent, RLOptions
 from jointattention.analysis.metrics import final_success
 from jointattention.config import load_config, model_options
 from jointattention.errors import ConfigError
 from jointattention.experiment.cells import run_cell
+from jointattention.models.rl import STAY, RLAgent, RLOptions
 
 SHORT = {"seed": 0, "model": {"kind": "rl"},
          "experiment": {"engine": "python", "n_steps": 30000, "n_seeds": 2, "bin_steps": 3000,

@@ -8,13 +8,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from jointattention.agent.saved import Robot, load_model
 from jointattention.cli import main
 from jointattention.config import load_config
 from jointattention.datasets import default_datasets
+from jointattention.deploy.saved import Robot, load_model
 from jointattention.errors import ConfigError, FileError
-from jointattention.experiment.reproduce import run_experiment
 from jointattention.experiment.training import model_path, train
+from jointattention.jobs.reproduce import run_experiment
 
 TINY = {"seed": 3, "experiment": {"n_steps": 4000, "n_seeds": 2, "bin_steps": 1000,
                                   "n_ceiling_trials": 20,
@@ -239,7 +239,7 @@ def test_follow_with_no_camera_is_one_clear_line(saved, capfd):
 
 def test_closed_loop_runs_a_saved_model_through_images(saved, tmp_path, capsys, needs_gl):
     """The closed loop finds the face in every rendered start image and prints its table."""
-    from jointattention.experiment.closed_loop import closed_loop
+    from jointattention.jobs.closed_loop import closed_loop
 
     model, path = saved
     before = model.agent.learner.w1_.copy()
@@ -258,7 +258,7 @@ def test_closed_loop_runs_a_saved_model_through_images(saved, tmp_path, capsys, 
 def test_closed_loop_on_other_caregivers_shows_each_trials_caregiver(saved, needs_gl,
                                                                     monkeypatch):
     """--datasets of two unseen caregivers: each trial renders the one who posed its data set."""
-    from jointattention.experiment import closed_loop as cl
+    from jointattention.jobs import closed_loop as cl
     from jointattention.world.recording import HELD_OUT, caregivers_of, make_datasets
 
     model, _ = saved
@@ -288,7 +288,7 @@ def test_a_wrong_window_or_angle_is_refused_before_the_kernels(saved):
     _, path = saved
     code = f"""
 import numpy as np
-from jointattention.agent.saved import load_model
+from jointattention.deploy.saved import load_model
 from jointattention.errors import ArgumentError
 m = load_model({str(path)!r})
 w, h = m.robot.face_size_px
@@ -355,7 +355,7 @@ def test_a_developmental_model_that_would_end_blurred_is_refused_before_learning
 @pytest.mark.parametrize("min_score", [float("nan"), 1.5, -2, "0.5", True])
 def test_a_follower_refuses_a_min_score_that_is_not_a_correlation(saved, min_score):
     """GazeFollower(min_score=...) outside [-1, 1] (NaN would disable the face check): refused."""
-    from jointattention.agent.follower import GazeFollower
+    from jointattention.deploy.follower import GazeFollower
     from jointattention.errors import ArgumentError
 
     with pytest.raises(ArgumentError, match="min_score"):

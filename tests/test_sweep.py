@@ -7,7 +7,7 @@ import pytest
 
 from jointattention.errors import ConfigError
 from jointattention.experiment import results
-from jointattention.experiment.sweep import load_sweep, run_sweep
+from jointattention.jobs.sweep import load_sweep, run_sweep
 
 SPEC = """
 base = "quick"

@@ -9,7 +9,6 @@ import pytest
 
 from jointattention.agent.attention import attended_object
 from jointattention.config import WorldConfig
-from jointattention.config.world import ObjectsConfig
 from jointattention.experiment.oracle import OracleAgent
 from jointattention.experiment.trial import (
     END_FIRED,
@@ -20,6 +19,7 @@ from jointattention.experiment.trial import (
     records,
     run_trial,
 )
+from jointattention.world.options import ObjectsConfig
 from jointattention.world.simulator import World
 
 STEP = np.deg2rad(4.0)

@@ -133,7 +133,7 @@ def test_parity_with_the_fast_detector_in_rendered_scenes(needs_gl):
 
     Both choose the same object and agree on every centre within 2 px (the issue's bar).
     """
-    from jointattention.analysis.parity import measure_parity
+    from jointattention.jobs.parity import measure_parity
 
     result = measure_parity(Config(), 300, seed=3)
     summary = result.summary()
@@ -143,7 +143,7 @@ def test_parity_with_the_fast_detector_in_rendered_scenes(needs_gl):
 
 def test_parity_holds_with_ten_objects(needs_gl):
     """With 10 objects (more overlaps and border cuts) agreement stays at 97% or more."""
-    from jointattention.analysis.parity import measure_parity
+    from jointattention.jobs.parity import measure_parity
 
     result = measure_parity(with_n_objects(Config(), 10), 200, seed=4)
     assert result.summary()["agree"] >= 0.97, result.summary()

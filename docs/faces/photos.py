@@ -18,8 +18,8 @@ import numpy as np
 from skimage import data
 
 from jointattention import GazeFollower
-from jointattention.experiment.face_finders import hopper_photo, lfw_view
-from jointattention.figures.follow import draw_look
+from jointattention.deploy.overlay import draw_look
+from jointattention.jobs.face_finders import hopper_photo, lfw_view
 
 SIDE_PX = 360
 follower = GazeFollower.load("docs/generalise/population_n10.npz", min_score=0.6, refine=False)

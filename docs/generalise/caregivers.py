@@ -22,7 +22,7 @@ from pathlib import Path
 from jointattention._files import write_text
 from jointattention.analysis.held_out import held_out_curves, held_out_table
 from jointattention.config import load_config
-from jointattention.experiment.reproduce import _held_out_ceilings
+from jointattention.jobs.reproduce import _held_out_ceilings
 
 
 def _rows(folder: Path) -> tuple[int, dict[str, dict]]:

@@ -23,10 +23,10 @@ from pathlib import Path
 import numpy as np
 
 from jointattention import load_config
-from jointattention.analysis.learned import train
 from jointattention.experiment.cells import datasets_of
 from jointattention.experiment.probes import axis_errors_deg
 from jointattention.figures._save import new_figure, save_figure
+from jointattention.jobs.learned import train
 
 CONDITIONS = ("paper-n5", "teacher-n5", "developmental-n5", "developmental-sharp-n5",
               "teacher-nogate-n5", "developmental-nogate-n5")

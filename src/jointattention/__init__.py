@@ -9,13 +9,16 @@ The layout is described in ``docs/architecture.md``.
 
 import importlib
 
-__version__ = "0.3.0"
+from . import _moved
+from ._version import __version__
+
+_moved.install()  # the module paths of version 0.3 keep working, with a warning
 
 _EXPORTS = {
     "Agent": "jointattention.agent.protocol:Agent",
     "Body": "jointattention.agent.protocol:Body",
-    "BootstrapAgent": "jointattention.agent.bootstrap:BootstrapAgent",
-    "BootstrapOptions": "jointattention.agent.bootstrap:BootstrapOptions",
+    "BootstrapAgent": "jointattention.models.bootstrap:BootstrapAgent",
+    "BootstrapOptions": "jointattention.models.bootstrap:BootstrapOptions",
     "CaregiverDatasets": "jointattention.datasets:CaregiverDatasets",
     "ConditionConfig": "jointattention.config:ConditionConfig",
     "Config": "jointattention.config:Config",
@@ -25,14 +28,14 @@ _EXPORTS = {
     "FastScene": "jointattention.world.fast:FastScene",
     "GATES": "jointattention.agent.gates:GATES",
     "Gate": "jointattention.agent.gates:Gate",
-    "GazeFollower": "jointattention.agent.follower:GazeFollower",
+    "GazeFollower": "jointattention.deploy.follower:GazeFollower",
     "JointAttentionError": "jointattention.errors:JointAttentionError",
-    "LearnedModel": "jointattention.agent.saved:LearnedModel",
-    "MODELS": "jointattention.agent.models:MODELS",
-    "ModelOptions": "jointattention.agent.models:ModelOptions",
+    "LearnedModel": "jointattention.deploy.saved:LearnedModel",
+    "MODELS": "jointattention.models.registry:MODELS",
+    "ModelOptions": "jointattention.models.registry:ModelOptions",
     "Outcome": "jointattention.agent.protocol:Outcome",
-    "Robot": "jointattention.agent.saved:Robot",
-    "RunResult": "jointattention.experiment.reproduce:RunResult",
+    "Robot": "jointattention.deploy.saved:Robot",
+    "RunResult": "jointattention.jobs.reproduce:RunResult",
     "Scene": "jointattention.world.protocol:Scene",
     "SceneTrial": "jointattention.experiment.trial:SceneTrial",
     "TrialResult": "jointattention.experiment.trial:TrialResult",
@@ -43,14 +46,14 @@ _EXPORTS = {
     "import_recording": "jointattention.recordings:import_recording",
     "load_config": "jointattention.config:load_config",
     "load_datasets": "jointattention.datasets:load",
-    "load_model": "jointattention.agent.saved:load_model",
+    "load_model": "jointattention.deploy.saved:load_model",
     "measure_ceiling": "jointattention.experiment.cells:measure_ceiling",
     "param": "jointattention.config:param",
-    "reproduce": "jointattention.experiment.reproduce:reproduce",
+    "reproduce": "jointattention.jobs.reproduce:reproduce",
     "run_cell": "jointattention.experiment.cells:run_cell",
-    "run_experiment": "jointattention.experiment.reproduce:run_experiment",
+    "run_experiment": "jointattention.jobs.reproduce:run_experiment",
     "run_trial": "jointattention.experiment.trial:run_trial",
-    "save_model": "jointattention.agent.saved:save_model",
+    "save_model": "jointattention.deploy.saved:save_model",
     "train": "jointattention.experiment.training:train",
     "write_report": "jointattention.figures.report:write_report",
 }

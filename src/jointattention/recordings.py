@@ -34,9 +34,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
 from ._checks import check_path
 from ._readers import read_image, read_text
+from ._version import __version__
 from .agent.faces import face_template, window_of
 from .agent.finders import DEFAULT_FACE, finder_for
 from .datasets import CaregiverDatasets, default_datasets

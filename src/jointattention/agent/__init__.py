@@ -1,5 +1,11 @@
-"""What the robot has: detectors, controller, evaluator, learner, gate and the agent.
+"""The robot's parts: what the robot has and knows.
 
-Nothing here imports :mod:`jointattention.world`: the robot learns without knowing what only
-the experimenter knows (a test guards this).
+Its detectors and face finders, visual attention (Eq. 1, 2), the internal evaluator's radius
+(Eq. 3), the learning modules (the paper's network, the episodic memory, the population code),
+the gates, the head's moves, the agent protocol and the robot's options.
+
+Layer 2 of ``docs/architecture.md``: it may import only the plumbing (the package's top-level
+private modules, ``errors``, ``rng``, ``datasets``). Nothing here imports
+:mod:`jointattention.world`: the robot learns without knowing what only the experimenter
+knows (``tests/test_boundary.py`` and ``tests/test_layers.py`` guard it).
 """

@@ -14,8 +14,8 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from ..config import DetectorConfig
 from .detections import Detections
+from .options import DetectorConfig
 
 __all__ = ["ColourRegions", "ImageDetector", "colour_regions", "fit_ball", "fit_circle"]
 

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..agent.models import MODELS
 from ..config import Config, model_options
+from ..models.registry import MODELS
 from .metrics import final_success, mean_interval
 
 __all__ = ["PAIRED_RULE", "Claim", "finals_of", "paired", "paired_lower", "reading_of"]

@@ -32,8 +32,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
-from ..agent.teacher import TeacherOptions
 from ..config import Config, model_options
+from ..models.teacher import TeacherOptions
 from .claim import PAIRED_RULE, Claim, finals_of, paired, paired_lower, reading_of
 from .neighbours import neighbour_claims
 from .tables import Table

@@ -33,12 +33,12 @@ from dataclasses import fields, replace
 
 import numpy as np
 
-from ..agent.bootstrap import BootstrapOptions
-from ..agent.developmental import DevelopmentalOptions
-from ..agent.models import MODELS
-from ..agent.teacher import TeacherOptions
 from ..config import Config, model_options
 from ..experiment.cells import datasets_of
+from ..models.bootstrap import BootstrapOptions
+from ..models.developmental import DevelopmentalOptions
+from ..models.registry import MODELS
+from ..models.teacher import TeacherOptions
 from .claim import PAIRED_RULE, Claim, finals_of, paired, paired_lower, reading_of
 from .metrics import mean_interval
 

@@ -1,9 +1,11 @@
 """The command line: ``jointattention COMMAND --help`` documents each command.
 
 Each command only parses its arguments and calls the library; the commands are registered by
-:mod:`.run` (reproduce, sweep, report, bench, config), :mod:`.vision` (parity, detect, gaze),
-:mod:`.world` (render, datasets), :mod:`.robot` (train, follow, datasets import) and
-:mod:`.evaluate` (evaluate).
+:mod:`.run` (reproduce, sweep, report, bench, config), :mod:`.vision` (parity, detect, gaze,
+faces), :mod:`.world` (render, datasets), :mod:`.robot` (train, follow, datasets import) and
+:mod:`.evaluate` (evaluate, closed-loop).
+
+Layer 10, the top: it may import anything; nothing in the package imports it.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ import signal
 import sys
 import threading
 
-from .. import __version__
+from .._version import __version__
 from ..errors import JointAttentionError
 from . import evaluate, robot, run, vision, world
 

@@ -29,8 +29,8 @@ def _number(value):
 
 
 def _cmd_evaluate(args: argparse.Namespace) -> None:
-    from ..agent.saved import load_model
     from ..datasets import load
+    from ..deploy.saved import load_model
     from ..experiment.evaluate import evaluate_agent
 
     if (args.datasets is None) == (args.caregivers is None):
@@ -81,9 +81,9 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
     from .._files import write_text
-    from ..agent.saved import load_model
-    from ..experiment.closed_loop import TABLE_HEAD, closed_loop
+    from ..deploy.saved import load_model
     from ..experiment.training import model_datasets
+    from ..jobs.closed_loop import TABLE_HEAD, closed_loop
     from ..world import _gl
 
     model = load_model(args.model)
@@ -91,7 +91,7 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
         datasets = model_datasets(model, args.model)  # the model's own, by content
     else:
         from ..datasets import load
-        from ..experiment.closed_loop import caregivers_shown
+        from ..jobs.closed_loop import caregivers_shown
 
         datasets = load(args.datasets)
         caregivers_shown(datasets, model.config.world)  # who posed them, before rendering

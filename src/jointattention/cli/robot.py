@@ -22,8 +22,8 @@ def _cmd_train(args: argparse.Namespace) -> None:
     import numpy as np
     from tqdm import tqdm
 
-    from ..agent.saved import check_savable
     from ..config import load_config
+    from ..deploy.saved import check_savable
     from ..experiment.cells import datasets_of
     from ..experiment.probes import angle_errors
     from ..experiment.training import train
@@ -98,8 +98,8 @@ def _cmd_follow(args: argparse.Namespace) -> None:
     import numpy as np
 
     from .._files import atomic_path
-    from ..agent.follower import GazeFollower
-    from ..figures.follow import draw_look
+    from ..deploy.follower import GazeFollower
+    from ..deploy.overlay import draw_look
 
     if sum(x is not None and x != [] for x in (args.images, args.video, args.camera)) != 1:
         raise ArgumentError("follow: expected IMAGE files, --video FILE or --camera N (one "

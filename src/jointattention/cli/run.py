@@ -15,7 +15,7 @@ __all__ = ["add_commands"]
 
 def _cmd_reproduce(args: argparse.Namespace) -> None:
     from ..config import load_config
-    from ..experiment.reproduce import reproduce
+    from ..jobs.reproduce import reproduce
 
     config = load_config(args.preset if args.config is None else args.config)
     n_workers = workers(args)
@@ -31,7 +31,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
 
 
 def _cmd_sweep(args: argparse.Namespace) -> None:
-    from ..experiment.sweep import load_sweep, run_sweep
+    from ..jobs.sweep import load_sweep, run_sweep
 
     sweep = load_sweep(args.spec, max_cells=args.max_cells)
     out = Path(args.out or Path("runs") / Path(args.spec).stem)
@@ -54,7 +54,8 @@ def _cmd_report(args: argparse.Namespace) -> None:
 
 
 def _cmd_bench(args: argparse.Namespace) -> None:
-    from ..bench import (
+    from ..config import load_config
+    from ..jobs.bench import (
         compile_times,
         preset_estimates,
         run_agent_benchmark,
@@ -63,7 +64,6 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         run_preset,
         run_world_benchmarks,
     )
-    from ..config import load_config
 
     n_workers = workers(args)
     for preset in args.run:
@@ -115,7 +115,7 @@ def add_commands(sub) -> None:
         description="Run every point of SPEC's grid (each a run folder under --out), every "
                     "condition and seed; write summary.csv and summary.md. Re-running resumes: "
                     "finished cells are kept, and an interrupt loses none of them. The spec's "
-                    "format: see examples/sweep.toml or `help(jointattention.experiment.sweep)`.")
+                    "format: see examples/sweep.toml or `help(jointattention.jobs.sweep)`.")
     p.add_argument("spec", metavar="SPEC.toml", help="the sweep spec")
     p.add_argument("--out", help="output folder (default: runs/<SPEC's name>)")
     add_backend(p)

@@ -16,8 +16,8 @@ __all__ = ["add_commands"]
 def _cmd_parity(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
-    from ..analysis.parity import CAUSES, measure_parity, parity_table
     from ..config import load_config, with_n_objects
+    from ..jobs.parity import CAUSES, measure_parity, parity_table
 
     config = load_config(args.config)
     if args.out:
@@ -51,7 +51,7 @@ def _cmd_gaze(args: argparse.Namespace) -> None:
 
     from ..config import condition_named, load_config
     from ..experiment.cells import datasets_of
-    from ..figures.learned import write_gaze_figures
+    from ..jobs.learned import write_gaze_figures
 
     config = load_config(args.preset if args.config is None else args.config)
     condition_named(config, args.condition)  # all checked before the progress bar
@@ -74,7 +74,7 @@ def _cmd_faces(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
     from ..config import load_config
-    from ..experiment import face_finders as ff
+    from ..jobs import face_finders as ff
 
     config = load_config(args.config).world
     if args.caregivers > args.n:

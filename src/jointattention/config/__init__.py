@@ -7,15 +7,33 @@ the configuration (readable) and in radians in the code that uses them (``*_rad`
 A model's or a gate's options are a section of :func:`param` fields too (see
 ``docs/architecture.md``).
 
-Sections: ``[world]`` (what only the experimenter sets, :mod:`.world`; how it varies,
-:mod:`.variation`), ``[agent]`` (the robot's shared mechanisms) and ``[detector]``
-(:mod:`.agent`), ``[model]`` (what learns: a kind registered in
-:data:`~jointattention.agent.models.MODELS` and its options) and ``[experiment]`` with its
-conditions (:mod:`.run`).
+The configuration is the composition root: each section's options live with what they
+configure, and this package puts them together. Sections: ``[world]`` (what only the
+experimenter sets, :mod:`jointattention.world.options`; how it varies,
+:mod:`jointattention.world.variation`), ``[agent]`` (the robot's shared mechanisms) and
+``[detector]`` (:mod:`jointattention.agent.options`), ``[model]`` (what learns: a kind
+registered in :data:`~jointattention.models.registry.MODELS` and its options) and
+``[experiment]`` with its conditions (:mod:`.run`). It imports the robot, the models and the
+world's options, and no engine.
+
+Layer 4: it may import the world's and the robot's options, the models' registry and the
+plumbing.
 """
 
 from .._fields import param
-from .agent import AgentConfig, DetectorConfig
+from ..agent.options import AgentConfig, DetectorConfig
+from ..world.options import (
+    CameraConfig,
+    CaregiverConfig,
+    FaceWindowConfig,
+    HeadConfig,
+    IdentityConfig,
+    LightingConfig,
+    ObjectsConfig,
+    RoomConfig,
+    SensorConfig,
+    WorldConfig,
+)
 from .run import (
     ConditionConfig,
     Config,
@@ -29,18 +47,6 @@ from .run import (
     preset_names,
     to_toml,
     with_n_objects,
-)
-from .world import (
-    CameraConfig,
-    CaregiverConfig,
-    FaceWindowConfig,
-    HeadConfig,
-    IdentityConfig,
-    LightingConfig,
-    ObjectsConfig,
-    RoomConfig,
-    SensorConfig,
-    WorldConfig,
 )
 
 __all__ = [

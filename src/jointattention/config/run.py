@@ -16,11 +16,11 @@ from .._checks import check_name, short_repr
 from .._fields import FrozenTable, Section, from_mapping, merge_tagged, param, to_mapping
 from .._readers import check_nesting, read_toml
 from .._toml import dumps
-from ..agent.models import MODELS, ModelOptions
+from ..agent.options import AgentConfig, DetectorConfig
 from ..errors import ArgumentError, ConfigError, FileError
+from ..models.registry import MODELS, ModelOptions
+from ..world.options import WorldConfig
 from ._legacy import upgrade
-from .agent import AgentConfig, DetectorConfig
-from .world import WorldConfig
 
 __all__ = [
     "ConditionConfig",

@@ -22,6 +22,9 @@ have a ``vector_entry_point``: ``gymnasium.make_vec(id, num_envs=N,
 vectorization_mode="vector_entry_point")`` steps all N in one compiled kernel
 (:class:`~jointattention.env.vector.JointAttentionVectorEnv`);
 :class:`jointattention.env.sb3.NativeVecEnv` hands it to Stable-Baselines3 (the ``rl`` extra).
+
+Layer 7 (beside the analysis, which it never imports): it may import the runner and everything
+below it.
 """
 
 try:

@@ -4,7 +4,7 @@
 the loop itself. Each step calls the kernels the step-by-step path calls
 (:mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
 :mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner` or
-:mod:`~jointattention.agent.memory`, :mod:`~jointattention.agent.bootstrap`), in the order of
+:mod:`~jointattention.agent.memory`, :mod:`~jointattention.models.bootstrap`), in the order of
 its random draws.
 """
 
@@ -14,12 +14,12 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.attention import attended_index, interest_argmax, visual_feedback_rad
-from ..agent.bootstrap import LEARNING_TARGETS
-from ..agent.developmental import blur_into, blur_px, caregiver_update
 from ..agent.gates import agreement_update, performance_rate, sigmoid_rate
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
+from ..models.bootstrap import LEARNING_TARGETS
+from ..models.developmental import blur_into, blur_px, caregiver_update
 from ..world.fast import detect_into
 from ..world.kinematics import rotation_matrix, separation_rad
 from ..world.placement import place_into
@@ -50,7 +50,7 @@ def _gate_rate(robot, t, agreement):
 def _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc, scaled, hid, out):
     """The learning module's command at a head angle (no step if the memory recalled nothing).
 
-    As :meth:`~jointattention.agent.bootstrap.BootstrapAgent._lm_direction` computes it.
+    As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`).
     """
     if robot.memory:
         if not recalled:
@@ -109,7 +109,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
                       blur_px(robot.blur_start_px, robot.blur_sharp_steps, float(c[0])),
                       blur_tmp, seen_face)
             face = seen_face
-        # the agent begins (MemoryAgent.begin_trial, then BootstrapAgent.begin_trial)
+        # the agent begins (BootstrapAgent.begin_trial, MemoryModule.begin)
         recalled = False
         if robot.memory:
             face_code_into(face, robot.projection, code)
@@ -181,7 +181,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             tilt = min(max(want_tilt, world.limits_rad[2]), world.limits_rad[3])
             n_steps += 1
             limit_hit = pan != want_pan or tilt != want_tilt
-        # the agent learns (BootstrapAgent.end_trial, MemoryAgent.end_trial; the teacher only
+        # the agent learns (BootstrapAgent.end_trial, the module's learn; the teacher only
         # when the caregiver approves: TeacherAgent.end_trial, DevelopmentalAgent.end_trial)
         approved = end == END_FIRED and (attended == target or (
             robot.caregiver_adapts  # the developmental caregiver's criterion
@@ -209,7 +209,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             memory_store(code, place[0], place[1], state.codes, state.aims, state.base, c[4],
                          robot.memory_lo_rad, robot.memory_cell_rad)
             c[4] += 1
-            for i in range(m if robot.memory_in_view else 0):  # MemoryAgent.end_trial
+            for i in range(m if robot.memory_in_view else 0):  # MemoryModule.learn
                 if i != seen:
                     v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
                                                         robot.gain_rad_per_px)

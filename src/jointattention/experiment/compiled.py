@@ -6,10 +6,10 @@ detector, Eq. 1-3, the gate, the learning module) as one compiled loop over tria
 the same kernels as the step-by-step path (:mod:`~jointattention.world.kinematics`,
 :mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
 :mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner`,
-:mod:`~jointattention.agent.bootstrap`) and draws from the same random streams in the same
+:mod:`~jointattention.models.bootstrap`) and draws from the same random streams in the same
 order, so both give byte-identical cells (``tests/test_compiled.py``).
 
-It learns in place the arrays of a :class:`~jointattention.agent.bootstrap.BootstrapAgent`,
+It learns in place the arrays of a :class:`~jointattention.models.bootstrap.BootstrapAgent`,
 so the learned agent is the same object either way. It runs the bootstrap model (every gate,
 reading and learner), the teacher and the developmental model; anything else is refused
 (:func:`unsupported`).
@@ -19,14 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.bootstrap import LEARNING_TARGETS, BootstrapAgent
-from ..agent.developmental import DevelopmentalOptions
 from ..agent.gates import ConstantGate, PerformanceGate
-from ..agent.models import ModelOptions
-from ..agent.teacher import TeacherOptions
 from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
+from ..models.bootstrap import LEARNING_TARGETS, BootstrapAgent
+from ..models.developmental import DevelopmentalOptions
+from ..models.registry import ModelOptions
+from ..models.teacher import TeacherOptions
 from ..world.kinematics import HeadKinematics
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
@@ -40,7 +40,7 @@ __all__ = ["CompiledCell", "pack_world", "unsupported"]
 def unsupported(options: ModelOptions) -> str | None:
     """Why the compiled engine cannot run ``options`` (None if it can): their own say.
 
-    See :meth:`~jointattention.agent.models.ModelOptions.compiled_refusal`.
+    See :meth:`~jointattention.models.registry.ModelOptions.compiled_refusal`.
     """
     return options.compiled_refusal()
 
@@ -111,7 +111,7 @@ class CompiledCell:
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
         opts, shared = agent.options, agent.agent
-        memory = getattr(agent, "memory", None)
+        memory = getattr(agent.module, "memory", None)  # the episodic module's
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),
             float(shared.d_th_px(world.width_px)), float(agent.step_rad), int(shared.max_steps),
@@ -153,8 +153,8 @@ class CompiledCell:
         if isinstance(self.agent.options, DevelopmentalOptions):
             self.agent.criterion_rad_, self.agent.approved_rate_ = map(float,
                                                                        self._state.caregiver)
-        if hasattr(self.agent, "memory"):
-            self.agent.memory.n_stored_ = int(c[4])
+        if hasattr(self.agent.module, "memory"):
+            self.agent.module.memory.n_stored_ = int(c[4])
 
     def records(self) -> dict[str, np.ndarray]:
         """The trial records so far (:data:`~.trial.RECORD`)."""

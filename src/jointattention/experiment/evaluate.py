@@ -165,14 +165,14 @@ def evaluate(model, datasets, *, name: str = "", n_objects: int = 5, n_trials: i
              seed: int = 0) -> Evaluation:
     """A saved model, frozen, on data sets: :func:`evaluate_agent` for files.
 
-    ``model``: a :class:`~jointattention.agent.saved.LearnedModel` or a model file's path;
+    ``model``: a :class:`~jointattention.deploy.saved.LearnedModel` or a model file's path;
     ``datasets``: :class:`~jointattention.datasets.CaregiverDatasets` or a data-set file's
     path. ``name`` labels the result (default: the file's name).
     """
     from pathlib import Path
 
-    from ..agent.saved import LearnedModel, load_model
     from ..datasets import load
+    from ..deploy.saved import LearnedModel, load_model
 
     if isinstance(model, (str, Path)):
         model = load_model(model)

@@ -20,8 +20,8 @@ import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from .. import __version__
 from .._fields import to_mapping
+from .._version import __version__
 from ..config import Config, WorldConfig
 from ..datasets import save
 

@@ -15,7 +15,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
 from .._files import (
     LOCK_NAME,
     atomic_path,
@@ -26,6 +25,7 @@ from .._files import (
     write_text,
 )
 from .._readers import read_json, read_npz, sha256_of
+from .._version import __version__
 from ..config import Config, load_config, to_toml
 from ..errors import FileError, JointAttentionError
 from .cells import datasets_file

@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 
 from .._readers import sha256_of
-from ..agent.saved import LearnedModel, check_savable, save_model
 from ..config import ConditionConfig, Config, check_config, condition_named
 from ..datasets import CaregiverDatasets
+from ..deploy.saved import LearnedModel, check_savable, save_model
 from ..errors import FileError
 from .cells import datasets_file, datasets_of
 from .held_out import final_held_out, run_cell_measured

@@ -1,25 +1,21 @@
-"""The paper's Fig. 6 and Fig. 7, and the learning module's angle error, drawn and written.
+"""The paper's Fig. 6 and Fig. 7, and the learning module's angle error, drawn.
 
-``jointattention gaze`` calls :func:`write_gaze_figures`.
+:func:`jointattention.jobs.learned.write_gaze_figures` computes what they show.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 
 import cv2
 import numpy as np
 from PIL import Image
 
-from .._files import atomic_path, save_json
-from ..analysis import learned
-from ..config import Config, condition_named
+from .._files import atomic_path
 from ..experiment import probes
-from ..experiment.cells import datasets_of
 from ._save import new_figure, save_figure
 
-__all__ = ["write_gaze_figures"]
+__all__ = ["PAN_DEG", "TILT_DEG", "error_figure", "fig6", "fig7"]
 
 PAN_DEG = (-40, -20, 0, 20, 40)
 TILT_DEG = (15, 0, -15, -30)
@@ -83,7 +79,7 @@ def error_figure(curve: dict[int, tuple[float, float]], path: Path) -> None:
     save_figure(fig, path, dpi=130)
 
 
-def _annotate(frame: learned.Frame, d_th_px: float, step: int, scale: int = 2) -> np.ndarray:
+def _annotate(frame, d_th_px: float, step: int, scale: int = 2) -> np.ndarray:
     img = cv2.resize(frame.image, None, fx=scale, fy=scale, interpolation=cv2.INTER_NEAREST)
     h, w = img.shape[:2]
     centre = (w // 2, h // 2)
@@ -99,8 +95,8 @@ def _annotate(frame: learned.Frame, d_th_px: float, step: int, scale: int = 2) -
     return img
 
 
-def fig7(frames: list[learned.Frame], d_th_px: float, png: Path, gif: Path) -> None:
-    """The trial's frames as a strip (PNG) and an animation (GIF)."""
+def fig7(frames: list, d_th_px: float, png: Path, gif: Path) -> None:
+    """The trial's frames (:class:`jointattention.jobs.learned.Frame`) as a strip and a GIF."""
     images = [_annotate(f, d_th_px, i) for i, f in enumerate(frames)]
     cols = min(len(images), 4)
     rows = -(-len(images) // cols)
@@ -117,34 +113,3 @@ def fig7(frames: list[learned.Frame], d_th_px: float, png: Path, gif: Path) -> N
     with atomic_path(gif) as tmp:
         pics[0].save(tmp, format="GIF", save_all=True, append_images=pics[1:],
                      duration=[600] * (len(pics) - 1) + [1500], loop=0)
-
-
-def write_gaze_figures(config: Config, condition: str, seed_index: int, out: Path,
-                       n_held_out: int = 200, n_checkpoints: int = 6,
-                       progress: Callable[[int], None] | None = None) -> dict:
-    """Train one cell, then write fig6.png, lm_error.png, fig7.png, fig7.gif and gaze.json."""
-    out = Path(out)
-    n_steps = config.experiment.n_steps
-    checkpoints = np.linspace(0, n_steps, n_checkpoints + 1).astype(int)
-    agents = learned.train(config, condition, seed_index, checkpoints, progress)
-    ds = datasets_of(config)
-    held = learned.held_out_poses(config, ds, n_held_out)
-    curve = {t: (float(np.median(probes.angle_errors(a, ds))),
-                 float(np.median(probes.angle_errors(a, held)))) for t, a in agents.items()}
-    trained = agents[max(agents)]
-    faces, thetas, commands = learned.grid_faces(config, int(ds.meta.get("seed", 0)), PAN_DEG,
-                                              TILT_DEG)
-    numbers = fig6(trained, faces, thetas, commands, ds.command_rad, out / "fig6.png")
-    error_figure(curve, out / "lm_error.png")
-    cond = condition_named(config, condition)
-    frames, result = learned.record_trial(config, trained, cond.n_objects, seed=config.seed)
-    d_th_px = config.agent.d_th_px(config.world.camera.width_px)
-    fig7(frames, d_th_px, out / "fig7.png", out / "fig7.gif")
-    numbers.update({
-        "condition": condition, "seed_index": seed_index, "n_steps": n_steps,
-        "median_error_deg": {str(t): {"data_sets": a, "held_out": b}
-                             for t, (a, b) in curve.items()},
-        "fig7_trial": {"steps": result.n_steps, "lm_steps": result.n_lm_steps},
-    })
-    save_json(numbers, out / "gaze.json")
-    return numbers

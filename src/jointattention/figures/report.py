@@ -11,10 +11,10 @@ import html
 import time
 from pathlib import Path
 
-from .. import __version__
 from .._checks import check_path
 from .._files import check_writable, write_text
 from .._readers import read_bytes, read_json, read_text
+from .._version import __version__
 from ..analysis.tables import read_csv
 from ..errors import JointAttentionError
 

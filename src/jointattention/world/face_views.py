@@ -13,7 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .. import rng as rngs
-from ..config import WorldConfig
+from .options import WorldConfig
 from .recording import head_box, split_evenly
 from .simulator import World
 

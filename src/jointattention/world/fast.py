@@ -14,8 +14,8 @@ import numpy as np
 from .._arrays import floats
 from .._jit import jit
 from ..agent.detections import Detections
-from ..config import WorldConfig
 from .kinematics import HeadKinematics, project_spheres_into
+from .options import WorldConfig
 from .placement import place_objects
 from .scene import shuffle_target
 

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import WorldConfig
 from .mjcf import HEAD_RADII_M, PUPIL_RGB
+from .options import WorldConfig
 
 __all__ = ["HAIR_COLOURS", "IRIS_RAMP", "SKIN_TONES", "Caregiver", "caregiver_from_dict",
            "iris_colour", "sample_caregiver"]

@@ -20,7 +20,7 @@ import numpy as np
 from .._arrays import floats, rows
 from .._jit import jit
 from ..agent.detections import equal_area_radius
-from ..config import WorldConfig
+from .options import WorldConfig
 
 __all__ = ["BEHIND", "CENTRED", "INSIDE_LATERAL", "INSIDE_VERTICAL", "HeadKinematics",
            "Unreachable", "angle_rad", "centring_angles", "direction", "project_spheres_into",

@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..config import WorldConfig
 from .mjcf import HEADLIGHT_AMBIENT, KEY_LIGHT_DIR
+from .options import WorldConfig
 
 __all__ = ["COOL_RGB", "WARM_RGB", "Look", "apply_sensor", "light_tint", "sample_look"]
 

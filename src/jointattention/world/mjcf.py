@@ -7,8 +7,8 @@ serves every scene of a world.
 
 from __future__ import annotations
 
-from ..config import WorldConfig
 from .kinematics import HeadKinematics
+from .options import WorldConfig
 
 __all__ = ["CAREGIVER_PARTS", "EYE_POS_M", "EYE_RADIUS_M", "HEADLIGHT_AMBIENT", "HEAD_RADII_M",
            "KEY_LIGHT_DIR", "PUPIL_RADIUS_M", "PUPIL_RGB", "WALLS", "build_mjcf"]

@@ -11,10 +11,10 @@ import math
 import numpy as np
 
 from .._jit import jit
-from ..config import WorldConfig
 from ..errors import ConfigError
 from .kinematics import CENTRED, centring_angles
 from .mjcf import HEAD_RADII_M
+from .options import WorldConfig
 
 __all__ = ["place_into", "place_objects", "region_of", "sample_objects"]
 

@@ -14,14 +14,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import __version__
 from .. import rng as rngs
+from .._version import __version__
 from ..agent.faces import face_window, window_of
 from ..agent.finders import DEFAULT_FACE, finder_for
-from ..config import Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets, load
 from ..errors import DatasetError
 from .identity import Caregiver, caregiver_from_dict, sample_caregiver
+from .options import WorldConfig
 from .simulator import World
 
 __all__ = ["CUTS", "HELD_OUT", "capture_face_window", "caregivers_of", "face_box", "head_box",
@@ -153,7 +153,7 @@ def make_datasets(
     meta = {
         "generator": f"jointattention {__version__}",
         "seed": seed,
-        "world_config_toml": to_toml(Config(world=config)),
+        "world_config_toml": config.to_toml(),
     }
     if stream != "world":
         meta["stream"] = stream

@@ -6,7 +6,7 @@ A trial's objects are shown in MuJoCo, and each view is rendered and given to
 A :class:`~jointattention.world.protocol.Scene` like
 :class:`~jointattention.world.fast.FastScene`, so the trial loop and the agent cannot tell
 which one feeds them; the parity of the two is measured by
-:mod:`jointattention.analysis.parity`.
+:mod:`jointattention.jobs.parity`.
 """
 
 from __future__ import annotations
@@ -16,9 +16,10 @@ import dataclasses
 import numpy as np
 
 from ..agent.detections import Detections, equal_area_radius
+from ..agent.options import DetectorConfig
 from ..agent.vision import ImageDetector
-from ..config import DetectorConfig, WorldConfig
 from .fast import FastScene
+from .options import WorldConfig
 from .scene import scene_with
 from .simulator import World
 

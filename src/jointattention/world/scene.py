@@ -13,9 +13,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..config import WorldConfig
 from .identity import Caregiver, sample_caregiver
 from .look import Look, sample_look
+from .options import WorldConfig
 from .placement import sample_objects
 
 __all__ = [

@@ -6,7 +6,6 @@ import numpy as np
 
 from .. import rng as rngs
 from ..agent.attention import attended_object
-from ..config import WorldConfig
 from ..errors import RenderingUnavailable
 from . import _gl
 from .face import BODIES, head_colours, head_parts
@@ -15,6 +14,7 @@ from .identity import sample_caregiver
 from .kinematics import HeadKinematics
 from .look import apply_sensor
 from .mjcf import WALLS, build_mjcf
+from .options import WorldConfig
 from .scene import SceneState, sample_scene
 
 __all__ = ["World"]

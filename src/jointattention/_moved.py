@@ -1,0 +1,77 @@
+"""Old module paths of version 0.3, kept for one minor version: each warns and gives the new.
+
+Issue 30 put the options with what they configure and split the robot's folder (the parts,
+the whole models, deployment) and the experiment's (the runner, the jobs). ``import`` of an old
+path still works through :class:`MovedFinder` (installed by the package's ``__init__``): it
+issues a :class:`DeprecationWarning` naming the new path, and the module it gives holds the
+new module's names (the same objects). Version 0.5 removes this table.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.abc
+import importlib.machinery
+import sys
+import warnings
+
+__all__ = ["MOVED", "MovedFinder", "install"]
+
+_TOP = __name__.rpartition(".")[0]
+
+# old path -> new path, both relative to the package
+MOVED = {
+    "config.agent": "agent.options",
+    "config.world": "world.options",
+    "config.variation": "world.variation",
+    "agent.bootstrap": "models.bootstrap",
+    "agent.episodic": "models.episodic",
+    "agent.population_agent": "models.population",
+    "agent.rl": "models.rl",
+    "agent.teacher": "models.teacher",
+    "agent.developmental": "models.developmental",
+    "agent.models": "models.registry",
+    "agent.network_state": "models.network_state",
+    "agent.saved": "deploy.saved",
+    "agent.follower": "deploy.follower",
+    "figures.follow": "deploy.overlay",
+    "experiment.reproduce": "jobs.reproduce",
+    "experiment.sweep": "jobs.sweep",
+    "experiment.closed_loop": "jobs.closed_loop",
+    "experiment.face_finders": "jobs.face_finders",
+    "analysis.parity": "jobs.parity",
+    "analysis.learned": "jobs.learned",
+    "bench": "jobs.bench",
+}
+
+
+class MovedFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """Finds the old paths of :data:`MOVED`; loading one warns and copies the new module."""
+
+    def find_spec(self, fullname, path=None, target=None):
+        """A spec for an old path of this package; None for every other name."""
+        old = fullname.removeprefix(f"{_TOP}.")
+        if old == fullname or old not in MOVED:
+            return None
+        return importlib.machinery.ModuleSpec(fullname, self)
+
+    def create_module(self, spec):
+        """The default module object."""
+        return None
+
+    def exec_module(self, module):
+        """Fill the old module with the new module's names, after one DeprecationWarning."""
+        new = f"{_TOP}.{MOVED[module.__name__.removeprefix(f'{_TOP}.')]}"
+        warnings.warn(f"{module.__name__} moved to {new}; the old path goes in version 0.5",
+                      DeprecationWarning, stacklevel=2)
+        real = importlib.import_module(new)
+        module.__dict__.update({k: v for k, v in vars(real).items()
+                                if not (k.startswith("__") and k.endswith("__"))})
+        module.__all__ = list(getattr(real, "__all__", ()))
+        module.__doc__ = f"Moved to :mod:`{new}` (version 0.4)."
+
+
+def install() -> None:
+    """Put one :class:`MovedFinder` on ``sys.meta_path`` (again: nothing)."""
+    if not any(isinstance(f, MovedFinder) for f in sys.meta_path):
+        sys.meta_path.append(MovedFinder())

@@ -1,0 +1,293 @@
+"""Learned models in a file: saved after learning, loaded on a robot, never unpickled.
+
+On-disk format: one NumPy ``.npz`` archive whose members are plain arrays (loading one never
+runs code: :func:`~jointattention._readers.read_npz` refuses pickled members). Schema version
+1 holds the paper's network; version 2 (``learner = "population"``) adds the population code.
+
+==========================  =======  ============  ==========================================
+member                      dtype    shape         meaning
+==========================  =======  ============  ==========================================
+``schema_version``          int      ()            ``1``, or ``2`` with the population code
+``w1``                      float64  (n_hid, n_in) input weights; ``n_in`` = face pixels + 2
+``b1``                      float64  (n_hid,)      hidden biases
+``w2``                      float64  (n_hid, 2)    output weights
+``b2``                      float64  (2,)          output biases
+``face_mean``               float64  (n_in - 2,)   per-pixel mean of the faces seen (H x W)
+``face_m2``                 float64  (n_in - 2,)   per-pixel sum of squared deviations
+``face_n_seen``             int      ()            faces seen (>= 1)
+``population_w1``           float64  (h, n_feat)   version 2: its input weights (features)
+``population_b1``           float64  (h,)          version 2: its hidden biases
+``population_w2``           float64  (bins, h)     version 2: its output weights
+``population_b2``           float64  (bins,)       version 2: its output biases
+``population_hidden_mean``  float64  (h,)          version 2: the hidden units' running mean
+``population_feature_*``    float64  (n_feat - 2,) with ``standardise``: the features'
+                                                   ``_mean``, ``_m2``, ``_n_seen`` (int, ())
+``meta``                    str      ()            JSON text, below
+==========================  =======  ============  ==========================================
+
+``meta`` holds ``robot`` (:class:`Robot`: the body the model was learned on), ``model`` (its
+kind, ``bootstrap`` (with the back-propagation or the population learner), ``teacher`` or
+``developmental`` (saved once it sees sharp faces), the condition, the learning time),
+``config`` (the run's whole configuration as TOML, from which the model's options and the face
+standardiser's floor are read), ``datasets_sha256`` (of the data-set file it learned from),
+``generator`` (the package version) and, if measured, ``held_out`` (its frozen success and
+errors on its training sets, new poses and unseen caregivers at the end of learning). Float
+members must be finite and within ±1e6 (sums of squares ±1e18). The output is a direction, one
+``lm_step_deg`` long (README, *From the simulator to a real head*).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .._arrays import angles, windows
+from .._checks import check_path
+from .._files import save_npz
+from .._readers import loads_json, loads_toml, read_npz
+from .._version import __version__
+from ..agent.protocol import Body
+from ..config import Config, check_config, condition_named, load_config, model_options, to_toml
+from ..errors import ConfigError, FileError
+from ..models.bootstrap import BootstrapAgent, BootstrapOptions
+from ..models.registry import MODELS
+
+__all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
+           "save_model"]
+
+_MAX_WEIGHT_ABS, _MAX_SUM_ABS = 1e6, 1e18  # beyond: not learned, and commands overflow to NaN
+
+SCHEMA_VERSION = 2  # the newest; version 1 files (the paper's network) are still written
+_SAVED_LEARNERS = ("backprop", "population")
+
+
+@dataclass(frozen=True)
+class Robot:
+    """The body a model was learned on; a model runs only on the same one.
+
+    Attributes:
+        image_size_px: (W, H) of the camera image.
+        fov_deg: horizontal field of view.
+        pan_limits_deg, tilt_limits_deg: the joint ranges (the head angle is scaled by them).
+        face_size_px: (width, height) of the face window.
+        lm_step_deg: length of one step of the learning module.
+    """
+
+    image_size_px: tuple[int, int]
+    fov_deg: float
+    pan_limits_deg: tuple[float, float]
+    tilt_limits_deg: tuple[float, float]
+    face_size_px: tuple[int, int]
+    lm_step_deg: float
+
+    @classmethod
+    def of(cls, config: Config) -> Robot:
+        """The robot of a configuration."""
+        w = config.world
+        return cls((w.camera.width_px, w.camera.height_px), float(w.camera.fov_deg),
+                   tuple(map(float, w.head.pan_limits_deg)),
+                   tuple(map(float, w.head.tilt_limits_deg)),
+                   (w.face_window.width_px, w.face_window.height_px),
+                   float(config.agent.lm_step_deg))
+
+    @property
+    def body(self) -> Body:
+        """What the agent knows of this body."""
+        return Body(self.image_size_px, (tuple(np.deg2rad(self.pan_limits_deg)),
+                                         tuple(np.deg2rad(self.tilt_limits_deg))),
+                    self.face_size_px)
+
+    def differences(self, other: Robot) -> list[str]:
+        """The fields in which ``other`` differs from this robot."""
+        mine, theirs = asdict(self), asdict(other)
+        return [k for k in mine if not np.allclose(mine[k], theirs[k], rtol=0, atol=1e-9)]
+
+
+@dataclass(frozen=True)
+class LearnedModel:
+    """A learned agent (bootstrap or teacher) and the robot, configuration and data it had."""
+
+    agent: BootstrapAgent
+    config: Config
+    condition: str
+    datasets_sha256: str | None = None
+    held_out: dict | None = None  # {kind: {measure: value}} at the end of learning, if measured
+
+    @property
+    def robot(self) -> Robot:
+        """The robot it was learned on."""
+        return Robot.of(self.config)
+
+    def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
+        """The learning module's (dpan, dtilt) in radians, one step long, for a face window.
+
+        ``face_window``: (H, W) grey levels of the robot's face window size; ``theta_rad``: the
+        head's (pan, tilt) at the face. Anything else is refused (ArgumentError) before the
+        compiled kernels, which read the window by the learned size, see it.
+        """
+        window = windows("face_window", face_window, self.robot.face_size_px)
+        return self.agent.lm_command(window, angles("theta_rad", theta_rad))
+
+    def face_template(self) -> np.ndarray:
+        """The mean of the faces it learned from, (H, W) uint8: a template to find them."""
+        w, h = self.robot.face_size_px
+        return np.clip(np.rint(self.agent.faces.mean_), 0, 255).astype(np.uint8).reshape(h, w)
+
+    def save(self, path: str | Path) -> Path:
+        """Write the model to ``path`` (.npz) atomically (see the module docstring)."""
+        return save_model(self.agent, path, config=self.config, condition=self.condition,
+                          datasets_sha256=self.datasets_sha256, held_out=self.held_out)
+
+
+def check_savable(config: Config, condition: str) -> BootstrapOptions:
+    """The options of ``condition``'s model if it can be saved, else one ConfigError line."""
+    options = model_options(config, condition_named(config, condition))
+    if not isinstance(options, BootstrapOptions) or options.learner not in _SAVED_LEARNERS:
+        raise ConfigError(f"condition {condition!r}: its model is {getattr(options, 'label', '?')}"
+                          "; expected the bootstrap model, the teacher or the developmental "
+                          "model, with learner = 'backprop' or 'population' (the models saved)")
+    n, sharp = config.experiment.n_steps, getattr(options, "blur_sharp_steps", 0)
+    if getattr(options, "blur_start_px", 0) > 0 and n < sharp:  # saved: sees sharp faces
+        raise ConfigError(f"condition {condition!r}: n_steps = {n} ends while the faces are "
+                          f"blurred; expected n_steps >= blur_sharp_steps = {sharp:g}")
+    return options
+
+
+def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condition: str,
+               datasets_sha256: str | None = None, held_out: dict | None = None) -> Path:
+    """Write a learned agent of ``config``'s condition ``condition`` to ``path`` (.npz).
+
+    ``held_out``: its held-out measures, kept in ``meta`` as they are (JSON).
+    """
+    path, config = Path(check_path(path, "path")), check_config(config)
+    if path.suffix != ".npz":
+        raise FileError(f"{path}: expected a model file name ending in .npz")
+    options = check_savable(config, condition)
+    if agent.faces.n_seen_ < 1:
+        raise ConfigError(f"{path}: the agent has seen no face; expected a learned agent")
+    if getattr(agent, "blur_px", lambda: 0.0)() > 0:  # a saved model sees sharp faces
+        raise ConfigError(f"{path}: the developmental agent still sees the face blurred (s.d. "
+                          f"{agent.blur_px():.2f} px at learning time "
+                          f"{agent.learning_time_steps}); expected a learning time of at least "
+                          f"blur_sharp_steps = {agent.options.blur_sharp_steps:g}")
+    meta = {"robot": asdict(Robot.of(config)),
+            "model": {"kind": MODELS.name_of(options), "condition": condition,
+                      "learning_time_steps": int(agent.learning_time_steps)},
+            "config": to_toml(config), "datasets_sha256": datasets_sha256,
+            "generator": f"jointattention {__version__}",
+            **({} if held_out is None else {"held_out": held_out})}
+    version = 1 if options.learner == "backprop" else 2  # version 1 files stay as they were
+    return save_npz(path, {"schema_version": np.array(version), **agent.saved_arrays(),
+                           "meta": np.array(json.dumps(meta))})
+
+
+def _field(where: str, key: str, expected: str, got) -> FileError:
+    return FileError(f"{where}: field '{key}': expected {expected}, got {got}")
+
+
+def _array(archive: dict, where: str, key: str, shape: tuple, kind: str = "f") -> np.ndarray:
+    a = archive[key]
+    if a.dtype.kind not in kind or a.shape != shape:
+        raise _field(where, key, f"{'a float' if kind == 'f' else 'an integer'} array of shape "
+                     f"{shape}", f"{a.dtype} array of shape {a.shape}")
+    if kind == "f" and not np.all(np.isfinite(a)):
+        raise _field(where, key, "finite values", f"{np.count_nonzero(~np.isfinite(a))} "
+                     "non-finite")
+    bound = _MAX_SUM_ABS if key.endswith("m2") else _MAX_WEIGHT_ABS
+    if kind == "f" and a.size and np.abs(a).max() > bound:
+        raise _field(where, key, f"values within ±{bound:.0e}", f"{np.abs(a).max():.3g}")
+    return a
+
+
+def _meta(archive: dict, where: str) -> dict:
+    try:
+        meta = loads_json(str(archive["meta"]))
+    except ValueError:
+        meta = None
+    if archive["meta"].shape != () or not isinstance(meta, dict):
+        raise _field(where, "meta", "JSON text of an object", repr(str(archive["meta"]))[:60])
+    for key, kind in (("robot", dict), ("model", dict), ("config", str)):
+        if not isinstance(meta.get(key), kind):
+            raise _field(where, f"meta.{key}", f"a {kind.__name__}", repr(meta.get(key))[:60])
+    model = meta["model"]
+    if not isinstance(model.get("condition"), str):
+        raise _field(where, "meta.model.condition", "a condition name",
+                     repr(model.get("condition"))[:60])
+    steps = model.get("learning_time_steps")
+    if type(steps) is not int or steps < 0:
+        raise _field(where, "meta.model.learning_time_steps", "an integer >= 0", repr(steps)[:60])
+    return meta
+
+
+def _robot(meta: dict, config: Config, where: str) -> Robot:
+    """The file's robot, checked against the one its configuration describes."""
+    robot = Robot.of(config)
+    saved = meta["robot"]
+    for key, value in asdict(robot).items():
+        got = saved.get(key)
+        numbers = got if isinstance(got, list) else [got]
+        if (not all(type(v) in (int, float) and math.isfinite(v) for v in numbers)
+                or np.shape(got) != np.shape(value)
+                or not np.allclose(got, value, rtol=0, atol=1e-9)):
+            raise _field(where, f"meta.robot.{key}", f"{value} (the robot of the file's "
+                         "configuration)", repr(got)[:60])
+    return robot
+
+
+def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
+    """Read and check a saved model; any problem is one :class:`FileError` naming the field.
+
+    ``robot``: the body it will run on; a model learned on another is refused.
+    """
+    where = str(check_path(path, "path"))
+    archive = read_npz(path, "a model .npz file (jointattention train --out)")
+    missing = [k for k in ("schema_version", "meta") if k not in archive]
+    if missing:
+        raise FileError(f"{where}: field '{missing[0]}' is missing; expected a model file "
+                        "(jointattention train --out)")
+    version = int(_array(archive, where, "schema_version", (), "iu"))
+    if version not in (1, 2):
+        raise _field(where, "schema_version", "1 or 2", version)
+    meta = _meta(archive, where)
+    try:
+        config = load_config(loads_toml(meta["config"]))
+        options = check_savable(config, meta["model"]["condition"])
+    except ValueError as err:  # TOMLDecodeError, too deep, ConfigError
+        raise FileError(f"{where}: field 'meta.config': {err}") from None
+    kind = MODELS.name_of(options)
+    if meta["model"].get("kind") != kind:
+        raise _field(where, "meta.model.kind", f"{kind!r} (the model of its configuration)",
+                     repr(meta["model"].get("kind"))[:60])
+    saved = _robot(meta, config, where)
+    if robot is not None and saved.differences(robot):
+        key = saved.differences(robot)[0]
+        raise _field(where, f"meta.robot.{key}", f"{getattr(robot, key)} (this robot's)",
+                     getattr(saved, key))
+    if version != (1 if options.learner == "backprop" else 2):
+        raise _field(where, "schema_version", f"{2 - (options.learner == 'backprop')} (the "
+                     f"version of learner {options.learner!r})", version)
+    agent = options.build(config.agent, saved.body, np.random.default_rng(0))
+    shapes = agent.saved_shapes()
+    missing = [k for k in shapes if k not in archive]
+    if missing:
+        raise FileError(f"{where}: field '{missing[0]}' is missing; expected a model file "
+                        "(jointattention train --out)")
+    unknown = sorted(set(archive) - {"schema_version", *shapes, "meta"})
+    if unknown:
+        raise FileError(f"{where}: field '{unknown[0]}' is not part of model schema version "
+                        f"{version}")
+    arrays = {k: _array(archive, where, k, shape, "iu" if k.endswith("n_seen") else "f")
+              for k, shape in shapes.items()}
+    if np.any(arrays["face_m2"] < 0):
+        raise _field(where, "face_m2", "sums of squares >= 0", "a negative value")
+    if not 1 <= int(arrays["face_n_seen"]) <= 2**62:
+        raise _field(where, "face_n_seen", "an integer >= 1", int(arrays["face_n_seen"]))
+    agent.load_arrays(arrays)
+    agent.learning_time_steps = meta["model"]["learning_time_steps"]
+    held_out = meta.get("held_out")
+    return LearnedModel(agent, config, meta["model"]["condition"], meta.get("datasets_sha256"),
+                        held_out if isinstance(held_out, dict) else None)

@@ -1,0 +1,300 @@
+"""Benchmarks: figures printed, never asserted (machines here are shared and noisy)."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import numpy as np
+
+from .._jit import jit
+from ..agent.learner import LearningModule, sgd_update
+from ..config import WorldConfig
+
+__all__ = ["compile_times", "preset_estimates", "run_agent_benchmark", "run_env_benchmark",
+           "run_follow_benchmark", "run_preset", "run_world_benchmarks"]
+
+
+def _rate(fn: Callable[[int], object], n: int, repeats: int = 3) -> float:
+    """Best of ``repeats`` runs of ``n`` calls, in calls per second."""
+    best = np.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        for i in range(n):
+            fn(i)
+        best = min(best, time.perf_counter() - start)
+    return n / best
+
+
+def run_world_benchmarks(
+    config: WorldConfig | None = None, n_frames: int = 200, n_projections: int = 20000
+) -> list[tuple[str, float, str]]:
+    """(name, value, unit) rows for rendering and fast projection at ``config``'s size."""
+    from ..world.simulator import World
+
+    config = config if config is not None else WorldConfig()
+    rows = []
+    with World(config, seed=0) as world:
+        rng = np.random.default_rng(0)
+        thetas = world.kinematics.clip(rng.uniform(-1, 1, (max(n_frames, n_projections), 2)))
+        world.render()  # start the GL context outside the timing
+
+        def render(i: int) -> None:
+            world.set_head_angle(thetas[i])
+            world.render()
+
+        size = f"{config.camera.width_px}x{config.camera.height_px}"
+        rows.append(
+            (
+                f"render robot view ({size}, {world.state.n_objects} objects)",
+                _rate(render, n_frames),
+                "frames/s",
+            )
+        )
+        scene = world.fast_scene()
+        rows.append(
+            (
+                "fast projection (all objects, one head angle)",
+                _rate(lambda i: scene.observe(thetas[i]), n_projections),
+                "projections/s",
+            )
+        )
+        rows.append(("new scene (sample + show)", _rate(lambda i: world.reset(), 200), "scenes/s"))
+    return rows
+
+
+def _env_rate(envs, n_steps: int) -> float:
+    """Environment steps per second of ``envs`` (one or a vector) under random actions."""
+    envs.reset(seed=0)
+    envs.action_space.seed(0)
+    single = not hasattr(envs, "num_envs")
+    start = time.perf_counter()
+    for _ in range(n_steps):
+        *_, terminated, truncated, _ = envs.step(envs.action_space.sample())
+        if single and (terminated or truncated):
+            envs.reset()
+    rate = n_steps * getattr(envs, "num_envs", 1) / (time.perf_counter() - start)
+    envs.close()
+    return rate
+
+
+def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
+    """Steps per second of the environment in each observation mode, single and vectorised.
+
+    Random actions, resets included; vector environments count the steps of all their
+    sub-environments (async: 2 processes, started with spawn). Empty if Gymnasium is not
+    installed.
+    """
+    try:
+        import gymnasium as gym
+
+        from ..env import JointAttentionEnv
+    except ImportError:
+        return []
+    rows = [("JointAttention-v1 steps, image (rendered)",
+             _env_rate(JointAttentionEnv(), n_steps), "steps/s")]
+    for mode in ("face", "detections"):
+        rows.append((f"JointAttention-v1 steps, {mode} (no rendering)",
+                     _env_rate(JointAttentionEnv(obs_mode=mode), 20 * n_steps), "steps/s"))
+    fast = "JointAttentionFace-v1"
+    for n_envs in (8, 64):
+        for mode in ("sync", "vector_entry_point"):
+            envs = gym.make_vec(fast, num_envs=n_envs, vectorization_mode=mode)
+            name = "native vector" if mode == "vector_entry_point" else "sync vector"
+            rows.append((f"{fast} x{n_envs}, {name}",
+                         _env_rate(envs, 3 * n_steps * 8 // n_envs), "steps/s"))
+    for env_id, steps in ((fast, 5 * n_steps), ("JointAttention-v1", n_steps // 2)):
+        envs = gym.make_vec(env_id, num_envs=2, vectorization_mode="async",
+                            vector_kwargs={"context": "spawn"})
+        rows.append((f"{env_id} x2, async vector (spawn)", _env_rate(envs, steps), "steps/s"))
+    return rows
+
+
+def run_follow_benchmark(n_frames: int = 30) -> list[tuple[str, float, str]]:
+    """Frames per second of gaze following: find the face, cut its window, the command.
+
+    BlazeFace (the default) on a rendered view of the caregiver enlarged to 640x480, and on
+    matplotlib's photograph; the template on the rendered view; Haar on the photograph. With an
+    untrained model whose face statistics are the shipped data sets' (speed only).
+    """
+    import cv2
+
+    from ..config import load_config
+    from ..datasets import default_datasets
+    from ..deploy.follower import GazeFollower
+    from ..deploy.saved import LearnedModel
+    from ..experiment.cells import make_agent
+    from ..world.simulator import World
+    from .face_finders import hopper_photo
+
+    config = load_config()
+    ds = default_datasets()
+    agent = make_agent(config, config.experiment.conditions[0], 0, ds)
+    agent.faces.partial_fit(ds.face.reshape(len(ds), -1))
+    model = LearnedModel(agent, config, config.experiment.conditions[0].name)
+    with World(config.world, seed=0) as world:
+        world.set_head_angle(world.face_angle_rad)
+        view = world.render()
+    photo, rows = hopper_photo(), []
+    camera = cv2.resize(view, (640, 480), interpolation=cv2.INTER_LINEAR)
+    threads = cv2.getNumThreads()
+    cv2.setNumThreads(1)  # one core, as a robot's control loop would have it
+    try:
+        for face, image in (("blazeface", camera), ("blazeface", photo), ("template", view),
+                            ("haar", photo)):
+            follower = GazeFollower(model, face)
+            h, w = image.shape[:2]
+            rows.append((f"follow frames (face, window, command), one core: {face}, {w}x{h}",
+                         _rate(lambda i, f=follower, im=image: f.look(im, np.zeros(2)),
+                               n_frames), "frames/s"))
+    finally:
+        cv2.setNumThreads(threads)
+    return rows
+
+
+def _cell_rate(config, condition, **experiment) -> float:
+    """Agent steps per second of one cell of ``config`` with ``experiment``'s fields changed."""
+    import dataclasses
+
+    from ..experiment.cells import run_cell
+
+    exp = dataclasses.replace(config.experiment, **experiment)
+    start = time.perf_counter()
+    run_cell(dataclasses.replace(config, experiment=exp), condition, 0)
+    return exp.n_steps / (time.perf_counter() - start)
+
+
+def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
+    """Agent-steps per second of learning: both engines, rendered mode, memory and RL learners.
+
+    The quick preset's 5-object sigmoid cell (whose gate goes from the visual controller to the
+    learning module) in both engines, and its first ``rendered_steps`` steps in rendered mode
+    (MuJoCo render + OpenCV detection each step); the beyond preset's 5-object memory cell at
+    the paper's scale (its recall grows with the trials kept); the models preset's 5-object
+    reinforcement learner (python engine) for 1e5 steps. Then one compiled step's time
+    against its bound: one forward and backward pass of the learning module alone, in compiled
+    code.
+    """
+    import dataclasses
+
+    from ..config import load_config
+
+    config = load_config("quick")
+    cond = next(c for c in config.experiment.conditions if c.name == "n5-sigmoid")
+    _cell_rate(config, cond, n_steps=100)  # load (or compile) the engine outside the timing
+    compiled = _cell_rate(config, cond, engine="compiled")
+    python = _cell_rate(config, cond, engine="python")
+    rendered = _cell_rate(config, cond, n_steps=rendered_steps, perception="rendered",
+                          engine="python")
+    beyond = load_config("beyond")
+    memory = _cell_rate(beyond, next(c for c in beyond.experiment.conditions
+                                     if c.name == "memory-n5"))
+    models = load_config("models")
+    rl = _cell_rate(models, next(c for c in models.experiment.conditions if c.name == "rl-n5"),
+                    n_steps=100_000)
+    population = _cell_rate(config, dataclasses.replace(cond, model={
+        "learner": "population", "vf_fallback": "sweep"}), n_steps=100_000, engine="auto")
+    step_us, bound_us = 1e6 / compiled, _update_us()
+    return [("agent steps, compiled engine, learning (quick n5-sigmoid)", compiled, "steps/s"),
+            ("agent steps, python engine, learning (same cell)", python, "steps/s"),
+            ("agent steps, rendered mode + OpenCV, learning (same cell)", rendered, "steps/s"),
+            ("agent steps, compiled engine, memory learner (beyond memory-n5)", memory,
+             "steps/s"),
+            ("agent steps, python engine, RL learner (models rl-n5, 1e5 steps)", rl, "steps/s"),
+            ("agent steps, python engine, population learner (quick n5, 1e5 steps)", population,
+             "steps/s"),
+            ("compiled / python engine", compiled / python, "x"),
+            ("compiled / rendered", compiled / rendered, "x"),
+            ("one compiled step (mean over the cell)", step_us, "us"),
+            ("bound: one forward + backward pass, 752-7-2, compiled", bound_us, "us"),
+            ("step / bound", step_us / bound_us, "x")]
+
+
+def _update_us(n: int = 20000) -> float:
+    """Microseconds of one back-propagation step (forward and backward) of a 752-7-2 network."""
+    net = LearningModule(752, 7, 2, rng=np.random.default_rng(0))
+    x, y = np.random.default_rng(1).normal(size=(n, 752)), np.tile([0.6, 0.8], (n, 1))
+    net.partial_fit(x[:10], y[:10])
+    best = np.inf
+    for _ in range(3):
+        start = time.perf_counter()
+        _updates(x, y, *net._params(), *net.velocity_)
+        best = min(best, time.perf_counter() - start)
+    return best / n * 1e6
+
+
+@jit
+def _updates(x, y, w1, b1, w2, b2, v1, vb1, v2, vb2) -> None:
+    """One :func:`~.agent.learner.sgd_update` per row, in one compiled loop (no call overhead)."""
+    for i in range(len(x)):
+        sgd_update(x[i], y[i], w1, b1, w2, b2, v1, vb1, v2, vb2, 0.0003, 0.5)
+
+
+def compile_times() -> list[tuple[str, float, str]]:
+    """Seconds of a first run on a new machine (empty kernel cache) and of a second run.
+
+    Each in a new process: import, load or compile the kernels, learn a 100-step cell.
+    """
+    import os
+    import subprocess
+    import sys
+    import tempfile
+
+    script = ("import dataclasses\n"
+              "from jointattention import load_config, run_cell\n"
+              "c = load_config('quick')\n"
+              "c = dataclasses.replace(c, experiment=dataclasses.replace(c.experiment, "
+              "n_steps=100))\n"
+              "run_cell(c, c.experiment.conditions[0], 0)\n")
+    rows = []
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        for name in ("first run, empty kernel cache (compiles)", "second run (cache loaded)"):
+            start = time.perf_counter()
+            subprocess.run([sys.executable, "-c", script], env=env, check=True)
+            rows.append((name, time.perf_counter() - start, "s"))
+    return rows
+
+
+def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, float, str]]:
+    """Estimated wall time of each shipped preset.
+
+    Its agent-steps over ``workers`` processes, each cell at the rate of its engine, perception
+    or learner (``rates``: "compiled", "python", "rendered", "memory", "rl", "population");
+    ``reproduce`` records the measured time (held-out measures and recordings not estimated).
+    """
+    from ..config import load_config, model_options, preset_names
+    from ..experiment.cells import engine_of
+    from ..models.registry import MODELS
+
+    rows = []
+    for name in preset_names():
+        config = load_config(name)
+        exp, minutes = config.experiment, 0.0
+        for c in exp.conditions:
+            kind = "rendered" if exp.perception == "rendered" else engine_of(config, c)
+            options = model_options(config, c)
+            if getattr(options, "learner", "") in ("memory", "population"):
+                kind = options.learner
+            elif MODELS.name_of(options) == "rl":
+                kind = "rl"
+            minutes += exp.n_seeds * exp.n_steps / rates[kind] / 60
+        cells = len(exp.conditions) * exp.n_seeds
+        rounds = np.ceil(cells / workers)  # cells are the unit of parallel work
+        rows.append((f"preset {name}: {cells} cells on {workers} workers (estimate)",
+                     minutes / cells * rounds, "min"))
+    return rows
+
+
+def run_preset(name: str, workers: int) -> list[tuple[str, float, str]]:
+    """Measured wall time of running preset ``name`` from scratch (in a temporary folder)."""
+    import tempfile
+
+    from ..config import load_config
+    from .reproduce import run_experiment
+
+    with tempfile.TemporaryDirectory() as tmp:
+        start = time.perf_counter()
+        run_experiment(load_config(name), tmp, workers=workers)
+        wall = time.perf_counter() - start
+    return [(f"preset {name}: cells on {workers} workers (measured)", wall / 60, "min")]

@@ -1,0 +1,219 @@
+"""The main job as a library call (``jointattention reproduce`` calls it).
+
+Every cell of a configuration, the ceilings, the figures, the table and the checked claims, in one
+run folder.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from contextlib import ExitStack
+from dataclasses import dataclass
+from functools import partial
+from pathlib import Path
+
+import numpy as np
+
+from .._checks import check_path
+from .._files import folder_lock, save_json, write_text
+from .._readers import read_json
+from ..analysis.claims import Claim, check_claims, claims_table, readings_table
+from ..analysis.curves import condition_axis_errors, condition_curves, final_table
+from ..analysis.diagnostics import (
+    condition_diagnostics,
+    diagnostics_table,
+    seed_diagnostics,
+    seeds_table,
+)
+from ..analysis.held_out import held_out_claims, held_out_curves, held_out_table
+from ..config import Config, check_config
+from ..deploy.saved import check_savable
+from ..errors import JointAttentionError
+from ..experiment.backends import CellJob, check_backend, run_jobs
+from ..experiment.cells import measure_ceiling
+from ..experiment.evaluate import oracle_success
+from ..experiment.held_out import held_out_sets, run_cell_measured
+from ..experiment.preflight import MAX_CELLS, check_runs
+from ..experiment.results import cell_path, load_cell, prepare_run_dir, write_trials_csv
+from ..experiment.training import model_path, run_cell_saving_model
+
+__all__ = ["RunResult", "reproduce", "run_experiment"]
+
+_log = logging.getLogger("jointattention")
+
+
+def run_experiment(config: Config, out: str | Path, workers: int = 1,
+                   progress: Callable[[str], None] | None = None, *, backend: str = "local",
+                   address: str | None = None, max_cells: int = MAX_CELLS,
+                   save_models: bool = False) -> dict[tuple[str, int], dict[str, np.ndarray]]:
+    """Run every condition x seed into ``out``; cells already there are kept, not re-run.
+
+    Returns {(condition, seed): records}. Each cell is saved as it finishes, so an
+    interrupted run loses only the cells in progress. ``backend`` and ``address``: see
+    :func:`jointattention.experiment.backends.run_jobs`; ``max_cells``: see
+    :func:`~.preflight.check_runs`; ``save_models``: each cell's learned model is saved in
+    ``out/models/<condition>/seed_<i>.npz`` (:mod:`~.training`).
+    """
+    out = Path(check_path(out, "out"))
+    with ExitStack() as lock:
+        jobs, _ = _run_cells(check_config(config), out, workers, progress, backend, address,
+                             max_cells, save_models, lock)
+        return {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
+
+
+def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
+               address: str | None, max_cells: int,
+               save_models: bool, lock: ExitStack) -> tuple[list[CellJob], int]:
+    """Every cell's job, after running those not in ``out`` yet; and how many ran.
+
+    The folder's lock is taken after every check and held by ``lock`` (the caller's).
+    """
+    check_backend(backend, address, workers)
+    exp = config.experiment
+    run, also_done = run_cell_measured, None
+    if save_models:
+        for c in exp.conditions:  # every model must be one that is saved: refused up front
+            check_savable(config, c.name)
+        run = partial(run_cell_saving_model, models_dir=out / "models")
+
+        def also_done(job: CellJob) -> bool:  # a cell run without --save-models runs again
+            return model_path(out / "models", job.condition.name, job.seed_index).is_file()
+
+    check_runs({out: config}, max_cells=max_cells)  # before anything is written
+    lock.enter_context(folder_lock(out))  # one run per folder, until the caller is done
+    prepare_run_dir(out, config)
+    if exp.held_out.n_trials:
+        held_out_sets(config)  # recorded here, if at all: the workers read them
+    jobs = [CellJob(config, c, i, cell_path(out, c.name, i))
+            for c in exp.conditions for i in range(exp.n_seeds)]
+    ran = run_jobs(run, jobs, workers=workers, backend=backend, address=address,
+                   progress=progress, also_done=also_done)
+    return jobs, ran
+
+
+def _held_out_ceilings(config: Config, path: Path, progress) -> dict[str, dict[str, float]]:
+    """The oracle ceilings of the held-out sets, {kind: {str(n): ceiling}}: read or measured.
+
+    Measured with the trials of the held-out measures (:func:`~.evaluate.oracle_success`,
+    ``experiment.n_ceiling_trials`` of them); {} if the run measures no held-out sets.
+    """
+    if not config.experiment.held_out.n_trials:
+        return {}
+    counts = sorted({c.n_objects for c in config.experiment.conditions})
+    if path.exists():
+        try:
+            ceilings = read_json(path, "the held-out ceilings of a run folder")
+            if all(type(ceilings.get(k, {}).get(str(n))) in (int, float)
+                   for k in held_out_sets(config) for n in counts):
+                return ceilings
+            _log.warning("%s: no ceiling for some set or object count; measured again", path)
+        except JointAttentionError as err:
+            _log.warning("%s; measured again", err)
+    if progress is not None:
+        progress("ceilings")
+    n = config.experiment.n_ceiling_trials
+    ceilings = {kind: {str(k): oracle_success(ds, config, k, n, config.seed) for k in counts}
+                for kind, ds in held_out_sets(config).items()}
+    save_json(ceilings, path)
+    return ceilings
+
+
+def _ceilings(config: Config, path: Path, progress) -> dict[str, float]:
+    """The oracle ceilings of the run's object counts: read from ``path``, or measured there.
+
+    A file that is not whole (unreadable, or without every count) is measured again.
+    """
+    counts = sorted({c.n_objects for c in config.experiment.conditions})
+    if path.exists():
+        try:
+            ceilings = read_json(path, "the oracle ceilings of a run folder")
+            if all(type(ceilings.get(str(n))) in (int, float) and 0 <= ceilings[str(n)] <= 1
+                   for n in counts):
+                return ceilings
+            _log.warning("%s: no ceiling for some object count; measured again", path)
+        except JointAttentionError as err:
+            _log.warning("%s; measured again", err)
+    if progress is not None:
+        progress("ceilings")
+    ceilings = {str(n): measure_ceiling(config, n) for n in counts}
+    save_json(ceilings, path)
+    return ceilings
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What :func:`reproduce` did: the files it wrote, the claims, and its timing."""
+
+    out: Path
+    files: list[Path]
+    claims: list[Claim]
+    cells_run: int
+    cells_total: int
+    wall_min: float
+
+
+def _measured(path: Path) -> bool:
+    """Whether ``path`` holds a readable measure of a run's wall time (``timing.json``)."""
+    try:
+        return "wall_min" in read_json(path, "a run's wall time (timing.json)")
+    except JointAttentionError:  # missing or unreadable: measured anew
+        return False
+
+
+def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str = "local",
+              address: str | None = None, progress: Callable[[str], None] | None = None,
+              max_cells: int = MAX_CELLS, save_models: bool = False) -> RunResult:
+    """Run ``config``'s experiment into the run folder ``out`` and write what it shows.
+
+    Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json`` (the wall time
+    of this call's cells; a re-run that ran none keeps the one there), the oracle
+    ceilings (``ceilings.json``, measured once), ``trials.csv``, the figures
+    (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md``,
+    ``claims.csv``/``.md``, one row per reading (``readings.csv``/``.md``), the diagnostics per
+    learning-time bin
+    (``diagnostics.csv``/``.md``/``.png``; per seed ``diagnostics_seeds.csv``/``.png``,
+    :mod:`jointattention.analysis.diagnostics`), and
+    what the models carry over to held-out data sets (``held_out_ceilings.json``,
+    ``held_out.csv``/``.md``/``.png``, :mod:`jointattention.analysis.held_out`).
+    ``progress`` hears the runner's messages (see
+    :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``. Nothing is
+    written unless the run passes :func:`~.preflight.check_runs` (at most ``max_cells``).
+    ``save_models``: see :func:`run_experiment`.
+    """
+    from ..figures.diagnostics import diagnostics_figure, seeds_figure  # matplotlib: drawn
+    from ..figures.held_out import held_out_figure
+    from ..figures.paper import write_figures
+
+    out = Path(check_path(out, "out"))
+    check_config(config)
+    start = time.perf_counter()
+    with ExitStack() as lock:  # the folder's lock (taken after every check)
+        jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells,
+                                     save_models, lock)
+        wall_min = (time.perf_counter() - start) / 60
+        cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
+        if cells_run or not _measured(out / "timing.json"):  # a redraw keeps the measure
+            save_json({"wall_min": round(wall_min, 2), "workers": workers,
+                       "cells_run": cells_run, "cells_total": len(cells)}, out / "timing.json")
+        ceilings = _ceilings(config, out / "ceilings.json", progress)
+        held_ceilings = _held_out_ceilings(config, out / "held_out_ceilings.json", progress)
+        curves = condition_curves(out, config)
+        held = held_out_curves(out, config)
+        claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config))
+        claims += held_out_claims(config, held, held_ceilings)
+        seeds = seed_diagnostics(out, config, curves)
+        diagnostics = condition_diagnostics(out, config, seeds)
+        files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
+                 *final_table(config, curves, ceilings, held, held_ceilings).write(out / "table"),
+                 *claims_table(claims).write(out / "claims"),
+                 *readings_table(config, curves, ceilings, claims).write(out / "readings"),
+                 *diagnostics_table(diagnostics).write(out / "diagnostics"),
+                 diagnostics_figure(diagnostics, out / "diagnostics.png"),
+                 write_text(out / "diagnostics_seeds.csv", seeds_table(seeds).to_csv()),
+                 seeds_figure(seeds, out / "diagnostics_seeds.png")]
+        if held:
+            files += [*held_out_table(config, held, held_ceilings).write(out / "held_out"),
+                      held_out_figure(config, held, held_ceilings, out / "held_out.png")]
+        return RunResult(out, files, claims, cells_run, len(cells), wall_min)

@@ -1,0 +1,105 @@
+"""The episodic learning module of the bootstrap agent (``learner = "memory"``).
+
+Visual attention, the evaluator, the gate and the readings are the paper's
+(:class:`~.bootstrap.BootstrapAgent`, which composes this module); the module is an
+:class:`~jointattention.agent.memory.EpisodicMemory`. At the start of a trial it recalls, from
+the caregiver's face, the place to look at; its command is one step from the head angle toward
+that place. A trial the evaluator ends is kept as (face code, place): the place is the attended
+object's (``object_direction``: the final head angle plus the visual controller's command that
+centres it) or the final head angle (``final_direction``); with ``memory.keep = "in_view"`` (the
+default) every other object in the last image is kept too, at its place.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..agent.memory import EpisodicMemory
+from ..agent.moves import random_step, unit_step
+from ..agent.protocol import Outcome
+
+__all__ = ["MemoryModule"]
+
+
+class MemoryModule:
+    """The bootstrap agent's learning module as an episodic memory.
+
+    Args:
+        host: the bootstrap agent it serves (its body, options, step length, random steps
+            and the trial's places).
+        rng: the generator left after the agent's streams: one more split, for the face
+            code's projection.
+
+    It answers :class:`~.network.NetworkModule`'s calls.
+
+    Attributes:
+        memory: the memory.
+        support_: the support of the place recalled for the current trial's face (-1 before
+            anything is kept).
+    """
+
+    def __init__(self, host, rng: np.random.Generator):
+        self.host = host
+        (code_rng,) = rng.spawn(1)
+        body = host.body
+        self.memory = EpisodicMemory(body.face_size_px[0] * body.face_size_px[1],
+                                     host.options.memory, body.joint_limits_rad, code_rng)
+        self.support_ = -1.0
+
+    def _toward(self, aim_rad, theta_rad) -> np.ndarray:
+        """One step toward the recalled place; no step without one."""
+        if aim_rad is None:
+            return np.zeros(2)
+        return np.array(unit_step(aim_rad[0] - theta_rad[0], aim_rad[1] - theta_rad[1],
+                                  self.host.step_rad))
+
+    def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
+        """Recall the place for the caregiver's face."""
+        self._face_code = self.memory.code(face)
+        self._aim_rad, self.support_ = self.memory.recall(self._face_code)
+
+    def step(self, theta_rad) -> np.ndarray:
+        """A step toward the recalled place; a random step while nothing is kept."""
+        if self._aim_rad is None:
+            return np.array(random_step(self.host.move_rng, self.host.step_rad))
+        return self._toward(self._aim_rad, theta_rad)
+
+    def direction(self, theta_rad) -> np.ndarray:
+        """A step toward the recalled place; no step while nothing is kept."""
+        return self._toward(self._aim_rad, theta_rad)
+
+    def learn(self, outcome: Outcome, thetas: np.ndarray, steps: np.ndarray) -> int:
+        """Keep the trial's place; returns the number of places kept.
+
+        With ``memory.keep = "in_view"`` the places of the other objects in the last image are
+        kept too, after the attended one's.
+        """
+        host = self.host
+        self.memory.store(self._face_code, host.aim_of(outcome))
+        if host.options.memory.keep == "attended":
+            return 1
+        others = [i for i in range(len(outcome.detections)) if i != outcome.seen]
+        for i in others:
+            self.memory.store(self._face_code, host.place_of(outcome, i))
+        return 1 + len(others)
+
+    def command(self, face: np.ndarray, theta_rad: np.ndarray) -> np.ndarray:
+        """The command for a checked flat face window and head angle (zero with no memory)."""
+        aim, _ = self.memory.recall(self.memory.code(face))
+        return self._toward(aim, theta_rad)
+
+    def commands(self, faces: np.ndarray, thetas: np.ndarray) -> np.ndarray:
+        """:meth:`command` for K checked flat face windows and head angles, (K, 2)."""
+        return np.array([self.command(f, t) for f, t in zip(faces, thetas, strict=True)]
+                        ).reshape(-1, 2)
+
+    def saved_arrays(self) -> dict[str, np.ndarray]:
+        """Nothing: a memory is not saved in a model file."""
+        return {}
+
+    def saved_shapes(self) -> dict[str, tuple[int, ...]]:
+        """Nothing: a memory is not saved in a model file."""
+        return {}
+
+    def load_arrays(self, arrays: dict[str, np.ndarray]) -> None:
+        """Nothing: a memory is not saved in a model file."""

@@ -1,0 +1,175 @@
+"""The world's configuration: what only the experimenter sets.
+
+The camera, head, caregiver, objects, light and face window; how caregivers, the room and the
+robot's image vary is in :mod:`.variation`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+from .._fields import Section, param, to_mapping
+from .._toml import dumps
+from ..errors import ConfigError
+from .variation import IdentityConfig, RoomConfig, SensorConfig
+
+__all__ = [
+    "CameraConfig",
+    "CaregiverConfig",
+    "FaceWindowConfig",
+    "HeadConfig",
+    "IdentityConfig",
+    "LightingConfig",
+    "ObjectsConfig",
+    "RoomConfig",
+    "SensorConfig",
+    "WorldConfig",
+]
+
+
+@dataclass(frozen=True)
+class CameraConfig(Section):
+    """The robot's pinhole camera (README, *The world*)."""
+
+    width_px: int = param(320, "image width W in pixels (the paper's d_th is W/6)", lo=16, hi=4096)
+    height_px: int = param(240, "image height in pixels", lo=16, hi=4096)
+    fov_deg: float = param(
+        40.0, "horizontal field of view of the pinhole camera (40: the 10-object ceiling is "
+        "above 0.8; README, The world)", lo=5, hi=150)
+    offset_m: tuple[float, float, float] = param(
+        (-0.03, 0.06, 0.05),
+        "optical centre in the head frame (right, forward, up) from the pan/tilt axes' "
+        "intersection: the left camera of a stereo head, as in the paper",
+        lo=-0.5,
+        hi=0.5,
+    )
+
+
+@dataclass(frozen=True)
+class HeadConfig(Section):
+    """The pan and tilt joints' ranges."""
+
+    pan_limits_deg: tuple[float, float] = param(
+        (-60.0, 60.0), "pan joint range (positive turns right)", lo=-170, hi=170
+    )
+    tilt_limits_deg: tuple[float, float] = param(
+        (-45.0, 35.0), "tilt joint range (positive looks up)", lo=-85, hi=85
+    )
+
+
+@dataclass(frozen=True)
+class CaregiverConfig(Section):
+    """Where the caregiver sits and how its head turns toward its target."""
+
+    distance_m: float = param(1.0, "distance of the caregiver's head from the robot", lo=0.3, hi=5)
+    height_m: float = param(0.05, "height of the caregiver's head above the robot's", lo=-1, hi=1)
+    position_noise_m: float = param(0.03, "s.d. of the caregiver's head position", lo=0, hi=0.3)
+    head_scale_range: tuple[float, float] = param(
+        (0.9, 1.1), "range of the caregiver's head size (identity)", lo=0.5, hi=2.0
+    )
+    head_turn_fraction: float = param(
+        0.8, "fraction of the gaze rotation made by the head; the eyes make the rest", lo=0, hi=1
+    )
+    pose_noise_deg: float = param(2.0, "s.d. of the head's yaw and pitch error", lo=0, hi=20)
+    distance_spread_m: float = param(
+        0.0, "per identity: her own mean distance is distance_m plus a uniform offset within "
+        "+-this (0: every caregiver at distance_m)", lo=0, hi=2)
+    height_spread_m: float = param(
+        0.0, "per identity: her own head height (her stature) is height_m plus a uniform offset "
+        "within +-this", lo=0, hi=0.5)
+
+
+@dataclass(frozen=True)
+class ObjectsConfig(Section):
+    """How many salient objects a scene holds, how big, where, how far apart."""
+
+    n_objects: int = param(5, "number of salient objects in a scene", lo=1, hi=20)
+    radius_range_m: tuple[float, float] = param(
+        (0.025, 0.045), "range of the objects' radii", lo=0.005, hi=0.3
+    )
+    distance_range_m: tuple[float, float] = param(
+        (0.45, 0.85), "range of the objects' distances from the robot", lo=0.2, hi=5
+    )
+    pan_range_deg: tuple[float, float] = param(
+        (-45.0, 45.0), "range of the objects' directions in pan", lo=-170, hi=170
+    )
+    tilt_range_deg: tuple[float, float] = param(
+        (-35.0, 20.0), "range of the objects' directions in tilt", lo=-85, hi=85
+    )
+    min_gap_deg: float = param(
+        3.0, "least angular gap between two objects' edges, as seen by the robot", lo=0, hi=45
+    )
+    face_clearance_deg: float = param(
+        15.0,
+        "least angle between an object and the caregiver's face, as seen by the robot",
+        lo=0,
+        hi=90,
+    )
+
+
+@dataclass(frozen=True)
+class LightingConfig(Section):
+    """How the key light varies from scene to scene."""
+
+    intensity_range: tuple[float, float] = param(
+        (0.55, 0.85), "range of the key light's diffuse intensity", lo=0, hi=1
+    )
+    position_jitter_m: float = param(0.5, "s.d. of the key light's position", lo=0, hi=3)
+    direction_jitter_deg: float = param(
+        0.0, "per scene: s.d. of the key light's direction in azimuth and in elevation about "
+        "its default (down, toward the caregiver)", lo=0, hi=60)
+    tint_range: tuple[float, float] = param(
+        (0.0, 0.0), "per scene: the key light's colour, from -1 (warm, like a bulb) through 0 "
+        "(white) to +1 (cool, like daylight)", lo=-1, hi=1)
+    ambient_range: tuple[float, float] = param(
+        (0.4, 0.4), "per scene: the ambient light's strength (grey, from every side)", lo=0, hi=1)
+
+
+@dataclass(frozen=True)
+class FaceWindowConfig(Section):
+    """The caregiver's face window the robot keeps (paper: 30 x 25 pixels)."""
+
+    width_px: int = param(30, "width of the caregiver's face window (paper: 30)", lo=4, hi=256)
+    height_px: int = param(25, "height of the caregiver's face window (paper: 25)", lo=4, hi=256)
+    margin: float = param(
+        1.15, "crop height as a multiple of the face's apparent height", lo=0.5, hi=4
+    )
+
+
+@dataclass(frozen=True)
+class WorldConfig(Section):
+    """What only the experimenter sets: the camera, head, caregiver, objects, light."""
+
+    camera: CameraConfig = CameraConfig()
+    head: HeadConfig = HeadConfig()
+    caregiver: CaregiverConfig = CaregiverConfig()
+    objects: ObjectsConfig = ObjectsConfig()
+    lighting: LightingConfig = LightingConfig()
+    face_window: FaceWindowConfig = FaceWindowConfig()
+    identity: IdentityConfig = IdentityConfig()
+    room: RoomConfig = RoomConfig()
+    sensor: SensorConfig = SensorConfig()
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        for section in dataclasses.fields(self):
+            part = getattr(self, section.name)
+            for f in dataclasses.fields(part):
+                value = getattr(part, f.name)
+                if ("_range" in f.name or "_limits" in f.name) and value[0] > value[1]:
+                    raise ConfigError(f"{section.name}.{f.name} = [{value[0]}, {value[1]}]: "
+                                      "expected the low end first")
+        cg = self.caregiver
+        if self.objects.distance_range_m[1] >= cg.distance_m - cg.distance_spread_m:
+            spread = f" - caregiver.distance_spread_m = {cg.distance_spread_m}" \
+                if cg.distance_spread_m else ""
+            raise ConfigError(
+                f"objects.distance_range_m = {list(self.objects.distance_range_m)}: expected "
+                f"objects nearer than the caregiver (caregiver.distance_m = "
+                f"{cg.distance_m}{spread}), so that it can look at them"
+            )
+
+    def to_toml(self) -> str:
+        """This world as a ``[world]`` section of TOML, which :func:`load_config` reads back."""
+        return dumps({"world": to_mapping(self)})
