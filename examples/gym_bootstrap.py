@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import os
 
 import gymnasium as gym
 import numpy as np
@@ -25,6 +26,10 @@ from jointattention.config import model_options
 from jointattention.env import EnvTrial, FaceWindowObservation
 from jointattention.experiment.trial import run_trial
 from jointattention.rng import stream
+from jointattention.world.gl import suggested_backend
+
+# A program chooses its process's OpenGL backend (the library only reads MUJOCO_GL).
+os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
 
 def run_through_env(config, n_objects: int, seed: int, n_poses: int | None,

@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import csv
 import json
+import os
 from pathlib import Path
 
 import cv2
@@ -27,7 +28,11 @@ from jointattention import GazeFollower
 from jointattention.cli import main as cli
 from jointattention.config import load_config
 from jointattention.experiment.probes import angle_deg
+from jointattention.world.gl import suggested_backend
 from jointattention.world.simulator import World
+
+# A program chooses its process's OpenGL backend (the library only reads MUJOCO_GL).
+os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
 
 def record(world: World, folder: Path, poses: int, look_away: int = 2) -> list[dict]:

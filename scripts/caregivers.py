@@ -37,6 +37,7 @@ import copy
 import csv
 import dataclasses
 import io
+import os
 import shlex
 import sys
 import time
@@ -53,8 +54,12 @@ from jointattention.errors import DatasetError, JointAttentionError
 from jointattention.experiment.cells import run_cell
 from jointattention.experiment.probes import angle_errors
 from jointattention.figures._save import new_figure, save_figure
+from jointattention.world.gl import suggested_backend
 from jointattention.world.recording import make_datasets
 from jointattention.world.simulator import World
+
+# A program chooses its process's OpenGL backend (the library only reads MUJOCO_GL).
+os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
 PRESET, CONDITION = "paper", "n5-sigmoid"
 AIM_DEG = 10.0  # the aim: median error on unseen identities at most this

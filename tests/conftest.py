@@ -7,8 +7,13 @@ import os
 import matplotlib
 import pytest
 
+from jointattention.world.gl import suggested_backend
+
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+# The tests choose MuJoCo's off-screen backend as the command line does (the library only
+# reads MUJOCO_GL); subprocesses and workers inherit it.
+os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
 
 @pytest.fixture(scope="session")

@@ -11,6 +11,8 @@ from pathlib import Path
 import jointattention
 
 AGENT = Path(jointattention.__file__).parent / "agent"
+# The robot's side: its parts, the whole models, and what runs on a real robot.
+ROBOT_SIDE = ("agent", "models", "deploy")
 
 
 def _imports(path: Path) -> list[str]:
@@ -27,9 +29,9 @@ def _imports(path: Path) -> list[str]:
 
 
 def test_agent_sources_never_import_world():
-    """No module under agent/ names the world package in an import, absolute or relative."""
-    files = sorted(AGENT.rglob("*.py"))
-    assert files, "agent/ has no modules"
+    """No module of the robot's side names the world package in an import."""
+    files = sorted(p for side in ROBOT_SIDE for p in (AGENT.parent / side).rglob("*.py"))
+    assert len(files) > 30
     for path in files:
         for name in _imports(path):
             parts = name.lstrip(".").split(".")
@@ -37,11 +39,13 @@ def test_agent_sources_never_import_world():
 
 
 def test_importing_agent_loads_no_world_module():
-    """Importing every module of the agent package pulls no jointattention.world in."""
+    """Importing every module of the robot's side pulls no jointattention.world in."""
     code = (
-        "import importlib, pkgutil, sys, jointattention.agent as a\n"
-        "for m in pkgutil.iter_modules(a.__path__):\n"
-        "    importlib.import_module(f'{a.__name__}.{m.name}')\n"
+        "import importlib, pkgutil, sys\n"
+        f"for side in {ROBOT_SIDE!r}:\n"
+        "    a = importlib.import_module(f'jointattention.{side}')\n"
+        "    for m in pkgutil.iter_modules(a.__path__):\n"
+        "        importlib.import_module(f'{a.__name__}.{m.name}')\n"
         "bad = [m for m in sys.modules if m.startswith('jointattention.world')]\n"
         "assert not bad, bad\n"
     )
@@ -55,21 +59,56 @@ def test_the_boundary_test_catches_a_violation(tmp_path):
     assert any("world" in n.split(".") for n in _imports(bad))
 
 
-def test_importing_the_world_changes_no_environment_variable():
-    """Importing the world's modules neither sets MUJOCO_GL nor imports MuJoCo.
-
-    The first World does both.
-    """
+def test_the_library_reads_mujoco_gl_and_never_writes_it():
+    """Without MUJOCO_GL a world renders nothing: one line says what to set; nothing is set."""
     code = (
         "import os, sys\n"
-        "os.environ.pop('MUJOCO_GL', None)\n"
+        "from jointattention.errors import RenderingUnavailable\n"
         "import jointattention.world.simulator, jointattention.world.rendered\n"
-        "assert 'MUJOCO_GL' not in os.environ and 'mujoco' not in sys.modules\n"
-        "jointattention.world.simulator.World()\n"
-        "assert os.environ['MUJOCO_GL'] in ('egl', 'osmesa') and 'mujoco' in sys.modules\n"
+        "assert 'mujoco' not in sys.modules\n"
+        "world = jointattention.world.simulator.World()\n"
+        "try:\n"
+        "    world.render()\n"
+        "except RenderingUnavailable as err:\n"
+        "    assert 'MUJOCO_GL is not set; expected MUJOCO_GL=' in str(err), err\n"
+        "else:\n"
+        "    raise AssertionError('rendered without MUJOCO_GL')\n"
+        "assert 'MUJOCO_GL' not in os.environ and 'PYOPENGL_PLATFORM' not in os.environ\n"
     )
-    env = {k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}
+    env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM")}
     subprocess.run([sys.executable, "-c", code], check=True, env=env)
+
+
+def _environment_writes(path: Path) -> list[str]:
+    """The environment writes in a module: os.environ set, updated or deleted; os.putenv."""
+    def is_environ(node) -> bool:
+        return isinstance(node, ast.Attribute) and node.attr == "environ"
+
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+        targets = node.targets if isinstance(node, ast.Assign) else (
+            node.targets if isinstance(node, ast.Delete) else [])
+        if any(isinstance(t, ast.Subscript) and is_environ(t.value) for t in targets):
+            found.append(f"line {node.lineno}: os.environ[...]")
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+            f = node.func
+            if (is_environ(f.value) and f.attr in ("setdefault", "update", "pop", "clear")) \
+                    or f.attr in ("putenv", "unsetenv"):
+                found.append(f"line {node.lineno}: {f.attr}")
+    return found
+
+
+def test_no_library_module_writes_an_environment_variable(tmp_path):
+    """Only the command line's main sets a variable (MUJOCO_GL, for its own process)."""
+    for path in sorted(AGENT.parent.rglob("*.py")):
+        writes = _environment_writes(path)
+        if path.relative_to(AGENT.parent).as_posix() == "cli/__init__.py":
+            assert [w.split(": ")[1] for w in writes] == ["setdefault"], writes
+        else:
+            assert writes == [], f"{path.name}: {writes}"
+    bad = tmp_path / "bad.py"
+    bad.write_text("import os\nos.environ['X'] = '1'\nos.environ.setdefault('Y', '2')\n")
+    assert len(_environment_writes(bad)) == 2
 
 
 def test_the_library_never_touches_matplotlib_backends():

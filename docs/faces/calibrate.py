@@ -8,6 +8,7 @@ then from the pixels around the head, to the head's centre and height
 (jointattention.agent.face_calibration.Calibration). About 3 min.
 """
 
+import os
 import sys
 
 import cv2
@@ -17,6 +18,10 @@ from jointattention.agent.blazeface import BlazeFace
 from jointattention.agent.face_calibration import Calibration
 from jointattention.config import load_config
 from jointattention.world.face_views import face_views
+from jointattention.world.gl import suggested_backend
+
+# A program chooses its process's OpenGL backend (the library only reads MUJOCO_GL).
+os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
 N, CAREGIVERS, SEED, STREAM = 12000, 128, 1, "faces"
 out = sys.argv[1] if len(sys.argv) > 1 else "src/jointattention/data/blazeface_calibration.npz"

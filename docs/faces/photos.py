@@ -11,6 +11,7 @@ commands for real people are not validated, and mean nothing here; the pipeline 
 shown.
 """
 
+import os
 from pathlib import Path
 
 import cv2
@@ -20,6 +21,10 @@ from skimage import data
 from jointattention import GazeFollower
 from jointattention.deploy.overlay import draw_look
 from jointattention.jobs.face_finders import hopper_photo, lfw_view
+from jointattention.world.gl import suggested_backend
+
+# A program chooses its process's OpenGL backend (the library only reads MUJOCO_GL).
+os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
 SIDE_PX = 360
 follower = GazeFollower.load("docs/generalise/population_n10.npz", min_score=0.6, refine=False)

@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import os
 from pathlib import Path
 
 import matplotlib
@@ -26,6 +27,10 @@ import numpy as np
 from jointattention import load_config, run_experiment
 from jointattention.analysis.curves import condition_curves
 from jointattention.analysis.metrics import mean_interval
+from jointattention.world.gl import suggested_backend
+
+# A program chooses its process's OpenGL backend (the library only reads MUJOCO_GL).
+os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
 HERE = Path(__file__).parent
 

@@ -12,12 +12,14 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import signal
 import sys
 import threading
 
 from .._version import __version__
 from ..errors import JointAttentionError
+from ..world.gl import suggested_backend
 from . import evaluate, robot, run, vision, world
 
 __all__ = ["build_parser", "main"]
@@ -72,6 +74,9 @@ def main(argv: list[str] | None = None) -> int:
     """
     args = build_parser().parse_args(argv)
     _warnings_to_stderr()
+    # The program, not the library, chooses its process's OpenGL backend when the user did not
+    # (the library only reads MUJOCO_GL): off-screen, as a command has no window.
+    os.environ.setdefault("MUJOCO_GL", suggested_backend())
     previous = signal.getsignal(signal.SIGTERM)
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminate)

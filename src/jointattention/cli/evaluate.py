@@ -84,7 +84,7 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     from ..deploy.saved import load_model
     from ..experiment.training import model_datasets
     from ..jobs.closed_loop import TABLE_HEAD, closed_loop
-    from ..world import _gl
+    from ..world import gl
 
     model = load_model(args.model)
     if args.datasets is None:
@@ -97,7 +97,7 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
         caregivers_shown(datasets, model.config.world)  # who posed them, before rendering
     if args.out:
         check_writable(args.out, "file")
-    _gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start
+    gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start
     rows = list(TABLE_HEAD)
     start = time.perf_counter()
     for n in args.objects:

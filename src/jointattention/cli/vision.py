@@ -7,7 +7,7 @@ from pathlib import Path
 
 from .._files import check_writable, write_text
 from ..errors import ArgumentError
-from ..world import _gl
+from ..world import gl
 from ._common import add_cell, add_config, int_in
 
 __all__ = ["add_commands"]
@@ -22,7 +22,7 @@ def _cmd_parity(args: argparse.Namespace) -> None:
     config = load_config(args.config)
     if args.out:
         check_writable(args.out, "file")
-    _gl.mujoco()  # rendering: refused before the progress bar if OpenGL cannot start
+    gl.mujoco()  # rendering: refused before the progress bar if OpenGL cannot start
     results = {}
     for n in args.objects:
         with tqdm(total=args.cases, desc=f"{n} objects", unit="case") as bar:
@@ -57,7 +57,7 @@ def _cmd_gaze(args: argparse.Namespace) -> None:
     condition_named(config, args.condition)  # all checked before the progress bar
     check_writable(args.out, "folder")
     datasets_of(config)
-    _gl.mujoco()  # Fig. 7 is rendered: refused before learning if OpenGL cannot start
+    gl.mujoco()  # Fig. 7 is rendered: refused before learning if OpenGL cannot start
     with tqdm(total=config.experiment.n_steps, desc="learning", unit="step") as bar:
         numbers = write_gaze_figures(config, args.condition, args.seed_index, Path(args.out),
                                      progress=lambda t: bar.update(t - bar.n))
@@ -82,7 +82,7 @@ def _cmd_faces(args: argparse.Namespace) -> None:
                             "expected at most one caregiver per view")
     if args.out:
         check_writable(args.out, "file")
-    _gl.mujoco()
+    gl.mujoco()
     template = ff.template_of(config)
     chosen = ff.finders(template)
     with tqdm(total=args.n, desc="views", unit="view") as bar:

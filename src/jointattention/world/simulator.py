@@ -7,7 +7,7 @@ import numpy as np
 from .. import rng as rngs
 from ..agent.attention import attended_object
 from ..errors import RenderingUnavailable
-from . import _gl
+from . import gl
 from .face import BODIES, head_colours, head_parts
 from .fast import FastScene
 from .identity import sample_caregiver
@@ -25,7 +25,7 @@ def _quat_yaw_pitch(yaw: float, pitch: float) -> np.ndarray:
     qz = np.array([np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2)])
     qx = np.array([np.cos(-pitch / 2), np.sin(-pitch / 2), 0.0, 0.0])
     out = np.empty(4)
-    _gl.mujoco().mju_mulQuat(out, qz, qx)
+    gl.mujoco().mju_mulQuat(out, qz, qx)
     return out
 
 
@@ -50,7 +50,7 @@ class World:
             raise ValueError(f"stream = {stream!r}: expected a stream's name")
         self.config = config if config is not None else WorldConfig()
         self.kinematics = HeadKinematics.from_config(self.config)
-        mujoco = _gl.mujoco()
+        mujoco = gl.mujoco()
         self.model = mujoco.MjModel.from_xml_string(build_mjcf(self.config))
         self.data = mujoco.MjData(self.model)
         self.stream = stream
@@ -137,7 +137,7 @@ class World:
         self._forward()
 
     def _forward(self) -> None:
-        mujoco = _gl.mujoco()
+        mujoco = gl.mujoco()
         mujoco.mj_kinematics(self.model, self.data)
         mujoco.mj_camlight(self.model, self.data)
 
@@ -182,12 +182,12 @@ class World:
         if self._renderer is None:
             kin = self.kinematics
             try:
-                self._renderer = _gl.renderer(self.model, kin.height_px, kin.width_px)
+                self._renderer = gl.renderer(self.model, kin.height_px, kin.width_px)
             except RenderingUnavailable:
                 raise
             except Exception as err:  # the GL stack raises many kinds
                 raise RenderingUnavailable(
-                    f"cannot start off-screen OpenGL (MUJOCO_GL={_gl.choose_backend()}): {err}; "
+                    f"cannot start off-screen OpenGL (MUJOCO_GL={gl.backend()}): {err}; "
                     "expected EGL (libegl1) or OSMesa (libosmesa6, with MUJOCO_GL=osmesa)"
                 ) from None
         return self._renderer

@@ -1,9 +1,10 @@
-"""MuJoCo with an off-screen OpenGL backend: chosen when the first world needs MuJoCo.
+"""MuJoCo and its OpenGL backend, which the user chooses with ``MUJOCO_GL``.
 
-MuJoCo picks its OpenGL backend from ``MUJOCO_GL`` when it is first imported, and a
-headless machine needs EGL or OSMesa. Nothing happens at import of this package: the first
-:func:`mujoco` call sets ``MUJOCO_GL`` (EGL if its library is found, else OSMesa) unless the
-user set it, then imports MuJoCo.
+MuJoCo picks its OpenGL backend from ``MUJOCO_GL`` when it is first imported, and a headless
+machine needs EGL or OSMesa. The library reads the variable and never writes it: a renderer
+asked for while it is unset is one :class:`~jointattention.errors.RenderingUnavailable` line
+that says what to set (:func:`backend`). The command line, a program rather than a library,
+sets it for its own process when the user did not (:func:`suggested_backend`).
 """
 
 from __future__ import annotations
@@ -15,32 +16,36 @@ from types import ModuleType
 
 from ..errors import RenderingUnavailable
 
-__all__ = ["choose_backend", "mujoco", "renderer"]
+__all__ = ["backend", "mujoco", "renderer", "suggested_backend"]
 
 _started_in_pid: int | None = None  # the process that started an OpenGL context
 
 
-def choose_backend() -> str:
-    """Set ``MUJOCO_GL`` to EGL, else OSMesa, unless the user set it; return the choice."""
-    if os.environ.get("MUJOCO_GL"):
-        return os.environ["MUJOCO_GL"]
-    choice = "egl" if ctypes.util.find_library("EGL") else "osmesa"
-    if choice == "osmesa" and not ctypes.util.find_library("OSMesa"):
-        choice = "egl"  # neither found by name; EGL gives the clearer error later
-    os.environ["MUJOCO_GL"] = choice
-    # PyOpenGL reads its own platform variable; keep the two in step.
-    os.environ.setdefault("PYOPENGL_PLATFORM", choice)
-    return choice
+def suggested_backend() -> str:
+    """The off-screen backend this machine has: EGL if its library is found, else OSMesa."""
+    if ctypes.util.find_library("EGL") or not ctypes.util.find_library("OSMesa"):
+        return "egl"  # neither found by name: EGL gives the clearer error later
+    return "osmesa"
+
+
+def backend() -> str:
+    """The backend ``MUJOCO_GL`` names; unset, one error line that says what to set."""
+    chosen = os.environ.get("MUJOCO_GL", "").strip()
+    if not chosen:
+        name = suggested_backend()
+        raise RenderingUnavailable(
+            f"MUJOCO_GL is not set; expected MUJOCO_GL={name} (off-screen: egl needs libegl1, "
+            f"osmesa libosmesa6; glfw draws in a window) set before Python starts, e.g. "
+            f"`MUJOCO_GL={name} python script.py`; the fast world needs no OpenGL")
+    return chosen
 
 
 def mujoco() -> ModuleType:
-    """The ``mujoco`` module, imported after choosing its backend if nobody imported it yet.
+    """The ``mujoco`` module (its backend is ``MUJOCO_GL``'s, or none if unset).
 
-    MuJoCo starts its OpenGL backend when imported: a backend that cannot start (OSMesa not
+    MuJoCo loads its OpenGL backend when imported: a backend that cannot load (OSMesa not
     installed, an unknown ``MUJOCO_GL``) is one :class:`~..errors.RenderingUnavailable` line.
     """
-    if "mujoco" not in sys.modules:
-        choose_backend()
     try:
         import mujoco as module
     except Exception as err:  # the GL stack raises many kinds (AttributeError, RuntimeError...)
@@ -60,6 +65,7 @@ def renderer(model, height_px: int, width_px: int):
     async vector environment under the default start method).
     """
     global _started_in_pid
+    backend()
     if _started_in_pid is not None and _started_in_pid != os.getpid():
         raise RenderingUnavailable(
             "cannot render in a process forked after its parent rendered (OpenGL does not "
