@@ -28,7 +28,7 @@ LAYERS = [
     ("runner", {"experiment"}),
     ("analysis and env", {"analysis", "env"}),
     ("figures", {"figures"}),
-    ("jobs", {"jobs"}),
+    ("jobs", {"jobs", "testing"}),
     ("cli", {"cli", "__main__"}),
 ]
 # The package's root (``jointattention/__init__``) is above them all: it names its exports

@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 from functools import partial
+from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
+import jointattention
 from jointattention.agent.attention import attended_object
 from jointattention.config import WorldConfig
 from jointattention.experiment.oracle import OracleAgent
@@ -15,7 +19,10 @@ from jointattention.experiment.trial import (
     END_LIMIT,
     END_STEPS,
     RECORD,
+    RUNNING,
     SceneTrial,
+    end_after_look,
+    move_head,
     records,
     run_trial,
 )
@@ -119,3 +126,33 @@ def test_both_scenes_keep_the_scene_contract_with_object_places(needs_gl):
             assert (out.caregiver_error_rad == 0) == (i == fast.target_index)
             checked += 1
     assert checked >= 2
+
+
+@given(pan=st.floats(-3, 3), tilt=st.floats(-3, 3), d_pan=st.floats(-1, 1),
+       d_tilt=st.floats(-1, 1))
+@settings(max_examples=200, deadline=None)
+def test_the_one_head_move_stops_at_the_joint_limits(pan, tilt, d_pan, d_tilt):
+    """move_head is the move clipped to the joint ranges, and says whether a limit stopped it."""
+    lo, hi = (-1.0, -0.8), (1.0, 0.6)
+    got_pan, got_tilt, hit = move_head(pan, tilt, d_pan, d_tilt, lo[0], hi[0], lo[1], hi[1])
+    want = np.array([pan + d_pan, tilt + d_tilt])
+    assert [got_pan, got_tilt] == list(np.clip(want, lo, hi))
+    assert hit == (not np.array_equal(np.clip(want, lo, hi), want))
+
+
+def test_a_look_ends_a_trial_by_eq3_first_then_the_limit_then_the_step_limit():
+    """end_after_look: fired beats a limit, which beats the step limit; else it runs on."""
+    assert end_after_look(0, True, 40, 40) == END_FIRED
+    assert end_after_look(-1, True, 40, 40) == END_LIMIT
+    assert end_after_look(-1, False, 40, 40) == END_STEPS
+    assert end_after_look(-1, False, 39, 40) == RUNNING
+
+
+def test_every_trial_loop_steps_with_the_one_step():
+    """The python trial, the compiled loop and the vector env step with the one move and end."""
+    root = Path(jointattention.__file__).parent
+    for name in ("experiment/trial.py", "experiment/_compiled_loop.py", "env/vector.py"):
+        text = (root / name).read_text()
+        body = text.split("def end_after_look", 1)[-1] if name.endswith("trial.py") else text
+        assert "move_head(" in body and "end_after_look(" in body, name
+        assert "min(max(" not in body, name

@@ -4,8 +4,7 @@ A compiled kernel reads its arrays by the sizes it is given and checks no bound:
 of the wrong size or a point with two coordinates makes it read past an array (a wrong
 result, or a crash of the interpreter). Every public function that hands arrays to a kernel
 passes them through :func:`floats` first, which returns them in the kernel's layout or raises
-one :class:`~jointattention.errors.ArgumentError` line naming the argument (README, *Bad
-input, limits and interruptions*).
+one :class:`~jointattention.errors.ArgumentError` line naming the argument (docs/bad-input.md).
 """
 
 from __future__ import annotations

@@ -10,8 +10,8 @@ two steps, each a least-squares map fitted once on rendered views whose truth is
    (``CROP`` head heights wide, seen at ``SIDE_PX`` x ``SIDE_PX``, standardised) -> a shift of
    the centre and a factor on the height, applied in turn (a cascade, as in face alignment).
 
-So a window cut around a detection is the window a data set would hold: README, *Face
-finders*, gives the errors that remain.
+So a window cut around a detection is the window a data set would hold: docs/real-head.md
+gives the errors that remain.
 """
 
 from __future__ import annotations

@@ -1,8 +1,8 @@
 """The robot's face finders, and the choice among them.
 
 BlazeFace (:mod:`~jointattention.agent.blazeface`, the default), the template (the paper's
-robot's way) and OpenCV's Haar cascade (:mod:`~jointattention.agent.faces`); README, *Face
-finders*, and docs/faces/detectors.md compare them.
+robot's way) and OpenCV's Haar cascade (:mod:`~jointattention.agent.faces`); docs/real-head.md
+and docs/faces/detectors.md compare them.
 """
 
 from __future__ import annotations
@@ -67,7 +67,7 @@ def finder_for(method: str, template: np.ndarray | None = None,
     correlation 0.7). ``refine``: BlazeFace's pixel refinements (:class:`BlazeFaceFinder`).
     Templates are tried from 8% of each image's height (8 px at least) to all of it, at
     heights 2% apart: the learning module answers a window cut a few percent too large or too
-    small differently (README, *The loop closed in the simulator*).
+    small differently (docs/real-head.md).
     """
     if method == "blazeface":
         return BlazeFaceFinder(0.4 if min_score is None else min_score, refine=refine)

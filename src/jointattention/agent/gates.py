@@ -18,8 +18,12 @@ from .._fields import Registry, Section, param
 from .._jit import jit
 from ..errors import ConfigError
 
-__all__ = ["GATES", "ConstantGate", "Gate", "PerformanceGate", "SigmoidGate", "agreement_update",
-           "performance_rate", "sigmoid_rate"]
+__all__ = ["CONSTANT", "GATES", "PERFORMANCE", "SIGMOID", "ConstantGate", "Gate",
+           "PerformanceGate", "SigmoidGate", "agreement_update", "performance_rate",
+           "sigmoid_rate"]
+
+# The compiled loop's code of each gate it runs (jointattention.experiment._compiled_loop)
+SIGMOID, CONSTANT, PERFORMANCE = 0, 1, 2
 
 
 @jit
@@ -29,13 +33,31 @@ def sigmoid_rate(t: float, midpoint_steps: float, width_steps: float) -> float:
 
 
 class Gate(Section):
-    """Base of the gates: a rate of choosing the learning module at each learning time."""
+    """Base of the gates: a rate of choosing the learning module at each learning time.
 
-    compiled: ClassVar[bool] = False  # declared True by the gates the compiled engine runs
+    Each gate declares what the rest of the package needs to know of it:
+
+    Attributes:
+        compiled: whether the compiled engine runs it (then :meth:`compiled_inputs` says how).
+        claims_role: which of the paper's claims its conditions are checked by: ``"sigmoid"``
+            (the paper's gate: rises, reaches the ceiling, beats the constant rates),
+            ``"constant"`` (a fixed rate: the baseline), ``"performance"`` (as the sigmoid,
+            and it must beat the others at 5 objects) or None (no claim of the paper).
+        measured: whether its rate follows a measure the agent keeps (:meth:`rate_of`,
+            :meth:`update`) rather than the learning time.
+    """
+
+    compiled: ClassVar[bool] = False
+    claims_role: ClassVar[str | None] = None
+    measured: ClassVar[bool] = False
 
     def rate_at(self, learning_time_steps):
         """The rate (0 to 1) at learning time(s) ``learning_time_steps``."""
         raise NotImplementedError
+
+    def compiled_inputs(self) -> tuple[int, float, float, float]:
+        """The gate as the compiled loop takes it: its code and up to three parameters."""
+        raise NotImplementedError(f"the compiled engine does not run gate {self.label!r}")
 
     @property
     def label(self) -> str:
@@ -47,7 +69,8 @@ class Gate(Section):
 class SigmoidGate(Gate):
     """The paper's gate: the rate rises from 0 to 1 as a sigmoid of learning time."""
 
-    compiled: ClassVar[bool] = True  # the compiled engine runs it
+    compiled: ClassVar[bool] = True
+    claims_role: ClassVar[str | None] = "sigmoid"
 
     midpoint_steps: float = param(
         1.2e5, "learning time at which the sigmoid gate chooses each module equally", lo=0)
@@ -60,18 +83,27 @@ class SigmoidGate(Gate):
         mid, width = float(self.midpoint_steps), float(self.width_steps)
         return np.array([sigmoid_rate(x, mid, width) for x in t.ravel()]).reshape(t.shape)
 
+    def compiled_inputs(self) -> tuple[int, float, float, float]:
+        """The code and the midpoint and width."""
+        return SIGMOID, float(self.midpoint_steps), float(self.width_steps), 1.0
+
 
 @dataclass(frozen=True)
 class ConstantGate(Gate):
     """A constant rate (the paper compares 0.7, 0.9 and 1.0 with the sigmoid in Fig. 5)."""
 
-    compiled: ClassVar[bool] = True  # the compiled engine runs it
+    compiled: ClassVar[bool] = True
+    claims_role: ClassVar[str | None] = "constant"
 
     rate: float = param(0.9, "rate of choosing the learning module", lo=0, hi=1)
 
     def rate_at(self, learning_time_steps):
         """``rate`` at every learning time."""
         return np.full(np.shape(learning_time_steps), float(self.rate))
+
+    def compiled_inputs(self) -> tuple[int, float, float, float]:
+        """The code and the rate."""
+        return CONSTANT, float(self.rate), 0.0, 1.0
 
     @property
     def label(self) -> str:
@@ -110,7 +142,9 @@ class PerformanceGate(Gate):
     ``full_agreement`` (:func:`performance_rate`). The learning time plays no part.
     """
 
-    compiled: ClassVar[bool] = True  # the compiled engine runs it
+    compiled: ClassVar[bool] = True
+    claims_role: ClassVar[str | None] = "performance"
+    measured: ClassVar[bool] = True
 
     agree_deg: float = param(
         20.0, "a trial agrees if the module's command points within this angle of the place "
@@ -138,6 +172,20 @@ class PerformanceGate(Gate):
     def rate_of(self, agreement: float) -> float:
         """The rate at a measured agreement (:func:`performance_rate`)."""
         return performance_rate(float(agreement), self.agree_rad, float(self.full_agreement))
+
+    def update(self, agreement: float, command, place) -> float:
+        """The agreement after a trial whose module pointed ``command`` and found ``place``.
+
+        Both are (pan, tilt) from the trial's start (:func:`agreement_update`).
+        """
+        return agreement_update(float(agreement), float(command[0]), float(command[1]),
+                                float(place[0]), float(place[1]), self.agree_rad,
+                                float(self.window_trials))
+
+    def compiled_inputs(self) -> tuple[int, float, float, float]:
+        """The code, the agreement angle, the full agreement and the window."""
+        return (PERFORMANCE, self.agree_rad, float(self.full_agreement),
+                float(self.window_trials))
 
 
 GATES = Registry("gate", {"sigmoid": SigmoidGate, "constant": ConstantGate,

@@ -3,7 +3,7 @@
 The paper's learning module regresses a direction on the face (squared error). When the
 evaluator fires on one of n objects, the caregiver's target is only one of the places the robot
 learns from; a squared-error learner converges to the *mean* of those places, which for 10
-objects points at the distractors' average, not at the target (README, *Beyond the paper*).
+objects points at the distractors' average, not at the target (docs/beyond-the-paper.md).
 This module looks for the *mode* instead: it keeps each self-evaluated trial as a pair (a
 compact code of the face, the head angle at which the object was centred) and, for a face,
 recalls the place that the trials with the most similar faces agree on beyond what every face

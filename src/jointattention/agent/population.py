@@ -2,7 +2,7 @@
 
 The paper's module regresses one direction on the face (squared error): with n objects it
 learns the *mean* of the directions the robot was taught, which with 10 objects points between
-the distractors (README, *Beyond the paper*). The episodic memory finds the *mode* instead, but
+the distractors (docs/beyond-the-paper.md). The episodic memory finds the *mode* instead, but
 it recalls the places of the faces it kept: a lookup that does not carry over to a caregiver
 it never saw.
 

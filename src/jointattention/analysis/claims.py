@@ -1,8 +1,8 @@
 """The paper's qualitative claims, checked on a run's success curves (pure functions).
 
 Conditions are grouped by their model and *reading* (for the bootstrap model: gate per step
-or per trial, VF fallback, learning target; the readings where the paper is silent, README,
-*The model*). Within each group every claim that the group's conditions allow is checked by
+or per trial, VF fallback, learning target; the readings where the paper is silent,
+docs/model.md). Within each group every claim that the group's conditions allow is checked by
 a stated rule; the gates are told apart by kind (:mod:`jointattention.agent.gates`), so a
 model of your own with a gate is checked like the paper's:
 
@@ -31,14 +31,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.gates import ConstantGate, PerformanceGate, SigmoidGate
 from ..config import Config, model_options
-from ..models.teacher import TeacherOptions
 from .claim import PAIRED_RULE, Claim, finals_of, paired, paired_lower, reading_of
 from .neighbours import neighbour_claims
 from .tables import Table
 
 __all__ = ["Claim", "check_claims", "claims_table", "reading_of", "readings_table"]
+
+
+def _role(gate) -> str | None:
+    """Which of the paper's claims a condition with ``gate`` is checked by (Gate.claims_role)."""
+    return getattr(gate, "claims_role", None)
 
 
 _RULES = {  # each claim's rule (the module docstring says why)
@@ -70,10 +73,9 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
             claims.append(Claim(reading, claim, bool(holds), evidence, _RULES[rule]))
 
         finals = {c.name: finals_of(curves[c.name][1]) for c in conds}
-        sigmoid = [c for c in conds
-                   if isinstance(gates[c.name], SigmoidGate) and not c.shuffle_faces]
+        sigmoid = [c for c in conds if _role(gates[c.name]) == "sigmoid" and not c.shuffle_faces]
         performance = [c for c in conds
-                       if isinstance(gates[c.name], PerformanceGate) and not c.shuffle_faces]
+                       if _role(gates[c.name]) == "performance" and not c.shuffle_faces]
         for c in sigmoid + performance:
             per_seed = curves[c.name][1]
             first, final = per_seed[:, 0], finals[c.name]
@@ -98,19 +100,19 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
                 f"{ceiling:.3f}")
         for p in (c for c in performance if c.n_objects == 5):
             for c in conds:
-                if c.n_objects == 5 and not c.shuffle_faces and c is not p and isinstance(
-                        gates[c.name], (SigmoidGate, ConstantGate)):
+                if c.n_objects == 5 and not c.shuffle_faces and c is not p and _role(
+                        gates[c.name]) in ("sigmoid", "constant"):
                     add("beats", f"5 objects: performance gate beats {gates[c.name].label}",
                         *paired(finals[p.name], finals[c.name]))
         for c in conds:
-            if not isinstance(gates[c.name], ConstantGate) or c.shuffle_faces:
+            if _role(gates[c.name]) != "constant" or c.shuffle_faces:
                 continue
             rate = gates[c.name].rate
             for s in (s for s in sigmoid if s.n_objects == c.n_objects):
                 add("beats", f"{c.n_objects} objects: sigmoid beats constant {rate}",
                     *paired(finals[s.name], finals[c.name]))
             if (rate == 1.0 and c.n_objects == 5
-                    and not isinstance(model_options(config, c), TeacherOptions)):
+                    and not model_options(config, c).taught):
                 # the paper's claim of a self-evaluating robot; a taught one learns (the
                 # neighbours' claims)
                 add("chance", "5 objects: constant 1.0 stays near or below chance",
@@ -153,7 +155,7 @@ def readings_table(config: Config, curves: dict, ceilings: dict, claims: list[Cl
         fraction = final / ceilings.get(str(c.n_objects), np.nan)
         reading = reading_of(c, config)
         rows.setdefault(reading, {})[column] = f"{final:.3f} ({fraction:.2f})"
-        if isinstance(gate, SigmoidGate):
+        if _role(gate) == "sigmoid":
             sigmoid.setdefault(reading, []).append(fraction)
     held = {r: sum(c.holds for c in claims if c.reading == r) for r in rows}
     checked = {r: sum(c.reading == r for c in claims) for r in rows}

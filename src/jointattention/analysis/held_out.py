@@ -20,7 +20,7 @@ from .tables import Table
 __all__ = ["AIM", "KINDS", "held_out_claims", "held_out_curves", "held_out_table"]
 
 KINDS = ("training", "new poses", "unseen caregivers")
-# the aim for a model that follows people it never saw (README, Generalisation)
+# the aim for a model that follows people it never saw (docs/generalisation.md)
 AIM = {"fraction_of_ceiling": 0.9, "median_error_deg": 4.0, "share_over_10deg": 0.05}
 
 HeldOut = dict[str, tuple[np.ndarray, dict[str, np.ndarray]]]

@@ -1,6 +1,6 @@
 """The claims of the bootstrap model's neighbours, checked on a run (pure functions).
 
-README, *The models side by side*. Each model's claim is checked against its twin: the condition
+docs/neighbours.md. Each model's claim is checked against its twin: the condition
 with the same objects and the same options the two models share. A claim names its condition
 (and its twin's), since conditions of one reading may differ by their gate.
 

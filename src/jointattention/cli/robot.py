@@ -168,7 +168,7 @@ def add_import(dsub) -> None:
                     "command_pan_rad, command_tilt_rad; optionally target_x_m, target_y_m, "
                     "target_z_m) and its images; find the caregiver's face in each, cut its "
                     "window and write the data sets to --out. Rows whose face is not found "
-                    "are listed and left out (README, Saved models and real heads).")
+                    "are listed and left out (docs/real-head.md).")
     q.add_argument("folder", metavar="FOLDER", type=Path, help="the recording folder")
     add_config(q)
     q.add_argument("--face", choices=FACE_METHODS, default=DEFAULT_FACE,

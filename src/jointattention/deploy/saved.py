@@ -33,7 +33,7 @@ standardiser's floor are read), ``datasets_sha256`` (of the data-set file it lea
 ``generator`` (the package version) and, if measured, ``held_out`` (its frozen success and
 errors on its training sets, new poses and unseen caregivers at the end of learning). Float
 members must be finite and within ±1e6 (sums of squares ±1e18). The output is a direction, one
-``lm_step_deg`` long (README, *From the simulator to a real head*).
+``lm_step_deg`` long (docs/real-head.md).
 """
 
 from __future__ import annotations
@@ -53,8 +53,8 @@ from .._version import __version__
 from ..agent.protocol import Body
 from ..config import Config, check_config, condition_named, load_config, model_options, to_toml
 from ..errors import ConfigError, FileError
-from ..models.bootstrap import BootstrapAgent, BootstrapOptions
-from ..models.registry import MODELS
+from ..models.bootstrap import BootstrapAgent
+from ..models.registry import MODELS, ModelOptions
 
 __all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
            "save_model"]
@@ -62,7 +62,6 @@ __all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_mod
 _MAX_WEIGHT_ABS, _MAX_SUM_ABS = 1e6, 1e18  # beyond: not learned, and commands overflow to NaN
 
 SCHEMA_VERSION = 2  # the newest; version 1 files (the paper's network) are still written
-_SAVED_LEARNERS = ("backprop", "population")
 
 
 @dataclass(frozen=True)
@@ -143,12 +142,13 @@ class LearnedModel:
                           datasets_sha256=self.datasets_sha256, held_out=self.held_out)
 
 
-def check_savable(config: Config, condition: str) -> BootstrapOptions:
+def check_savable(config: Config, condition: str) -> ModelOptions:
     """The options of ``condition``'s model if it can be saved, else one ConfigError line."""
     options = model_options(config, condition_named(config, condition))
-    if not isinstance(options, BootstrapOptions) or options.learner not in _SAVED_LEARNERS:
-        raise ConfigError(f"condition {condition!r}: its model is {getattr(options, 'label', '?')}"
-                          "; expected the bootstrap model, the teacher or the developmental "
+    refusal = options.save_refusal()
+    if refusal is not None:
+        raise ConfigError(f"condition {condition!r}: its model is {options.label}: {refusal}; "
+                          "expected the bootstrap model, the teacher or the developmental "
                           "model, with learner = 'backprop' or 'population' (the models saved)")
     n, sharp = config.experiment.n_steps, getattr(options, "blur_sharp_steps", 0)
     if getattr(options, "blur_start_px", 0) > 0 and n < sharp:  # saved: sees sharp faces

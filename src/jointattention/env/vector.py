@@ -22,7 +22,7 @@ from .._checks import check_int
 from .._jit import jit
 from ..agent.attention import attended_index
 from ..errors import ConfigError
-from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
+from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING, end_after_look, move_head
 from ..world.fast import detect_into
 from ..world.kinematics import rotation_matrix, separation_rad
 from ._args import check_action, refuse_options
@@ -31,7 +31,6 @@ from .joint_attention import JointAttentionEnv
 
 __all__ = ["JointAttentionVectorEnv"]
 
-_RUNNING = -1
 
 
 @jit
@@ -41,13 +40,10 @@ def _step_all(theta, dtheta, lo, hi, pos, radius, edge, n_objects, offset_m, foc
     """One step of every running episode: move (Eq. 2's command), look, evaluate (Eq. 3)."""
     cx, cy = (width_px - 1) / 2, (height_px - 1) / 2
     for i in range(theta.shape[0]):
-        if end[i] != _RUNNING:
+        if end[i] != RUNNING:
             continue
-        hit = False
-        for j in range(2):
-            want = theta[i, j] + dtheta[i, j]
-            theta[i, j] = min(max(want, lo[j]), hi[j])
-            hit = hit or theta[i, j] != want
+        theta[i, 0], theta[i, 1], hit = move_head(theta[i, 0], theta[i, 1], dtheta[i, 0],
+                                                  dtheta[i, 1], lo[0], hi[0], lo[1], hi[1])
         n_steps[i] += 1
         limit_hit[i] = hit
         n = n_objects
@@ -58,12 +54,9 @@ def _step_all(theta, dtheta, lo, hi, pos, radius, edge, n_objects, offset_m, foc
         n_det[i] = m
         s = attended_index(centre[i, :m], cx, cy, d_th_px)
         seen[i] = s
+        end[i] = end_after_look(s, hit, n_steps[i], max_steps)
         if s >= 0:
-            attended[i], end[i] = ids[i, s], END_FIRED
-        elif hit:
-            end[i] = END_LIMIT
-        elif n_steps[i] >= max_steps:
-            end[i] = END_STEPS
+            attended[i] = ids[i, s]
 
 
 class JointAttentionVectorEnv(gym.vector.VectorEnv):
@@ -128,7 +121,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         f, i = np.zeros, np.int64
         self._theta, self._pos, self._radius = f((k, 2)), f((k, n, 3)), f((k, n))
         self._edge, self._target, self._face_k = f((k, n)), np.zeros(k, i), np.zeros(k, i)
-        self._n_steps, self._end = np.zeros(k, i), np.full(k, _RUNNING, i)
+        self._n_steps, self._end = np.zeros(k, i), np.full(k, RUNNING, i)
         self._limit_hit, self._attended = np.zeros(k, bool), np.full(k, -1, i)
         self._seen, self._n_det = np.full(k, -1, i), np.zeros(k, i)
         self._centre, self._area = f((k, n, 2)), f((k, n))
@@ -144,17 +137,17 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._pos[i], self._radius[i], self._edge[i] = (scene.object_pos_m,
                                                         scene.object_radius_m, scene.edge)
         self._theta[i] = self._kin.clip(self._env._datasets.theta_face_rad[k])
-        self._n_steps[i], self._end[i], self._attended[i] = 0, _RUNNING, -1
+        self._n_steps[i], self._end[i], self._attended[i] = 0, RUNNING, -1
         self._limit_hit[i] = False
 
     def _look(self, which: np.ndarray) -> None:
         """The first look of the episodes just started: project and evaluate, no move."""
         end = np.full(self.num_envs, 0, np.int64)
-        end[which] = _RUNNING
+        end[which] = RUNNING
         steps = self._n_steps.copy()
         steps[which] -= 1  # the kernel counts a step: take it back
         self._kernel(np.zeros((self.num_envs, 2)), end, steps)
-        self._end[which] = np.where(end[which] == END_FIRED, END_FIRED, _RUNNING)
+        self._end[which] = np.where(end[which] == END_FIRED, END_FIRED, RUNNING)
         self._limit_hit[which] = False
 
     def _kernel(self, dtheta: np.ndarray, end: np.ndarray, steps: np.ndarray) -> None:
@@ -193,7 +186,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         dtheta = np.clip(actions, space.low, space.high) * self._scale
         end = self._end.copy()
         end[restart] = END_FIRED  # not stepped this time
-        running = end == _RUNNING
+        running = end == RUNNING
         steps = self._n_steps.copy()
         self._kernel(dtheta, end, steps)
         self._end = np.where(running, end, self._end)

@@ -14,7 +14,7 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.attention import attended_index, interest_argmax, visual_feedback_rad
-from ..agent.gates import agreement_update, performance_rate, sigmoid_rate
+from ..agent.gates import CONSTANT, PERFORMANCE, agreement_update, performance_rate, sigmoid_rate
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
@@ -23,8 +23,7 @@ from ..models.developmental import blur_into, blur_px, caregiver_update
 from ..world.fast import detect_into
 from ..world.kinematics import rotation_matrix, separation_rad
 from ..world.placement import place_into
-from ._loop_inputs import CONSTANT, PERFORMANCE
-from .trial import END_FIRED, END_LIMIT, END_STEPS
+from .trial import END_FIRED, RUNNING, end_after_look, move_head
 
 __all__ = ["COLUMNS", "run_trials"]
 
@@ -139,13 +138,10 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
                             world.focal_px, w, h, uv, depth, area, centre, seen_area,
                             seen_edge, ids)
             seen = attended_index(centre[:m], cx, cy, robot.d_th_px)
-            if seen >= 0:
-                attended, end = ids[seen], END_FIRED
-            elif limit_hit:
-                end = END_LIMIT
-            elif n_steps >= robot.max_steps:
-                end = END_STEPS
-            if end >= 0:
+            end = end_after_look(seen, limit_hit, n_steps, robot.max_steps)
+            if end == END_FIRED:
+                attended = ids[seen]
+            if end != RUNNING:
                 break
             # the agent acts (BootstrapAgent.act)
             module = trial_module
@@ -176,11 +172,10 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             n_lm += module == _LM
             n_random += module == _RANDOM
             # the head moves, stopping at its joint limits (SceneTrial.step)
-            want_pan, want_tilt = pan + d_pan, tilt + d_tilt
-            pan = min(max(want_pan, world.limits_rad[0]), world.limits_rad[1])
-            tilt = min(max(want_tilt, world.limits_rad[2]), world.limits_rad[3])
+            lim = world.limits_rad
+            pan, tilt, limit_hit = move_head(pan, tilt, d_pan, d_tilt, lim[0], lim[1], lim[2],
+                                             lim[3])
             n_steps += 1
-            limit_hit = pan != want_pan or tilt != want_tilt
         # the agent learns (BootstrapAgent.end_trial, the module's learn; the teacher only
         # when the caregiver approves: TeacherAgent.end_trial, DevelopmentalAgent.end_trial)
         approved = end == END_FIRED and (attended == target or (

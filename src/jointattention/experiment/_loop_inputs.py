@@ -10,9 +10,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["CONSTANT", "PERFORMANCE", "SIGMOID", "LoopRobot", "LoopState", "LoopWorld"]
+__all__ = ["LoopRobot", "LoopState", "LoopWorld"]
 
-SIGMOID, CONSTANT, PERFORMANCE = 0, 1, 2  # the gates, as codes
 
 
 class LoopWorld(NamedTuple):
@@ -41,7 +40,7 @@ class LoopRobot(NamedTuple):
     d_th_px: float
     step_rad: float
     max_steps: int
-    gate_kind: int  # _SIGMOID, _CONSTANT or _PERFORMANCE
+    gate_kind: int  # SIGMOID, CONSTANT or PERFORMANCE (agent/gates.py: Gate.compiled_inputs)
     gate_a: float  # the constant rate, the sigmoid's midpoint, or the performance's agree_rad
     gate_b: float  # the sigmoid's width, or the performance's full agreement
     gate_window: float  # the performance's window (trials)

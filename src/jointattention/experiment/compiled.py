@@ -19,19 +19,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.gates import ConstantGate, PerformanceGate
 from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
 from ..models.bootstrap import LEARNING_TARGETS, BootstrapAgent
-from ..models.developmental import DevelopmentalOptions
 from ..models.registry import ModelOptions
-from ..models.teacher import TeacherOptions
 from ..world.kinematics import HeadKinematics
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
 from ._compiled_loop import COLUMNS, run_trials
-from ._loop_inputs import CONSTANT, PERFORMANCE, SIGMOID, LoopRobot, LoopState, LoopWorld
+from ._loop_inputs import LoopRobot, LoopState, LoopWorld
 from .trial import END_FIRED, RECORD
 
 __all__ = ["CompiledCell", "pack_world", "unsupported"]
@@ -57,25 +54,6 @@ def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_ob
                   kin.height_px, HEAD_RADII_M[2], np.ascontiguousarray(ds.theta_face_rad, float),
                   np.ascontiguousarray(target_m, float), np.ascontiguousarray(face_m, float),
                   ds.face.reshape(len(ds), -1).astype(float), bool(shuffle_faces))
-
-
-def _gate_inputs(gate) -> tuple:
-    """The gate as LoopRobot takes it: its code and up to three parameters."""
-    if isinstance(gate, ConstantGate):
-        return CONSTANT, float(gate.rate), 0.0, 1.0
-    if isinstance(gate, PerformanceGate):
-        return PERFORMANCE, gate.agree_rad, float(gate.full_agreement), float(gate.window_trials)
-    return SIGMOID, float(gate.midpoint_steps), float(gate.width_steps), 1.0
-
-
-def _caregiver_inputs(options, face_size_px) -> tuple:
-    """The caregiver's evaluation and the visual development as LoopRobot takes them."""
-    teacher = isinstance(options, TeacherOptions)
-    if not isinstance(options, DevelopmentalOptions):
-        return teacher, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px
-    o = options
-    return (True, True, o.criterion_level, o.criterion_window_trials, o.criterion_shrink,
-            o.blur_start_px, o.blur_sharp_steps, *face_size_px)
 
 
 def _memory_inputs(memory, n_pix: int) -> tuple:
@@ -115,14 +93,14 @@ class CompiledCell:
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),
             float(shared.d_th_px(world.width_px)), float(agent.step_rad), int(shared.max_steps),
-            *_gate_inputs(opts.gate), opts.gate_per == "trial",
+            *opts.gate.compiled_inputs(), opts.gate_per == "trial",
             opts.vf_fallback == "lm", opts.vf_fallback == "sweep",
             LEARNING_TARGETS.index(opts.learning_target), opts.learn_from == "vf",
             int(opts.n_passes),
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
             float(opts.learning_rate), float(opts.momentum),
             *_memory_inputs(memory, world.faces.shape[1]),
-            *_caregiver_inputs(opts, agent.body.face_size_px), bool(agent.learning))
+            *opts.caregiver_inputs(agent.body.face_size_px), bool(agent.learning))
         learner, faces = agent.learner, agent.faces
         if faces.n_seen_ == 0:
             faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
@@ -150,7 +128,7 @@ class CompiledCell:
         self.agent.learning_time_steps = int(c[0])
         self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
         self.agent.agreement_ = float(self._state.agreement[0])
-        if isinstance(self.agent.options, DevelopmentalOptions):
+        if hasattr(self.agent, "criterion_rad_"):  # the caregiver's criterion adapts
             self.agent.criterion_rad_, self.agent.approved_rate_ = map(float,
                                                                        self._state.caregiver)
         if hasattr(self.agent.module, "memory"):

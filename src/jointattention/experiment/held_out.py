@@ -43,7 +43,7 @@ def checkpoint_steps(config: Config) -> np.ndarray:
 
 
 def shipped_held_out(kind: str) -> CaregiverDatasets:
-    """The held-out sets of the shipped training sets, by kind (see the README for commands).
+    """The held-out sets of the shipped training sets, by kind (commands: docs/generalisation.md).
 
     ``new poses``: ``jointattention datasets make --n 250 --held-out --caregivers-of
     src/jointattention/data/caregiver_125.npz --seed 0``; ``unseen caregivers``:

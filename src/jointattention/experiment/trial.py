@@ -20,15 +20,47 @@ from typing import Protocol
 
 import numpy as np
 
+from .._jit import jit
 from ..agent.detections import Detections
 from ..agent.protocol import LM, RANDOM, Agent, Outcome
 from ..world.kinematics import HeadKinematics, separation_rad
 from ..world.protocol import Scene
 
-__all__ = ["END_FIRED", "END_LIMIT", "END_STEPS", "RECORD", "SceneTrial", "StepObserver",
+__all__ = ["END_FIRED", "END_LIMIT", "END_STEPS", "RECORD", "RUNNING", "SceneTrial", "StepObserver",
            "Trial", "TrialResult", "records", "run_trial"]
 
 END_FIRED, END_STEPS, END_LIMIT = 0, 1, 2
+RUNNING = -1  # the end of a trial that has not ended, in the compiled loops
+
+
+@jit
+def move_head(pan: float, tilt: float, d_pan: float, d_tilt: float, lo_pan: float,
+              hi_pan: float, lo_tilt: float, hi_tilt: float) -> tuple[float, float, bool]:
+    """One move of the head, stopped at its joint limits: (pan, tilt, whether a limit stopped it).
+
+    The one step of every trial: :class:`SceneTrial`, the compiled engine's loop and the native
+    vector environment all move the head with it.
+    """
+    want_pan, want_tilt = pan + d_pan, tilt + d_tilt
+    pan = min(max(want_pan, lo_pan), hi_pan)
+    tilt = min(max(want_tilt, lo_tilt), hi_tilt)
+    return pan, tilt, pan != want_pan or tilt != want_tilt
+
+
+@jit
+def end_after_look(seen: int, limit_hit: bool, n_steps: int, max_steps: int) -> int:
+    """How a trial ends after a look, or :data:`RUNNING` if it goes on.
+
+    It fired (Eq. 3: ``seen``, the detection at the image centre, is not -1), a joint limit
+    stopped the last move, or it is out of steps.
+    """
+    if seen >= 0:
+        return END_FIRED
+    if limit_hit:
+        return END_LIMIT
+    if n_steps >= max_steps:
+        return END_STEPS
+    return RUNNING
 
 # The trial record: one row per trial in a cell's file and in trials.csv.
 RECORD = {
@@ -127,21 +159,22 @@ class SceneTrial:
     def _look(self) -> None:
         self.detections = self.scene.observe(self.theta_rad)
         self.seen = self.evaluate(self.detections)  # index in the detections, or None
-        if self.seen is not None:
-            self.attended, self.end = int(self.scene.visible_ids[self.seen]), END_FIRED
-        elif self.limit_hit:
-            self.end = END_LIMIT
-        elif self.n_steps >= self.max_steps:
-            self.end = END_STEPS
+        end = end_after_look(-1 if self.seen is None else self.seen, self.limit_hit,
+                             self.n_steps, self.max_steps)
+        if end == END_FIRED:
+            self.attended = int(self.scene.visible_ids[self.seen])
+        self.end = None if end == RUNNING else end
 
     def step(self, dtheta_rad) -> None:
         """Move the head by ``dtheta_rad`` (stopping at the joint limits), look, evaluate."""
         if self.end is not None:
             raise RuntimeError("the trial has ended; expected a new trial")
-        wanted = self.theta_rad + dtheta_rad
-        self.theta_rad = self.kinematics.clip(wanted)
+        k = self.kinematics
+        pan, tilt, self.limit_hit = move_head(
+            float(self.theta_rad[0]), float(self.theta_rad[1]), float(dtheta_rad[0]),
+            float(dtheta_rad[1]), *map(float, k.pan_limits_rad), *map(float, k.tilt_limits_rad))
+        self.theta_rad = np.array([pan, tilt])
         self.n_steps += 1
-        self.limit_hit = not np.array_equal(self.theta_rad, wanted)
         self._look()
 
     @property

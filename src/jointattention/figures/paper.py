@@ -10,7 +10,6 @@ from pathlib import Path
 import matplotlib
 import numpy as np
 
-from ..agent.gates import PerformanceGate, SigmoidGate
 from ..analysis.metrics import mean_interval
 from ..config import ConditionConfig, Config, model_options
 from ._save import new_figure, save_figure
@@ -91,7 +90,8 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
     plain = [n for n, c in conds.items() if is_plain(c, config)]
     written = []
 
-    sigmoid = [n for n in plain if isinstance(getattr(options[n], "gate", None), SigmoidGate)]
+    sigmoid = [n for n in plain
+               if getattr(getattr(options[n], "gate", None), "claims_role", None) == "sigmoid"]
     fig = new_figure(6.4, 4.4)
     ax = fig.subplots()
     _plot_conditions(ax, curves, sigmoid, conds, ceilings,
@@ -111,7 +111,7 @@ def write_figures(out: Path, config: Config, curves: dict, ceilings: dict) -> li
 
     model = config.model.label.split(", ")[0]  # the model's name (and learner), not its gate
     others = {n for n, o in options.items() if o.label.split(", ")[0] != model
-              or isinstance(getattr(o, "gate", None), PerformanceGate)}
+              or getattr(getattr(o, "gate", None), "measured", False)}
     if others:
         shown = [n for n, c in conds.items()
                  if n in plain or (n in others and not c.shuffle_faces)]

@@ -1,7 +1,7 @@
 """Do the two ways of seeing agree? Rendered images through OpenCV against the projection.
 
 The OpenCV detector on rendered images against the fast projection, over many random scenes
-and head angles (README, *Seeing with images*).
+and head angles (docs/images.md).
 
 A case is one random scene seen from one head angle: aimed at a random object (or, one time in
 four, at the caregiver's face) plus a random turn, as the head looks during trials. A case

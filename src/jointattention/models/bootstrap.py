@@ -17,7 +17,7 @@ from .._arrays import angles, windows
 from .._fields import param
 from ..agent.attention import most_interesting, visual_feedback
 from ..agent.detections import Detections
-from ..agent.gates import GATES, Gate, PerformanceGate, SigmoidGate, agreement_update
+from ..agent.gates import GATES, Gate, SigmoidGate
 from ..agent.learner import FaceStandardiser, LearningModule
 from ..agent.memory import MemoryOptions
 from ..agent.moves import random_step
@@ -80,7 +80,7 @@ class BootstrapOptions(ModelOptions):
     learner: str = param(
         "backprop", "the learning module: the paper's network (back-propagation), an episodic "
         "memory of where objects were found for similar faces (a lookup), or a population code "
-        "of where they are found around a face (README, Generalisation)", choices=LEARNERS)
+        "of where they are found around a face (docs/generalisation.md)", choices=LEARNERS)
     memory: MemoryOptions = param(factory=MemoryOptions,
                                   help="the episodic memory's options (learner = 'memory')")
     population: PopulationOptions = param(
@@ -95,6 +95,20 @@ class BootstrapOptions(ModelOptions):
         if self.learner != "backprop" and self.n_passes != 1:
             raise ConfigError(f"n_passes = {self.n_passes}: passes are the network's; expected "
                               f"1 with learner = '{self.learner}'")
+
+    def caregiver_inputs(self, face_size_px) -> tuple:
+        """The caregiver's part as the compiled loop takes it: here she neither judges nor adapts.
+
+        (judges, adapts, criterion level, window, shrink, blur start, blur sharp steps, face
+        width, face height); the teacher and the developmental model say otherwise.
+        """
+        return (False, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px)
+
+    def save_refusal(self) -> str | None:
+        """None: the network and the population code are saved; an episodic memory is not."""
+        if self.learner == "memory":
+            return "learner = 'memory' (an episodic memory is not saved)"
+        return None
 
     @property
     def label(self) -> str:
@@ -155,7 +169,7 @@ class BootstrapAgent(NetworkState):
         self.faces = FaceStandardiser()
         self.learning_time_steps = 0
         self.learning = True
-        self.agreement_ = 0.0  # the performance gate's measure (PerformanceGate)
+        self.agreement_ = 0.0  # a measured gate's measure (Gate.measured)
         self._trial_module: str | None = None
         self._last_module: str | None = None
         self._thetas: list[np.ndarray] = []
@@ -173,7 +187,7 @@ class BootstrapAgent(NetworkState):
         A performance gate's rate now follows the measured agreement, not the time.
         """
         gate = self.options.gate
-        if learning_time_steps is None and isinstance(gate, PerformanceGate):
+        if learning_time_steps is None and gate.measured:
             return gate.rate_of(self.agreement_)
         t = self.learning_time_steps if learning_time_steps is None else learning_time_steps
         return gate.rate_at(t)
@@ -206,12 +220,11 @@ class BootstrapAgent(NetworkState):
     def _measure(self, outcome: Outcome) -> None:
         """A performance gate's measure: did the module point, at the start, to the place found?"""
         gate = self.options.gate
-        if not isinstance(gate, PerformanceGate):
+        if not gate.measured:
             return
         u = self.module.direction(self._theta_start)
         v = self.place_of(outcome, outcome.seen) - self._theta_start
-        self.agreement_ = agreement_update(self.agreement_, u[0], u[1], float(v[0]), float(v[1]),
-                                           gate.agree_rad, gate.window_trials)
+        self.agreement_ = gate.update(self.agreement_, u, v)
 
     def place_of(self, outcome: Outcome, i: int) -> np.ndarray:
         """Where object ``i`` of the last image is: the final head angle plus Eq. 2's command."""

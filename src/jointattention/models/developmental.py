@@ -12,11 +12,11 @@ the teacher does (:mod:`.teacher`), with two developments:
   whose width falls with learning time, from blurred to sharp.
 
 The paper publishes neither schedule: the criterion's start, level, window and narrowing, and
-the blur's width and duration are our readings, each an option (README, *The models side by
-side*). With ``criterion_start_deg = 0`` and ``blur_start_px = 0`` the model is the teacher.
-Everything else (visual attention, the gate, the learning module, what a trial teaches) is the
-bootstrap model's. Both kernels (:func:`blur_into`, :func:`caregiver_update`) are shared with the
-compiled engine.
+the blur's width and duration are our readings, each an option (docs/neighbours.md). With
+``criterion_start_deg = 0`` and ``blur_start_px = 0`` the model is the teacher. Everything else
+(visual attention, the gate, the learning module, what a trial teaches) is the bootstrap
+model's. Both kernels (:func:`blur_into`, :func:`caregiver_update`) are shared with the compiled
+engine.
 """
 
 from __future__ import annotations
@@ -70,6 +70,11 @@ class DevelopmentalOptions(TeacherOptions):
     blur_sharp_steps: float = param(
         150_000.0, "reading: the learning time at which the face window is sharp; the blur's "
         "s.d. falls linearly until then", lo=1, hi=1e10)
+
+    def caregiver_inputs(self, face_size_px) -> tuple:
+        """The caregiver judges by a criterion that adapts, and the face window sharpens."""
+        return (True, True, self.criterion_level, self.criterion_window_trials,
+                self.criterion_shrink, self.blur_start_px, self.blur_sharp_steps, *face_size_px)
 
     def build(self, agent: AgentConfig, body: Body,
               rng: np.random.Generator) -> DevelopmentalAgent:

@@ -41,6 +41,9 @@ class ModelOptions(Section):
     """
 
     readings: ClassVar[tuple[str, ...]] = ()
+    # The caregiver teaches it (it learns from her approval, not from its own evaluator alone):
+    # the paper's claims of a self-evaluating robot do not apply to it.
+    taught: ClassVar[bool] = False
     # The compiled engine runs a model only if its own class says so (a subclass does not
     # inherit it: the compiled loop knows only what it was written for), and not the option
     # values named here (e.g. a learning module it has no kernels for).
@@ -74,6 +77,14 @@ class ModelOptions(Section):
         return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap, "
                 "teacher or developmental model with a sigmoid, constant or performance gate, or "
                 "experiment.engine = 'python' or 'auto'")
+
+    def save_refusal(self) -> str | None:
+        """Why a model file cannot hold this model, as the reason's words (None if it can).
+
+        A model that can be saved returns None and its agent has ``saved_arrays``,
+        ``saved_shapes`` and ``load_arrays`` (:mod:`jointattention.deploy.saved`).
+        """
+        return f"model kind {self._kind()!r} is not saved"
 
     def _kind(self) -> str:
         """The registered name of this kind, or the class's name if it is not registered."""

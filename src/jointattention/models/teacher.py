@@ -25,9 +25,10 @@ __all__ = ["TeacherAgent", "TeacherOptions"]
 
 @dataclass(frozen=True)
 class TeacherOptions(BootstrapOptions):
-    """The teacher's options: the bootstrap model's (README, *The models side by side*)."""
+    """The teacher's options: the bootstrap model's (docs/neighbours.md)."""
 
     compiled: ClassVar[bool] = True
+    taught: ClassVar[bool] = True
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -35,6 +36,10 @@ class TeacherOptions(BootstrapOptions):
             raise ConfigError(f"model kind 'teacher' with learner = {self.learner!r}: the "
                               "teacher is the paper's network taught by the caregiver; "
                               "expected learner = 'backprop'")
+
+    def caregiver_inputs(self, face_size_px) -> tuple:
+        """The caregiver judges each trial: the agent learns only from those she approves."""
+        return (True, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px)
 
     def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> TeacherAgent:
         """The untrained teacher agent."""

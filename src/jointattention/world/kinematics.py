@@ -50,7 +50,7 @@ def separation_rad(a_m: np.ndarray, b_m: np.ndarray) -> float:
     """The angle between two points seen from the origin (the robot's head).
 
     How far from her target the robot looked, as the caregiver judges it (the developmental
-    model: README, *The models side by side*).
+    model: docs/neighbours.md).
     """
     dot = a_m[0] * b_m[0] + a_m[1] * b_m[1] + a_m[2] * b_m[2]
     norms = math.sqrt((a_m[0] ** 2 + a_m[1] ** 2 + a_m[2] ** 2)

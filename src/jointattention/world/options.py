@@ -30,13 +30,13 @@ __all__ = [
 
 @dataclass(frozen=True)
 class CameraConfig(Section):
-    """The robot's pinhole camera (README, *The world*)."""
+    """The robot's pinhole camera (docs/world.md)."""
 
     width_px: int = param(320, "image width W in pixels (the paper's d_th is W/6)", lo=16, hi=4096)
     height_px: int = param(240, "image height in pixels", lo=16, hi=4096)
     fov_deg: float = param(
         40.0, "horizontal field of view of the pinhole camera (40: the 10-object ceiling is "
-        "above 0.8; README, The world)", lo=5, hi=150)
+        "above 0.8; docs/world.md)", lo=5, hi=150)
     offset_m: tuple[float, float, float] = param(
         (-0.03, 0.06, 0.05),
         "optical centre in the head frame (right, forward, up) from the pan/tilt axes' "

@@ -4,7 +4,7 @@ Sections of :class:`~jointattention.world.options.WorldConfig` (``[world.identit
 ``[world.room]``, ``[world.sensor]``). A range whose two ends are equal is *degenerate*: it
 draws no random number and gives its one value. Every default is degenerate at today's value,
 so the default world draws and shows exactly what it did before these sections existed; the
-``many-caregivers`` preset widens them (README, *The world*).
+``many-caregivers`` preset widens them (docs/world.md).
 """
 
 from __future__ import annotations
