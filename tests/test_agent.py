@@ -108,7 +108,7 @@ def test_each_learning_target_teaches_its_direction(target, monkeypatch):
     end = np.array([0.0, 0.3])
     agent.end_trial(Outcome(True, end, _det([[160 + 20, 120]]), 0))  # the object: 20 px right
     aim = {"final_direction": end, "executed_step": step,
-           "object_direction": end + [20 * agent.agent.vf_gain_rad_per_px, 0]}[target]
+           "object_direction": end + [20 * agent.mechanisms.vf_gain_rad_per_px, 0]}[target]
     if target != "executed_step":
         aim = aim - [0.5, 0.2]
     np.testing.assert_allclose(taught[0][0], aim / np.hypot(*aim))

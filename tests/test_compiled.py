@@ -20,7 +20,7 @@ from jointattention.agent.gates import SigmoidGate
 from jointattention.agent.learner import LearningModule
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 from jointattention.experiment.cells import datasets_of
-from jointattention.jobs.learned import train
+from jointattention.jobs.learned import snapshots
 from jointattention.models.bootstrap import BootstrapOptions
 from jointattention.world.kinematics import HeadKinematics
 
@@ -84,7 +84,7 @@ def test_compiled_cells_equal_the_step_by_step_cells_byte_for_byte(condition):
 
 def test_compiled_agents_learn_the_same_weights_at_each_checkpoint():
     """Fig. 6/7's snapshots: the agents learned by both engines are equal, array by array."""
-    snaps = {e: train(_engine(CONFIG, e), "sigmoid", 0, [1000, 2000]) for e in
+    snaps = {e: snapshots(_engine(CONFIG, e), "sigmoid", 0, [1000, 2000]) for e in
              ("compiled", "python")}
     assert snaps["compiled"].keys() == snaps["python"].keys() == {0, 1000, 2000, 3000}
     for t, agent in snaps["compiled"].items():
@@ -98,7 +98,7 @@ def test_compiled_agents_learn_the_same_weights_at_each_checkpoint():
 
 def test_the_batched_learning_module_command_equals_the_single_one():
     """lm_commands (the diagnostics' probe) gives lm_command's outputs exactly."""
-    agent = train(_engine(CONFIG, "compiled"), "sigmoid", 0, [])[3000]
+    agent = snapshots(_engine(CONFIG, "compiled"), "sigmoid", 0, [])[3000]
     ds = datasets_of(CONFIG)
     single = np.array([agent.lm_command(f, t) for f, t in zip(ds.face, ds.theta_face_rad,
                                                                 strict=True)])

@@ -86,10 +86,8 @@ def test_presets_load():
 )
 def test_toml_round_trip(tmp_path_factory, seed, fov, width, n):
     """A configuration written as TOML reads back equal."""
-    cfg = Config(seed=seed, world=WorldConfig(
-        camera=CameraConfig(fov_deg=fov, width_px=width),
-        objects=WorldConfig().objects.__class__(n_objects=n),
-    ))
+    cfg = Config(seed=seed, world=WorldConfig(camera=CameraConfig(fov_deg=fov, width_px=width)),
+                 experiment=ExperimentConfig(conditions=(ConditionConfig(n_objects=n),)))
     path = tmp_path_factory.mktemp("cfg") / "c.toml"
     path.write_text(to_toml(cfg))
     assert load_config(path) == cfg
@@ -213,3 +211,14 @@ def test_loading_every_preset_imports_no_engine_and_no_world():
         "assert world == ['jointattention.world.options', 'jointattention.world.variation']\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_a_world_object_count_of_version_0_3_is_dropped_warning_if_it_mattered():
+    """[world.objects] n_objects loads: 5 (every saved run has it) silently, 3 with a warning."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert load_config({"world": {"objects": {"n_objects": 5}}}) == load_config()
+    with pytest.warns(DeprecationWarning, match="world.objects.n_objects = 3 is no longer read"):
+        assert load_config({"world": {"objects": {"n_objects": 3}}}) == load_config()

@@ -20,7 +20,7 @@ def trained():
     cfg = load_config("quick")
     cfg = dataclasses.replace(cfg, experiment=dataclasses.replace(cfg.experiment,
                                                                   n_steps=30_000))
-    return cfg, learned.train(cfg, "n1-sigmoid", 0, [0, 15_000])
+    return cfg, learned.snapshots(cfg, "n1-sigmoid", 0, [0, 15_000])
 
 
 def test_learning_turns_the_output_toward_the_target(trained):
@@ -40,7 +40,7 @@ def test_learning_turns_the_output_toward_the_target(trained):
 def test_an_unknown_condition_is_refused():
     """Training a condition the configuration lacks names the ones it has."""
     with pytest.raises(ConfigError, match="expected one of n1-sigmoid"):
-        learned.train(load_config("quick"), "n2-sigmoid", 0, [])
+        learned.snapshots(load_config("quick"), "n2-sigmoid", 0, [])
 
 
 def test_held_out_poses_continue_the_recording(needs_gl):

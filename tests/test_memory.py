@@ -109,3 +109,14 @@ def test_agreement_counts_commands_toward_the_place_found():
     assert agreement_update(0.5, 1.0, 0.0, 2.0, 0.3, agree, 10.0) == pytest.approx(0.55)
     assert agreement_update(0.5, 1.0, 0.0, 0.0, 1.0, agree, 10.0) == pytest.approx(0.45)
     assert agreement_update(0.5, 0.0, 0.0, 1.0, 0.0, agree, 10.0) == pytest.approx(0.45)
+
+
+def test_the_old_agent_classes_build_the_composed_agent_with_a_warning():
+    """0.3's MemoryAgent and PopulationAgent build a BootstrapAgent with that module, warning."""
+    from jointattention.models._compat import MemoryAgent, PopulationAgent
+    from jointattention.models.bootstrap import BootstrapAgent, BootstrapOptions
+
+    for old, module in ((MemoryAgent, "MemoryModule"), (PopulationAgent, "PopulationModule")):
+        with pytest.warns(DeprecationWarning, match="goes in version 0.5"):
+            agent = old(BootstrapOptions(), AgentConfig(), BODY, np.random.default_rng(0))
+        assert isinstance(agent, BootstrapAgent) and type(agent.module).__name__ == module

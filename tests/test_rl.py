@@ -93,7 +93,7 @@ def test_staying_at_the_face_pays_less_each_step():
     assert rewards == pytest.approx([0.3, 0.15, 0.075, 0.0375])  # the defaults: 0.3 x 0.5^k
     agent.q_stay_[:] = 1.0  # staying pays so much more than any shift that it always stays
     agent.begin_trial(FACE, np.zeros(2))
-    assert all(agent.act(DET, np.zeros(2))[1] == STAY for _ in range(agent.agent.max_steps))
+    assert all(agent.act(DET, np.zeros(2))[1] == STAY for _ in range(agent.mechanisms.max_steps))
     agent.end_trial(Outcome(False, np.zeros(2), DET, None))
     assert np.all(np.diff(agent.q_stay_[:5]) < 0)  # measured 1.025, 1.01, 1.0025, 0.999, 0.997
 

@@ -26,7 +26,6 @@ from jointattention.experiment.trial import (
     records,
     run_trial,
 )
-from jointattention.world.options import ObjectsConfig
 from jointattention.world.simulator import World
 
 STEP = np.deg2rad(4.0)
@@ -40,7 +39,7 @@ def _trial(world: World, max_steps: int = 40) -> SceneTrial:
 
 def test_following_the_gaze_line_to_a_lone_object_fires_on_it():
     """With one object, the oracle's trial ends with the evaluator firing on the target."""
-    world = World(WorldConfig(objects=ObjectsConfig(n_objects=1)), seed=4)
+    world = World(WorldConfig(), seed=4, n_objects=1)
     for _ in range(5):
         s = world.reset()
         oracle = OracleAgent(world.kinematics.centring_angles(s.target_pos_m), STEP)
@@ -104,7 +103,7 @@ def test_both_scenes_keep_the_scene_contract_with_object_places(needs_gl):
     from jointattention.world.protocol import Scene
     from jointattention.world.rendered import RenderedScenes
 
-    world = World(WorldConfig(objects=ObjectsConfig(n_objects=3)), seed=4)
+    world = World(WorldConfig(), seed=4, n_objects=3)
     world.reset()
     fast = world.fast_scene()
     scenes = RenderedScenes(world.config, DetectorConfig(), 3, seed=4, rng=stream(0, "t"))

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from jointattention.agent.faces import FaceFinder, face_template
 from jointattention.agent.vision import ImageDetector, fit_ball
-from jointattention.config import Config, load_config, with_n_objects
+from jointattention.config import Config, load_config
 
 W, H = 160, 120
 FOCAL_PX = 200.0
@@ -145,7 +145,7 @@ def test_parity_holds_with_ten_objects(needs_gl):
     """With 10 objects (more overlaps and border cuts) agreement stays at 97% or more."""
     from jointattention.jobs.parity import measure_parity
 
-    result = measure_parity(with_n_objects(Config(), 10), 200, seed=4)
+    result = measure_parity(Config(), 200, seed=4, n_objects=10)
     assert result.summary()["agree"] >= 0.97, result.summary()
 
 

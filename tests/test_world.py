@@ -67,9 +67,9 @@ def test_objects_are_apart_reachable_and_clear_of_the_face():
 def test_impossible_placement_is_a_clear_error():
     """Too many large objects in a small region fail with a ConfigError, not a hang."""
     cfg = WorldConfig(objects=ObjectsConfig(
-        n_objects=20, radius_range_m=(0.2, 0.3), pan_range_deg=(-5, 5), tilt_range_deg=(-5, 5)))
+        radius_range_m=(0.2, 0.3), pan_range_deg=(-5, 5), tilt_range_deg=(-5, 5)))
     with pytest.raises(ConfigError, match="could not place 20 objects"):
-        sample_scene(cfg, stream(0, "test"))
+        sample_scene(cfg, stream(0, "test"), n_objects=20)
 
 
 def test_caregiver_gaze_points_at_the_target():

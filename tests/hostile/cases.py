@@ -1393,7 +1393,8 @@ for _tag, _seed in (("string", "'x'"), ("float", "2.5"), ("negative", "-1"),
 
 for _tag, _section, _name in (
     ("fov-deg-500", "[world.camera]\nfov_deg = 500", "world.camera.fov_deg"),
-    ("n-objects-zero", "[world.objects]\nn_objects = 0", "world.objects.n_objects"),
+    ("n-objects-zero", "[[experiment.conditions]]\nn_objects = 0",
+     "experiment.conditions[0].n_objects"),
     ("max-steps-zero", "[agent]\nmax_steps = 0", "agent.max_steps"),
     ("gate-width-negative", "[model.gate]\nwidth_steps = -1.0", "model.gate.width_steps"),
     ("memory-capacity-zero", "[model.memory]\ncapacity = 0", "model.memory.capacity"),

@@ -16,7 +16,7 @@ __all__ = ["add_commands"]
 def _cmd_parity(args: argparse.Namespace) -> None:
     from tqdm import tqdm
 
-    from ..config import load_config, with_n_objects
+    from ..config import load_config
     from ..jobs.parity import CAUSES, measure_parity, parity_table
 
     config = load_config(args.config)
@@ -26,7 +26,7 @@ def _cmd_parity(args: argparse.Namespace) -> None:
     results = {}
     for n in args.objects:
         with tqdm(total=args.cases, desc=f"{n} objects", unit="case") as bar:
-            results[n] = measure_parity(with_n_objects(config, n), args.cases, seed=args.seed,
+            results[n] = measure_parity(config, args.cases, seed=args.seed, n_objects=n,
                                         progress=lambda _: bar.update(1))
     causes = "; ".join(f"{k}: {v}" for k, v in CAUSES.items())
     text = parity_table(results).to_markdown() + f"\nCauses: {causes}.\n"

@@ -8,6 +8,7 @@ only one that renders.
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 __all__ = ["upgrade"]
@@ -33,7 +34,21 @@ def _pop_old(section: dict) -> tuple[dict, dict]:
 
 
 def upgrade(data: dict[str, Any]) -> dict[str, Any]:
-    """``data`` (a parsed configuration) with old-style keys moved to ``[model]``."""
+    """``data`` (a parsed configuration) with old-style keys moved to ``[model]``.
+
+    ``[world.objects] n_objects`` (version 0.3; every saved run's config.toml has it) is
+    dropped: the conditions hold the run's counts. A value other than 5 warns, since an
+    environment or a command took it as its count.
+    """
+    world = data.get("world")
+    objects = world.get("objects") if isinstance(world, dict) else None
+    if isinstance(objects, dict) and "n_objects" in objects:
+        count = objects.pop("n_objects")
+        if count != 5:
+            warnings.warn(f"world.objects.n_objects = {count!r} is no longer read (the world "
+                          "holds no object count); expected n_objects in each condition, or "
+                          "passed to the environment or the command", DeprecationWarning,
+                          stacklevel=4)
     experiment = data.get("experiment")
     if isinstance(experiment, dict) and experiment.get("perception") == "rendered":
         experiment.setdefault("engine", "python")

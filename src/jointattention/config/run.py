@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import copy
-import dataclasses
 import tomllib
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from importlib import resources
@@ -12,14 +12,14 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import check_name, short_repr
+from .._checks import check_int, check_name, short_repr
 from .._fields import FrozenTable, Section, from_mapping, merge_tagged, param, to_mapping
 from .._readers import check_nesting, read_toml
 from .._toml import dumps
 from ..agent.options import AgentConfig, DetectorConfig
 from ..errors import ArgumentError, ConfigError, FileError
 from ..models.registry import MODELS, ModelOptions
-from ..world.options import WorldConfig
+from ..world.options import N_OBJECTS, WorldConfig
 from ._legacy import upgrade
 
 __all__ = [
@@ -48,8 +48,9 @@ class ConditionConfig(Section):
 
     name: str = param("n5-sigmoid", "name of the condition (figure labels, file names): 1-80 "
                       "letters, digits and _ . , = + -")
-    n_objects: int = param(5, "objects in each trial, the caregiver's target among them",
-                           lo=1, hi=20)
+    n_objects: int = param(N_OBJECTS, "objects in each trial, the caregiver's target among "
+                           "them (the run's one count of objects: the world has none)", lo=1,
+                           hi=20)
     model: FrozenTable = param(
         factory=FrozenTable, help="changes to the run's [model] for this condition, e.g. "
         "{ gate = { kind = \"constant\", rate = 0.7 } }, or another model: { kind = ... }")
@@ -205,9 +206,16 @@ def condition_named(config: Config, name: str) -> ConditionConfig:
 
 
 def with_n_objects(config: Config, n_objects: int) -> Config:
-    """``config`` with a world of ``n_objects`` objects."""
-    objects = dataclasses.replace(config.world.objects, n_objects=n_objects)
-    return dataclasses.replace(config, world=dataclasses.replace(config.world, objects=objects))
+    """Deprecated (goes in version 0.5): ``config`` itself; the world holds no object count.
+
+    A condition says its count (``ConditionConfig.n_objects``); a world, an environment or a
+    command takes one as an argument (``World(..., n_objects=)``).
+    """
+    warnings.warn("with_n_objects is deprecated and goes in version 0.5: the world holds no "
+                  "object count; expected n_objects passed to World, the environment or the "
+                  "condition", DeprecationWarning, stacklevel=2)
+    check_int("n_objects", n_objects, 1, 20)
+    return config
 
 
 def preset_names() -> list[str]:

@@ -11,7 +11,7 @@ from gymnasium.utils import EzPickle
 
 from .._arrays import floats
 from .._checks import check_int, short_repr
-from ..config import Config, load_config, with_n_objects
+from ..config import Config, load_config
 from ..errors import ArgumentError, ConfigError
 
 __all__ = ["EpisodePickle", "check_action", "env_config", "refuse_options"]
@@ -29,14 +29,12 @@ def refuse_options(options: dict | None) -> None:
                             "takes no reset options")
 
 
-def env_config(config, obs_mode, n_objects, width, height) -> Config:
-    """The environment's configuration: ``config`` with its object count and image size."""
+def env_config(config, obs_mode, width, height) -> Config:
+    """The environment's configuration: ``config`` with its image size."""
     if not isinstance(config, (Config, str, Path, type(None))):
         raise ConfigError(f"config={short_repr(config)}: expected a Config, a preset name, "
                           "a TOML file or None")
     cfg = config if isinstance(config, Config) else load_config(config)
-    if n_objects is not None:
-        cfg = with_n_objects(cfg, check_int("n_objects", n_objects, 1, 20))
     if (width is not None or height is not None) and obs_mode != "image":
         raise ConfigError(f"width/height: the image size of obs_mode='image'; expected None "
                           f"with obs_mode={obs_mode!r}")

@@ -16,7 +16,7 @@ __all__ = ["DETECTION_COLUMNS", "MAX_DETECTIONS", "OBS_MODES", "detection_rows",
            "detections_of", "info_of", "observation_space", "scaled"]
 
 OBS_MODES = ("image", "face", "detections")
-MAX_DETECTIONS = 20  # a scene has at most 20 objects (world.objects.n_objects)
+MAX_DETECTIONS = 20  # a scene has at most 20 objects (n_objects)
 # The columns of the "detections" observation: a row per object in view, zero rows after them.
 DETECTION_COLUMNS = ("present", "centre_x_px", "centre_y_px", "colour_area_px", "edge", "motion")
 

@@ -19,6 +19,7 @@ from ..experiment.cells import datasets_of, evaluator, random_scene
 from ..experiment.trial import END_STEPS, SceneTrial
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
+from ..world.options import N_OBJECTS
 from ._args import EpisodePickle, check_action, env_config, refuse_options
 from ._looks import OBS_MODES, detection_rows, info_of, observation_space, scaled
 
@@ -97,7 +98,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         config: a :class:`~jointattention.config.Config`, a preset name or a TOML file
             (default: the built-in defaults); its ``world``, ``agent`` and ``datasets``.
         obs_mode: ``"image"`` (default), ``"face"`` or ``"detections"``.
-        n_objects: objects in each scene, 1 to 20 (default: ``world.objects.n_objects``).
+        n_objects: objects in each scene, 1 to 20 (default 5).
         n_poses: ``"image"`` mode: the size of the pool of caregiver poses (default: None, a
             new pose every episode).
         reward: ``"external"`` (default) or ``"intrinsic"``.
@@ -138,7 +139,9 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
                                n_poses=n_poses, reward=reward, max_steps=max_steps, width=width,
                                height=height, normalize_actions=normalize_actions,
                                scaled_obs=scaled_obs, render_mode=render_mode)
-        cfg = env_config(config, obs_mode, n_objects, width, height)
+        cfg = env_config(config, obs_mode, width, height)
+        self.n_objects = N_OBJECTS if n_objects is None else check_int("n_objects", n_objects,
+                                                                       1, 20)
         for name, value, choices in (("obs_mode", obs_mode, OBS_MODES),
                                      ("reward", reward, REWARDS),
                                      ("render_mode", render_mode, (None, "rgb_array"))):
@@ -164,7 +167,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         if obs_mode == "image":
             from ..world.simulator import World  # MuJoCo only where it renders
 
-            self._world = World(cfg.world)
+            self._world = World(cfg.world, n_objects=self.n_objects)
         else:
             self._datasets = datasets_of(cfg)
         face_hw = (cfg.world.face_window.height_px, cfg.world.face_window.width_px)
@@ -210,8 +213,8 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
 
         The runner's own draw (:func:`~jointattention.experiment.cells.random_scene`).
         """
-        k, scene, _ = random_scene(self.config, self._datasets, self.kinematics,
-                                   self.config.world.objects.n_objects, rng)
+        k, scene, _ = random_scene(self.config, self._datasets, self.kinematics, self.n_objects,
+                                   rng)
         return k, scene
 
     def _new_scene(self, seeded: bool) -> np.ndarray:
@@ -221,12 +224,12 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         world, rng = self.config.world, self.np_random
         if seeded or self._caregiver is None:
             self._caregiver = sample_caregiver(world, rng)
-            self._poses = [sample_scene(world, rng, self._caregiver)
+            self._poses = [sample_scene(world, rng, self._caregiver, self.n_objects)
                            for _ in range(self.n_poses or 0)]
         if self._poses:
             state = with_new_distractors(self._poses[rng.integers(len(self._poses))], world, rng)
         else:
-            state = sample_scene(world, rng, self._caregiver)
+            state = sample_scene(world, rng, self._caregiver, self.n_objects)
         self._world.set_scene(state)
         self._scene_state = state
         return self._world.face_angle_rad

@@ -105,7 +105,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self.observation_space = batch_space(one.observation_space, self.num_envs)
         self.action_space = batch_space(one.action_space, self.num_envs)
         kin, cfg = one.kinematics, one.config
-        n = cfg.world.objects.n_objects
+        n = one.n_objects
         self._kin, self._n = kin, n
         self._d_th_px = cfg.agent.d_th_px(kin.width_px)
         self._lo = np.array([kin.pan_limits_rad[0], kin.tilt_limits_rad[0]])

@@ -88,7 +88,7 @@ class CompiledCell:
             raise ConfigError(refusal)
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
-        opts, shared = agent.options, agent.agent
+        opts, shared = agent.options, agent.mechanisms
         memory = getattr(agent.module, "memory", None)  # the episodic module's
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..agent.finders import DEFAULT_FACE
 from ..agent.protocol import LM, Outcome
-from ..config import WorldConfig, with_n_objects
+from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..deploy.follower import GazeFollower
 from ..deploy.saved import LearnedModel
@@ -112,7 +112,7 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
     caregiver). A trial whose first image shows no face the finder accepts is a failure.
     ``face``: the face finder (:data:`~jointattention.agent.finders.FACE_METHODS`).
     """
-    config = with_n_objects(model.config, n_objects)
+    config = model.config
     ds = datasets if datasets is not None else datasets_of(config)
     people = caregivers_shown(ds, config.world)
     kin = HeadKinematics.from_config(config.world)

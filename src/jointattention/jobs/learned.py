@@ -1,6 +1,6 @@
 """What the learning module learned (the paper's Fig. 6 and Fig. 7) and how well.
 
-:func:`train` learns one cell in the fast world and keeps copies of the agent at checkpoints;
+:func:`snapshots` learns one cell in the fast world and keeps copies of the agent at checkpoints;
 :func:`grid_faces` renders the caregiver's face window for a grid of gaze directions;
 :func:`record_trial` renders one trial step by step. The angle errors are
 :mod:`jointattention.experiment.probes`'.
@@ -34,11 +34,12 @@ from ..world.rendered import RenderedScene, RenderedScenes
 from ..world.scene import with_target
 from ..world.simulator import World
 
-__all__ = ["Frame", "grid_faces", "held_out_poses", "record_trial", "train", "write_gaze_figures"]
+__all__ = ["Frame", "grid_faces", "held_out_poses", "record_trial", "snapshots",
+           "write_gaze_figures"]
 
 
-def train(config: Config, condition_name: str, seed_index: int, checkpoints,
-          progress: Callable[[int], None] | None = None) -> dict[int, BootstrapAgent]:
+def snapshots(config: Config, condition_name: str, seed_index: int, checkpoints,
+              progress: Callable[[int], None] | None = None) -> dict[int, BootstrapAgent]:
     """Learn the cell, keeping copies of the agent at checkpoints.
 
     A copy at the first trial end past each checkpoint (in learning steps) and at the end (key
@@ -49,16 +50,16 @@ def train(config: Config, condition_name: str, seed_index: int, checkpoints,
     ds = datasets_of(config)
     untrained = make_agent(config, condition, seed_index, ds)
     untrained.faces.partial_fit(ds.face.reshape(len(ds), -1))  # it sees the faces, learns none
-    snapshots: dict[int, BootstrapAgent] = {0: untrained}
+    kept: dict[int, BootstrapAgent] = {0: untrained}
 
     def keep(t: int, agent: BootstrapAgent) -> None:
-        snapshots[t] = copy.deepcopy(agent)
+        kept[t] = copy.deepcopy(agent)
 
     run_cell(config, condition, seed_index, progress=progress, checkpoints=wanted,
              on_checkpoint=keep)
     for t in wanted:  # the run ended before them (trial limit)
-        snapshots.setdefault(t, snapshots[max(snapshots)])
-    return dict(sorted(snapshots.items()))
+        kept.setdefault(t, kept[max(kept)])
+    return dict(sorted(kept.items()))
 
 
 def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDatasets:
@@ -171,7 +172,7 @@ def write_gaze_figures(config: Config, condition: str, seed_index: int, out: Pat
     out = Path(out)
     n_steps = config.experiment.n_steps
     checkpoints = np.linspace(0, n_steps, n_checkpoints + 1).astype(int)
-    agents = train(config, condition, seed_index, checkpoints, progress)
+    agents = snapshots(config, condition, seed_index, checkpoints, progress)
     ds = datasets_of(config)
     held = held_out_poses(config, ds, n_held_out)
     curve = {t: (float(np.median(probes.angle_errors(a, ds))),

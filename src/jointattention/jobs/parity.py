@@ -25,6 +25,7 @@ from ..agent.detections import equal_area_radius
 from ..agent.vision import ImageDetector
 from ..analysis.tables import Table
 from ..config import Config
+from ..world.options import N_OBJECTS
 from ..world.rendered import object_ids
 from ..world.simulator import World
 
@@ -87,12 +88,13 @@ def _overlaps(uv: np.ndarray, radius_px: np.ndarray, ids) -> bool:
 
 
 def measure_parity(config: Config, n_cases: int, seed: int = 0, tol_px: float = 2.0,
-                   progress: Callable[[int], None] | None = None) -> ParityResult:
-    """Compare the two detectors over ``n_cases`` random cases of ``config.world``."""
+                   progress: Callable[[int], None] | None = None, *,
+                   n_objects: int = N_OBJECTS) -> ParityResult:
+    """Compare the two detectors over ``n_cases`` random cases of ``n_objects`` objects."""
     rng = np.random.default_rng(seed)
     weights = config.agent.interest_weights
     same, agree, worst, errors, causes = [], [], [], [], []
-    with World(config.world, seed=seed) as world:
+    with World(config.world, seed=seed, n_objects=n_objects) as world:
         kin = world.kinematics
         detector = ImageDetector(config.detector, kin.focal_px)
         w, h = kin.width_px, kin.height_px

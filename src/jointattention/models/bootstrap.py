@@ -2,7 +2,7 @@
 
 The agent wires visual attention, self-evaluation, the gate and a learning module, which it
 composes (:data:`MODULES`): the paper's network (:mod:`.network`), an episodic memory
-(:mod:`.episodic`) or a population code (:mod:`.population`). Its options are the ``[model]``
+(:mod:`.memory`) or a population code (:mod:`.population`). Its options are the ``[model]``
 section with ``kind = "bootstrap"``.
 """
 
@@ -25,7 +25,7 @@ from ..agent.options import AgentConfig
 from ..agent.population import PopulationOptions
 from ..agent.protocol import LM, RANDOM, VF, Body, Outcome
 from ..errors import ConfigError
-from .episodic import MemoryModule
+from .memory import MemoryModule
 from .network import NetworkModule
 from .network_state import NetworkState
 from .population import PopulationModule
@@ -117,9 +117,10 @@ class BootstrapOptions(ModelOptions):
         return label if self.learner == "backprop" else label.replace(
             "bootstrap", f"bootstrap + {self.learner}", 1)
 
-    def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> BootstrapAgent:
+    def build(self, mechanisms: AgentConfig, body: Body,
+              rng: np.random.Generator) -> BootstrapAgent:
         """The untrained bootstrap agent, with the learning module ``learner`` names."""
-        return BootstrapAgent(self, agent, body, rng)
+        return BootstrapAgent(self, mechanisms, body, rng)
 
 
 # learner -> the learning module's class, built with the agent and the generator left after
@@ -134,7 +135,8 @@ class BootstrapAgent(NetworkState):
 
     Args:
         options: the model's options and the readings where the paper is silent.
-        agent: the robot's shared mechanisms (Eq. 1 weights, Eq. 2 gain, step length).
+        mechanisms: the robot's shared mechanisms, the ``[agent]`` section (Eq. 1 weights,
+            Eq. 2 gain, step length).
         body: image size, joint ranges (head angles are scaled by them for the learning
             module) and face window size.
         rng: the agent's own generator; it is split into one stream per purpose (initial
@@ -146,7 +148,7 @@ class BootstrapAgent(NetworkState):
 
     Attributes:
         module: the learning module (``options.learner``: :class:`~.network.NetworkModule`,
-            :class:`~.episodic.MemoryModule` or :class:`~.population.PopulationModule`); the
+            :class:`~.memory.MemoryModule` or :class:`~.population.PopulationModule`); the
             agent asks it for commands and hands it the trials to learn from.
         learner, faces: the paper's network and the face windows' running statistics (the
             network module's; a model file keeps them for every module).
@@ -154,9 +156,9 @@ class BootstrapAgent(NetworkState):
             time and changes nothing it learned: it can be measured on other data sets.
     """
 
-    def __init__(self, options: BootstrapOptions, agent: AgentConfig, body: Body,
+    def __init__(self, options: BootstrapOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
-        self.options, self.agent, self.body = options, agent, body
+        self.options, self.mechanisms, self.body = options, mechanisms, body
         limits = np.asarray(body.joint_limits_rad, dtype=float)
         # head angles scaled to [-1, 1] by the joint ranges for the learning module
         self.theta_mid_rad = (limits[:, 0] + limits[:, 1]) / 2
@@ -179,7 +181,7 @@ class BootstrapAgent(NetworkState):
     @property
     def step_rad(self) -> float:
         """Length of one step of the learning module (or a random step)."""
-        return np.deg2rad(self.agent.lm_step_deg)
+        return np.deg2rad(self.mechanisms.lm_step_deg)
 
     def gate_rate(self, learning_time_steps=None):
         """Rate of choosing the learning module at a learning time (default: now).
@@ -229,7 +231,7 @@ class BootstrapAgent(NetworkState):
     def place_of(self, outcome: Outcome, i: int) -> np.ndarray:
         """Where object ``i`` of the last image is: the final head angle plus Eq. 2's command."""
         return np.asarray(outcome.theta_rad, dtype=float) + visual_feedback(
-            outcome.detections, i, self.agent.vf_gain_rad_per_px)
+            outcome.detections, i, self.mechanisms.vf_gain_rad_per_px)
 
     def aim_of(self, outcome: Outcome) -> np.ndarray:
         """What a successful trial aims at: the attended object's place, or the final head angle.
@@ -260,11 +262,11 @@ class BootstrapAgent(NetworkState):
         """One step: the gate picks VF or LM; returns (dtheta, module that moved the head)."""
         o = self.options
         module = self._trial_module or (LM if self.gate_rng.random() < self.gate_rate() else VF)
-        target = most_interesting(det, self.agent.interest_weights) if module == VF else None
+        target = most_interesting(det, self.mechanisms.interest_weights) if module == VF else None
         if module == VF and target is None:
             module = LM if o.vf_fallback == "lm" else RANDOM
         if module == VF:
-            dtheta = visual_feedback(det, target, self.agent.vf_gain_rad_per_px)
+            dtheta = visual_feedback(det, target, self.mechanisms.vf_gain_rad_per_px)
         elif module == LM:
             dtheta = self.module.step(theta_rad)
         elif o.vf_fallback == "sweep":

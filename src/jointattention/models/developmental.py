@@ -76,10 +76,10 @@ class DevelopmentalOptions(TeacherOptions):
         return (True, True, self.criterion_level, self.criterion_window_trials,
                 self.criterion_shrink, self.blur_start_px, self.blur_sharp_steps, *face_size_px)
 
-    def build(self, agent: AgentConfig, body: Body,
+    def build(self, mechanisms: AgentConfig, body: Body,
               rng: np.random.Generator) -> DevelopmentalAgent:
         """The untrained developmental agent."""
-        return DevelopmentalAgent(self, agent, body, rng)
+        return DevelopmentalAgent(self, mechanisms, body, rng)
 
 
 @jit
@@ -135,9 +135,9 @@ class DevelopmentalAgent(TeacherAgent):
         approved_rate_: her running rate of approving the robot's trials.
     """
 
-    def __init__(self, options: DevelopmentalOptions, agent: AgentConfig, body: Body,
+    def __init__(self, options: DevelopmentalOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
-        super().__init__(options, agent, body, rng)
+        super().__init__(options, mechanisms, body, rng)
         self.criterion_rad_ = math.radians(options.criterion_start_deg)
         self.approved_rate_ = 0.0
 

@@ -5,7 +5,7 @@
 :class:`~jointattention.agent.learner.LearningModule`) from the standardised face window and the
 scaled head angle to a direction; its command is that direction, one step long. A trial the
 evaluator ends teaches each of its steps toward the trial's aim (paper, section III-C). The
-episodic and the population-coded modules (:mod:`.episodic`, :mod:`.population`) answer the same
+episodic and the population-coded modules (:mod:`.memory`, :mod:`.population`) answer the same
 calls.
 """
 

@@ -50,11 +50,11 @@ class ModelOptions(Section):
     compiled: ClassVar[bool] = False
     python_only: ClassVar[dict[str, tuple]] = {}
 
-    def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> Agent:
+    def build(self, mechanisms: AgentConfig, body: Body, rng: np.random.Generator) -> Agent:
         """The untrained agent.
 
-        Built from these options, the robot's shared mechanisms (``agent``), its body, and its own
-        random generator.
+        Built from these options, the robot's shared mechanisms (``mechanisms``: the
+        configuration's ``[agent]`` section), its body, and its own random generator.
         """
         raise NotImplementedError
 

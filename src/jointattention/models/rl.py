@@ -14,7 +14,7 @@ marked *reading* are ours):
 - **Decisions.** A trial starts looking at the caregiver. At each step while it still looks at
   her, the robot keeps looking (``"stay"``, no move) or shifts its gaze in one of
   ``n_directions`` directions (*reading*: the paper's discrete places become directions in the
-  (pan, tilt) plane); once shifted it moves along that direction, one ``agent.lm_step_deg``
+  (pan, tilt) plane); once shifted it moves along that direction, one ``[agent] lm_step_deg``
   step per step (module :data:`~.protocol.LM`), until the trial loop ends the trial. Choices
   are a softmax of the action values with ``temperature``.
 - **Reward.** Looking at her pays ``face_reward`` at the first step, times
@@ -93,9 +93,9 @@ class RLOptions(ModelOptions):
     learning_rate_stay: float = param(
         0.1, "step size of the stay values' TD update", lo=0, hi=1)
 
-    def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> RLAgent:
+    def build(self, mechanisms: AgentConfig, body: Body, rng: np.random.Generator) -> RLAgent:
         """The untrained RL agent."""
-        return RLAgent(self, agent, body, rng)
+        return RLAgent(self, mechanisms, body, rng)
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
@@ -108,7 +108,8 @@ class RLAgent:
 
     Args:
         options: the model's options.
-        agent: the robot's shared mechanisms (step length, step limit).
+        mechanisms: the robot's shared mechanisms, the ``[agent]`` section (step length,
+            step limit).
         body: joint ranges (for the places) and face window size.
         rng: the agent's own generator, split into one stream per purpose (the choices).
 
@@ -118,14 +119,14 @@ class RLAgent:
     learned and changes none of it (nor its learning time).
     """
 
-    def __init__(self, options: RLOptions, agent: AgentConfig, body: Body,
+    def __init__(self, options: RLOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
-        self.options, self.agent, self.body = options, agent, body
+        self.options, self.mechanisms, self.body = options, mechanisms, body
         (self.choice_rng,) = rng.spawn(1)
         n_pix = body.face_size_px[0] * body.face_size_px[1]
         self.W_ = np.zeros((options.n_directions, n_pix))
         self.b_ = np.zeros(options.n_directions)
-        self.q_stay_ = np.zeros(agent.max_steps + 1)
+        self.q_stay_ = np.zeros(mechanisms.max_steps + 1)
         self.limits_rad = np.asarray(body.joint_limits_rad, dtype=float)
         self.cell_rad = math.radians(options.place_cell_deg)
         n_cells = np.ceil((self.limits_rad[:, 1] - self.limits_rad[:, 0]) / self.cell_rad)
@@ -134,7 +135,7 @@ class RLAgent:
         self.learning_time_steps = 0
         self.learning = True
         angles = 2 * np.pi * np.arange(options.n_directions) / options.n_directions
-        self.steps_rad = _readonly(math.radians(agent.lm_step_deg)
+        self.steps_rad = _readonly(math.radians(mechanisms.lm_step_deg)
                                    * np.column_stack([np.cos(angles), np.sin(angles)]))
         self._zero = _readonly(np.zeros(2))
         self._x = np.zeros(n_pix)

@@ -41,9 +41,9 @@ class TeacherOptions(BootstrapOptions):
         """The caregiver judges each trial: the agent learns only from those she approves."""
         return (True, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px)
 
-    def build(self, agent: AgentConfig, body: Body, rng: np.random.Generator) -> TeacherAgent:
+    def build(self, mechanisms: AgentConfig, body: Body, rng: np.random.Generator) -> TeacherAgent:
         """The untrained teacher agent."""
-        return TeacherAgent(self, agent, body, rng)
+        return TeacherAgent(self, mechanisms, body, rng)
 
 
 class TeacherAgent(BootstrapAgent):

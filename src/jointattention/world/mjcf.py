@@ -39,8 +39,8 @@ def _vec(v) -> str:
     return " ".join(f"{x:.6g}" for x in v)
 
 
-def build_mjcf(world: WorldConfig) -> str:
-    """The MJCF text of the world's scene, with ``world.objects.n_objects`` object bodies."""
+def build_mjcf(world: WorldConfig, n_objects: int) -> str:
+    """The MJCF text of the world's scene, with ``n_objects`` object bodies."""
     kin = HeadKinematics.from_config(world)
     cam = world.camera
     pan_lo, pan_hi = world.head.pan_limits_deg
@@ -65,7 +65,7 @@ def build_mjcf(world: WorldConfig) -> str:
         f'    <body name="obj{i}" mocap="true" pos="0 0.6 0">\n'
         f'      <geom name="obj{i}" type="sphere" size="0.03" material="mat_obj"/>\n'
         f"    </body>"
-        for i in range(world.objects.n_objects)
+        for i in range(n_objects)
     )
     size = max(cam.width_px, cam.height_px, 640)
     return f"""<mujoco model="jointattention">

@@ -15,6 +15,7 @@ from ..errors import ConfigError
 from .variation import IdentityConfig, RoomConfig, SensorConfig
 
 __all__ = [
+    "N_OBJECTS",
     "CameraConfig",
     "CaregiverConfig",
     "FaceWindowConfig",
@@ -26,6 +27,8 @@ __all__ = [
     "SensorConfig",
     "WorldConfig",
 ]
+
+N_OBJECTS = 5  # objects in a scene when no condition says otherwise (the paper's Fig. 5)
 
 
 @dataclass(frozen=True)
@@ -82,9 +85,13 @@ class CaregiverConfig(Section):
 
 @dataclass(frozen=True)
 class ObjectsConfig(Section):
-    """How many salient objects a scene holds, how big, where, how far apart."""
+    """The salient objects of a scene: how big, where, how far apart.
 
-    n_objects: int = param(5, "number of salient objects in a scene", lo=1, hi=20)
+    How many is not the world's to say: each condition of a run says it (``n_objects``), and
+    a world, an environment or a command without one takes it as an argument (default
+    :data:`N_OBJECTS`).
+    """
+
     radius_range_m: tuple[float, float] = param(
         (0.025, 0.045), "range of the objects' radii", lo=0.005, hi=0.3
     )

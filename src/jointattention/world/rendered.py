@@ -11,8 +11,6 @@ which one feeds them; the parity of the two is measured by
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 
 from ..agent.detections import Detections, equal_area_radius
@@ -68,7 +66,7 @@ class RenderedScenes:
     """The rendered mode of a run: each trial's scene shown in one MuJoCo world.
 
     Args:
-        world: the world's configuration (its object count is replaced by ``n_objects``).
+        world: the world's configuration.
         detector: the OpenCV detector's thresholds.
         n_objects: objects per trial.
         seed: the world's seed (the caregiver's identity).
@@ -78,8 +76,7 @@ class RenderedScenes:
 
     def __init__(self, world: WorldConfig, detector: DetectorConfig, n_objects: int, *,
                  seed: int, rng: np.random.Generator):
-        objects = dataclasses.replace(world.objects, n_objects=n_objects)
-        self.world = World(dataclasses.replace(world, objects=objects), seed=seed)
+        self.world = World(world, seed=seed, n_objects=n_objects)
         self.detector = ImageDetector(detector, self.world.kinematics.focal_px)
         self.rng = rng
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from .identity import Caregiver, sample_caregiver
 from .look import Look, sample_look
-from .options import WorldConfig
+from .options import N_OBJECTS, WorldConfig
 from .placement import sample_objects
 
 __all__ = [
@@ -74,11 +74,11 @@ def sample_scene(
     world: WorldConfig,
     rng: np.random.Generator,
     caregiver: Caregiver | None = None,
-    n_objects: int | None = None,
+    n_objects: int = N_OBJECTS,
 ) -> SceneState:
-    """A random scene; ``caregiver`` fixes the identity (else one is drawn)."""
+    """A random scene of ``n_objects`` objects; ``caregiver`` fixes the identity (else drawn)."""
     cg = world.caregiver
-    n = world.objects.n_objects if n_objects is None else n_objects
+    n = n_objects
     caregiver = caregiver if caregiver is not None else sample_caregiver(world, rng)
     # Her own place: offsets of exactly 0 leave the default world's numbers as they were.
     place = [0.0, cg.distance_m + caregiver.distance_offset_m,

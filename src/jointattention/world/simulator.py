@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import rng as rngs
+from .._checks import check_int
 from ..agent.attention import attended_object
 from ..errors import RenderingUnavailable
 from . import gl
@@ -14,7 +15,7 @@ from .identity import sample_caregiver
 from .kinematics import HeadKinematics
 from .look import apply_sensor
 from .mjcf import WALLS, build_mjcf
-from .options import WorldConfig
+from .options import N_OBJECTS, WorldConfig
 from .scene import SceneState, sample_scene
 
 __all__ = ["World"]
@@ -37,21 +38,23 @@ class World:
         seed: the seed of the world's own random stream (scenes, identities).
         stream: the name of that stream (:func:`jointattention.rng.stream`): ``"world"``, or
             ``"held-out"`` for caregivers and poses that no training world draws.
+        n_objects: the objects of each scene (the MuJoCo model holds as many).
 
     The caregiver's identity is drawn once from the seed; :meth:`reset` draws a new scene
     (objects, target, gaze, light, look) each call. Rendering starts lazily, so a world used
-    only for fast projection needs no OpenGL. The first world imports MuJoCo, after choosing
-    its off-screen OpenGL backend (``MUJOCO_GL``: EGL, else OSMesa) unless the user set it.
+    only for fast projection needs no OpenGL. MuJoCo renders with the OpenGL backend that
+    ``MUJOCO_GL`` names (:mod:`.gl`: the library reads it and never sets it).
     """
 
     def __init__(self, config: WorldConfig | None = None, *, seed: int = 0,
-                 stream: str = "world"):
+                 stream: str = "world", n_objects: int = N_OBJECTS):
         if not isinstance(stream, str) or not stream:
             raise ValueError(f"stream = {stream!r}: expected a stream's name")
+        self.n_objects = check_int("n_objects", n_objects, 1, 20)
         self.config = config if config is not None else WorldConfig()
         self.kinematics = HeadKinematics.from_config(self.config)
         mujoco = gl.mujoco()
-        self.model = mujoco.MjModel.from_xml_string(build_mjcf(self.config))
+        self.model = mujoco.MjModel.from_xml_string(build_mjcf(self.config, self.n_objects))
         self.data = mujoco.MjData(self.model)
         self.stream = stream
         self.rng = rngs.stream(seed, stream)
@@ -63,7 +66,8 @@ class World:
         self._base_rgba = self.model.geom_rgba.copy()
         self._base_light_dir = self.model.light_dir.copy()
         self._noise = np.random.default_rng(0)  # the sensor noise of the scene's images
-        self.state: SceneState = sample_scene(self.config, self.rng, self.caregiver)
+        self.state: SceneState = sample_scene(self.config, self.rng, self.caregiver,
+                                              self.n_objects)
         self.set_scene(self.state)
 
     # -- scene ---------------------------------------------------------------------------------
@@ -71,17 +75,15 @@ class World:
         """Draw and show a new scene; with ``new_identity`` a new caregiver too."""
         if new_identity:
             self.caregiver = sample_caregiver(self.config, self.rng)
-        self.set_scene(sample_scene(self.config, self.rng, self.caregiver))
+        self.set_scene(sample_scene(self.config, self.rng, self.caregiver, self.n_objects))
         return self.state
 
     def set_scene(self, state: SceneState) -> None:
         """Show ``state``: place and colour the caregiver, the objects and the light."""
         m, d = self.model, self.data
-        if state.n_objects != self.config.objects.n_objects:
+        if state.n_objects != self.n_objects:
             raise ValueError(
-                f"scene has {state.n_objects} objects; this world shows "
-                f"{self.config.objects.n_objects}"
-            )
+                f"scene has {state.n_objects} objects; this world shows {self.n_objects}")
         self.state = state
         cg, look = state.caregiver, state.look
         for name, part in head_parts(cg).items():
