@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -34,7 +35,7 @@ from ..world.rendered import RenderedScene, RenderedScenes
 from ..world.scene import with_target
 from ..world.simulator import World
 
-__all__ = ["Frame", "grid_faces", "held_out_poses", "record_trial", "snapshots",
+__all__ = ["Frame", "grid_faces", "held_out_poses", "record_trial", "snapshots", "train",
            "write_gaze_figures"]
 
 
@@ -60,6 +61,17 @@ def snapshots(config: Config, condition_name: str, seed_index: int, checkpoints,
     for t in wanted:  # the run ended before them (trial limit)
         kept.setdefault(t, kept[max(kept)])
     return dict(sorted(kept.items()))
+
+
+def train(config: Config, condition_name: str, seed_index: int, checkpoints,
+          progress: Callable[[int], None] | None = None) -> dict[int, BootstrapAgent]:
+    """Deprecated (goes in version 0.5): :func:`snapshots`.
+
+    ``jointattention.train`` is the one ``train``; it returns a learned model.
+    """
+    warnings.warn("jointattention.jobs.learned.train is deprecated and goes in version 0.5; "
+                  "expected snapshots(...)", DeprecationWarning, stacklevel=2)
+    return snapshots(config, condition_name, seed_index, checkpoints, progress)
 
 
 def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDatasets:
