@@ -17,7 +17,7 @@ The checks, in order:
 4. if the model declares that the compiled engine runs it (``compiled_refusal()`` is None),
    the compiled cell equals the step-by-step cell byte for byte;
 5. if its agent can be frozen (a ``learning`` switch), the frozen copy changes nothing it
-   learned over trials (its model-file members, or else its commands, are unchanged);
+   learned over trials (its model-file members and its commands are unchanged);
 6. if it declares that it can be saved (``save_refusal()`` is None) and the short run may be
    saved (:func:`~jointattention.deploy.saved.check_savable`), a model file of it loads to the
    same commands.
@@ -70,12 +70,13 @@ def _same_cells(a: dict, b: dict) -> bool:
 
 
 def _learned_state(agent, faces: np.ndarray, thetas: np.ndarray) -> list[np.ndarray]:
-    """What the agent learned: its model-file members, or else its commands on ``faces``."""
+    """What the agent learned: its model-file members and its commands on ``faces``."""
+    state = []
     if hasattr(agent, "saved_arrays"):
-        return [np.array(v, copy=True) for v in agent.saved_arrays().values()]
+        state += [np.array(v, copy=True) for v in agent.saved_arrays().values()]
     if hasattr(agent, "lm_commands"):
-        return [np.asarray(agent.lm_commands(faces, thetas), dtype=float).copy()]
-    return []
+        state.append(np.asarray(agent.lm_commands(faces, thetas), dtype=float).copy())
+    return state
 
 
 def check_agent(options: ModelOptions, *, n_steps: int = 600, n_objects: int = 3,

@@ -43,6 +43,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         ``Box(0, 255, (height, width, 3), uint8)`` (240 x 320 by default). The room's
         caregiver identity is drawn at each seeded reset; with ``n_poses`` the poses and
         targets come from a pool of that many drawn then, else a new one every episode.
+        Rendering needs ``MUJOCO_GL`` set (``egl`` or ``osmesa``) before Python starts.
       - ``"face"``: ``"face"``, the caregiver's grayscale face window,
         ``Box(0, 255, (25, 30), uint8)``; nothing is rendered. Each episode is one of the
         caregiver data sets (``config.datasets``, by default the 125 shipped) with random
