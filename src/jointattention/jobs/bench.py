@@ -10,6 +10,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.learner import LearningModule, sgd_update
 from ..config import WorldConfig
+from .env_bench import run_env_benchmark
 
 __all__ = ["compile_times", "preset_estimates", "run_agent_benchmark", "run_env_benchmark",
            "run_follow_benchmark", "run_preset", "run_world_benchmarks"]
@@ -60,53 +61,6 @@ def run_world_benchmarks(
             )
         )
         rows.append(("new scene (sample + show)", _rate(lambda i: world.reset(), 200), "scenes/s"))
-    return rows
-
-
-def _env_rate(envs, n_steps: int) -> float:
-    """Environment steps per second of ``envs`` (one or a vector) under random actions."""
-    envs.reset(seed=0)
-    envs.action_space.seed(0)
-    single = not hasattr(envs, "num_envs")
-    start = time.perf_counter()
-    for _ in range(n_steps):
-        *_, terminated, truncated, _ = envs.step(envs.action_space.sample())
-        if single and (terminated or truncated):
-            envs.reset()
-    rate = n_steps * getattr(envs, "num_envs", 1) / (time.perf_counter() - start)
-    envs.close()
-    return rate
-
-
-def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
-    """Steps per second of the environment in each observation mode, single and vectorised.
-
-    Random actions, resets included; vector environments count the steps of all their
-    sub-environments (async: 2 processes, started with spawn). Empty if Gymnasium is not
-    installed.
-    """
-    try:
-        import gymnasium as gym
-
-        from ..env import JointAttentionEnv
-    except ImportError:
-        return []
-    rows = [("JointAttention-v1 steps, image (rendered)",
-             _env_rate(JointAttentionEnv(), n_steps), "steps/s")]
-    for mode in ("face", "detections"):
-        rows.append((f"JointAttention-v1 steps, {mode} (no rendering)",
-                     _env_rate(JointAttentionEnv(obs_mode=mode), 20 * n_steps), "steps/s"))
-    fast = "JointAttentionFace-v1"
-    for n_envs in (8, 64):
-        for mode in ("sync", "vector_entry_point"):
-            envs = gym.make_vec(fast, num_envs=n_envs, vectorization_mode=mode)
-            name = "native vector" if mode == "vector_entry_point" else "sync vector"
-            rows.append((f"{fast} x{n_envs}, {name}",
-                         _env_rate(envs, 3 * n_steps * 8 // n_envs), "steps/s"))
-    for env_id, steps in ((fast, 5 * n_steps), ("JointAttention-v1", n_steps // 2)):
-        envs = gym.make_vec(env_id, num_envs=2, vectorization_mode="async",
-                            vector_kwargs={"context": "spawn"})
-        rows.append((f"{env_id} x2, async vector (spawn)", _env_rate(envs, steps), "steps/s"))
     return rows
 
 
