@@ -4,8 +4,9 @@
 "vector_entry_point")`` gives :class:`JointAttentionVectorEnv`. Its sub-environments are those
 of :class:`~.joint_attention.JointAttentionEnv` (the same episodes, steps and rewards as a
 ``SyncVectorEnv`` of them with the same seeds, tested); it moves every head, projects every
-scene and evaluates every image in one compiled call per step. Episodes are drawn in Python
-when they start, as the single environment draws them.
+scene and evaluates every image in one compiled call per step. An episode's scene is drawn,
+when it starts, by the kernel that draws the single environment's and the runner's
+(:func:`~jointattention.world.fast.draw_objects`), from the sub-environment's own generator.
 """
 
 from __future__ import annotations
@@ -22,9 +23,12 @@ from .._checks import check_int
 from .._jit import jit
 from ..agent.attention import attended_index
 from ..errors import ConfigError
+from ..experiment.cells import trial_geometry
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING, end_after_look, move_head
-from ..world.fast import detect_into
+from ..world.fast import detect_into, draw_objects
 from ..world.kinematics import rotation_matrix, separation_rad
+from ..world.mjcf import HEAD_RADII_M
+from ..world.placement import region_of
 from ._args import check_action, refuse_options
 from ._looks import MAX_DETECTIONS, detection_rows, scaled
 from .joint_attention import JointAttentionEnv
@@ -112,6 +116,11 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._hi = np.array([kin.pan_limits_rad[1], kin.tilt_limits_rad[1]])
         self._offset_m = np.asarray(kin.offset_m, float)
         self._scale = one.max_step_rad if one.normalize_actions else np.ones(2)
+        ds, distance_m = one._datasets, cfg.world.caregiver.distance_m
+        geometry = [trial_geometry(ds, k, kin, distance_m) for k in range(len(ds))]
+        self._targets_m = np.array([g[0] for g in geometry], dtype=float)
+        self._faces_m = np.array([g[1] for g in geometry], dtype=float)
+        self._region = region_of(cfg.world)
         self._alloc(self.num_envs, n)
         self._needs_reset = np.ones(self.num_envs, bool)
         self._started = False
@@ -132,10 +141,15 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         """Draw sub-environment ``i``'s next episode from its own generator (not yet seen)."""
         if seed is not None or self._rngs[i] is None:
             self._rngs[i], _ = seeding.np_random(seed)
-        k, scene = self._env._fast_episode(self._rngs[i])
-        self._face_k[i], self._target[i] = k, scene.target_index
-        self._pos[i], self._radius[i], self._edge[i] = (scene.object_pos_m,
-                                                        scene.object_radius_m, scene.edge)
+        rng = self._rngs[i]
+        k = int(rng.integers(len(self._targets_m)))  # as the runner's random_scene draws
+        target = draw_objects(rng, self._targets_m[k], self._faces_m[k], HEAD_RADII_M[2],
+                              *self._region, self._pos[i], self._radius[i], self._edge[i])
+        if target < 0:
+            raise ConfigError(
+                f"objects: could not place {self._n} objects apart within the object region; "
+                "expected fewer objects, a wider region or smaller gaps")
+        self._face_k[i], self._target[i] = k, target
         self._theta[i] = self._kin.clip(self._env._datasets.theta_face_rad[k])
         self._n_steps[i], self._end[i], self._attended[i] = 0, RUNNING, -1
         self._limit_hit[i] = False

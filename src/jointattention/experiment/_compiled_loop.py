@@ -20,9 +20,8 @@ from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
 from ..models.bootstrap import LEARNING_TARGETS
 from ..models.developmental import blur_into, blur_px, caregiver_update
-from ..world.fast import detect_into
+from ..world.fast import detect_into, draw_objects
 from ..world.kinematics import rotation_matrix, separation_rad
-from ..world.placement import place_into
 from .trial import END_FIRED, RUNNING, end_after_look, move_head
 
 __all__ = ["COLUMNS", "run_trials"]
@@ -76,7 +75,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
     n_hidden = len(state.b1)
     w, h = world.width_px, world.height_px
     cx, cy = (w - 1) / 2, (h - 1) / 2
-    pos, rad = np.empty((n, 3)), np.empty(n)
+    obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
     uv, depth, area = np.empty((n, 2)), np.empty(n), np.empty(n)
     centre, seen_area, seen_edge = np.empty((n, 2)), np.empty(n), np.empty(n)
     ids, motion = np.empty(n, dtype=np.int64), np.zeros(n)
@@ -93,14 +92,11 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         start = c[0]
         # the scene (cells.random_scene, FastScene.sample)
         k = trials_rng.integers(0, len(world.faces))
-        pos[0], rad[0] = world.target_m[k], trials_rng.uniform(world.region[6], world.region[7])
-        if place_into(trials_rng, pos, rad, 1, world.face_m[k], world.face_radius_m,
-                      world.region, world.offset_m, world.limits_rad) < n:
+        target = draw_objects(trials_rng, world.target_m[k], world.face_m[k], world.face_radius_m,
+                              world.region, world.offset_m, world.limits_rad, obj_pos, obj_rad,
+                              edge)
+        if target < 0:
             return -1
-        order = trials_rng.permutation(n)
-        obj_pos, obj_rad = pos[order], rad[order]
-        target = np.argmin(order)
-        edge = trials_rng.uniform(0.0, 1.0, n)
         face = world.faces[shuffle_rng.integers(0, len(world.faces))
                            if world.shuffle_faces else k]
         if robot.blur_start_px > 0:  # DevelopmentalAgent.see

@@ -28,7 +28,7 @@ from .recorded import training_file
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
 __all__ = ["body_of", "datasets_file", "datasets_of", "engine_of", "evaluator", "make_agent",
-           "measure_ceiling", "random_scene", "run_cell"]
+           "measure_ceiling", "random_scene", "run_cell", "trial_geometry"]
 
 _CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learning steps)
 
@@ -51,7 +51,7 @@ def datasets_of(config: Config) -> CaregiverDatasets:
     return load(datasets_file(config))
 
 
-def _trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance_m: float):
+def trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance_m: float):
     """Where data set ``k``'s target and face are.
 
     The target at its recorded position, or, for data sets recorded without it, 0.65 m along the
@@ -72,7 +72,7 @@ def random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_o
     The scene is the recorded target plus random distractors.
     """
     k = int(rng.integers(len(ds)))
-    target_m, face_m = _trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+    target_m, face_m = trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
     return k, FastScene.sample(config.world, kin, target_m, face_m, n_objects, rng), face_m
 
 
@@ -165,7 +165,7 @@ def _run_compiled(config, condition, ds, agent, rngs, progress, stops,
                   reached) -> dict[str, np.ndarray]:
     """run_cell in the compiled engine, stopping at ``stops`` and every _CHUNK_STEPS."""
     kin = HeadKinematics.from_config(config.world)
-    geometry = [_trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+    geometry = [trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
                 for k in range(len(ds))]
     world = pack_world(config.world, ds, [g[0] for g in geometry], [g[1] for g in geometry],
                        condition.n_objects, condition.shuffle_faces)

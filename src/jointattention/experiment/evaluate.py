@@ -22,7 +22,7 @@ from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
 from ..rng import stream
 from ..world.kinematics import HeadKinematics
-from .cells import _trial_geometry, evaluator, random_scene
+from .cells import evaluator, random_scene, trial_geometry
 from .compiled import CompiledCell, pack_world, unsupported
 from .oracle import OracleAgent
 from .probes import angle_errors
@@ -93,7 +93,7 @@ def frozen_success(agent, ds: CaregiverDatasets, config: Config, n_objects: int,
     kin = HeadKinematics.from_config(config.world)
     options = getattr(frozen, "options", None)
     if options is not None and unsupported(options) is None:
-        geometry = [_trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
+        geometry = [trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
                     for k in range(len(ds))]
         world = pack_world(config.world, ds, [g[0] for g in geometry],
                            [g[1] for g in geometry], n_objects, False)

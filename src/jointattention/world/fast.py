@@ -14,12 +14,37 @@ import numpy as np
 from .._arrays import floats
 from .._jit import jit
 from ..agent.detections import Detections
+from ..errors import ConfigError
 from .kinematics import HeadKinematics, project_spheres_into
+from .mjcf import HEAD_RADII_M
 from .options import WorldConfig
-from .placement import place_objects
-from .scene import shuffle_target
+from .placement import place_into, region_of
 
-__all__ = ["FastScene", "detect_into"]
+__all__ = ["FastScene", "detect_into", "draw_objects"]
+
+
+@jit
+def draw_objects(rng, target_m, face_m, face_radius_m, region, offset_m, limits_rad, pos, rad,
+                 edge) -> int:
+    """One trial's objects, into ``pos`` (n, 3), ``rad`` and ``edge``: the target's index.
+
+    The target at ``target_m`` with a radius drawn from the region, the distractors placed
+    apart from it, from each other and from the face (:func:`~.placement.place_into`), all in
+    a random order, each with a texture drawn: :meth:`FastScene.sample`, the compiled engine's
+    trials and the native vector environment draw their scenes with it, in this order. -1 if
+    the objects cannot be placed.
+    """
+    n = len(rad)
+    pos[0, :] = target_m
+    rad[0] = rng.uniform(region[6], region[7])
+    if place_into(rng, pos, rad, 1, face_m, face_radius_m, region, offset_m, limits_rad) < n:
+        return -1
+    order = rng.permutation(n)
+    shuffled_pos, shuffled_rad = pos[order], rad[order]
+    pos[:, :] = shuffled_pos
+    rad[:] = shuffled_rad
+    edge[:] = rng.uniform(0.0, 1.0, n)
+    return int(np.argmin(order))
 
 
 @jit
@@ -87,10 +112,15 @@ class FastScene:
         The distractors are kept clear of the face at ``face_m``; ``rng`` draws them, the target's
         size, the objects' order and every object's texture.
         """
-        target_radius = rng.uniform(*world.objects.radius_range_m)
-        pos, rad = place_objects(world, face_m, rng, n_objects, [target_m], [target_radius])
-        pos, rad, target = shuffle_target(pos, rad, rng)  # the target's place is random
-        return cls(kinematics, pos, rad, target, rng.uniform(0, 1, n_objects))
+        pos, rad, edge = np.empty((n_objects, 3)), np.empty(n_objects), np.empty(n_objects)
+        target = draw_objects(rng, np.asarray(target_m, dtype=float),
+                              np.asarray(face_m, dtype=float), HEAD_RADII_M[2],
+                              *region_of(world), pos, rad, edge)
+        if target < 0:
+            raise ConfigError(
+                f"objects: could not place {n_objects} objects apart within the object region; "
+                "expected fewer objects, a wider region or smaller gaps")
+        return cls(kinematics, pos, rad, target, edge)
 
     def observe(self, theta_rad) -> Detections:
         """What the robot's detector reports at head angle ``theta_rad``.
