@@ -13,6 +13,8 @@ import gymnasium as gym
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from jointattention.env import (
     ENV_ID,
@@ -338,3 +340,20 @@ def test_a_copy_continues_the_episode(mode, request):
         assert _equal(tuple(play(other)), tuple(original))
         other.close()
     env.close()
+
+
+@given(n=st.integers(0, 20), seed=st.integers(0, 2**31))
+@settings(max_examples=60, deadline=None)
+def test_detection_rows_are_the_detections_rounded_then_clipped(n, seed):
+    """The compiled rows equal numpy's: float32 rows of the detections, clipped to the space."""
+    from jointattention.agent.detections import Detections
+    from jointattention.env._looks import _row_bounds, detection_rows
+
+    rng = np.random.default_rng(seed)
+    c, a = rng.uniform(-5, 330, (n, 2)), rng.uniform(-1, 4e5, n)
+    e, m = rng.uniform(-0.2, 1.3, n), rng.uniform(-0.2, 1.3, n)
+    rows = np.zeros((20, 6), np.float32)
+    rows[:n, 0], rows[:n, 1:3], rows[:n, 3], rows[:n, 4], rows[:n, 5] = 1, c, a, e, m
+    want = np.clip(rows, *_row_bounds((240, 320)))
+    got = detection_rows(Detections(c, a, e, m, (320, 240)))
+    assert got.dtype == np.float32 and np.array_equal(got, want)

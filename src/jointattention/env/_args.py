@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 from pathlib import Path
 from typing import ClassVar
 
@@ -19,6 +20,10 @@ __all__ = ["EpisodePickle", "check_action", "env_config", "refuse_options"]
 
 def check_action(action, shape: tuple[int, ...] = (2,), name: str = "action") -> np.ndarray:
     """``action`` as finite floats of ``shape`` (pan, tilt last), else one error naming it."""
+    if (type(action) is np.ndarray and action.shape == shape == (2,)
+            and action.dtype.kind == "f" and math.isfinite(action[0])
+            and math.isfinite(action[1])):
+        return action.astype(float)  # an RL library's action: checked at little cost
     return floats(name, action, shape, what="numbers (pan, tilt)")
 
 

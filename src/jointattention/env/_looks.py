@@ -6,9 +6,12 @@ in view, so that vector environments can stack them.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from gymnasium import spaces
 
+from .._jit import jit
 from ..agent.detections import Detections
 from ..experiment.trial import SceneTrial
 
@@ -35,7 +38,7 @@ def observation_space(mode: str, image_hw: tuple[int, int], face_hw: tuple[int, 
             else spaces.Box(0, 255, face_hw, np.uint8))
     looks = {"face": face, "head_angle": head}
     if mode == "detections":
-        low, high = _SCALED_ROW_BOUNDS if scaled_obs else _row_bounds(image_hw)
+        low, high = _SCALED_ROW_BOUNDS if scaled_obs else _row_bounds(tuple(image_hw))
         looks["detections"] = spaces.Box(np.tile(low, (MAX_DETECTIONS, 1)),
                                          np.tile(high, (MAX_DETECTIONS, 1)), dtype=np.float32)
     return spaces.Dict(looks)
@@ -75,22 +78,37 @@ _SCALED_ROW_BOUNDS = (np.array([0, -1, -1, 0, 0, 0], np.float32),
                       np.array([1, 1, 1, 4, 1, 1], np.float32))
 
 
+@functools.cache
 def _row_bounds(image_hw: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
     """Bounds of a detection row: centres in the image, areas up to 4 images, fractions."""
     h, w = image_hw
-    return (np.array([0, -0.5, -0.5, 0, 0, 0], np.float32),
-            np.array([1, w - 0.5, h - 0.5, 4 * w * h, 1, 1], np.float32))
+    bounds = (np.array([0, -0.5, -0.5, 0, 0, 0], np.float32),
+              np.array([1, w - 0.5, h - 0.5, 4 * w * h, 1, 1], np.float32))
+    for b in bounds:
+        b.setflags(write=False)  # kept for every step of that image size
+    return bounds
+
+
+@jit
+def _rows_into(centre, area, edge, motion, low, high, rows) -> None:
+    """Write the first ``len(area)`` rows: 1, the centre, area, edge and motion, in float32.
+
+    Each within [low, high]: rounded to float32 first, then clipped, as numpy's clip of the
+    float32 rows would.
+    """
+    for i in range(len(area)):
+        values = (1.0, float(centre[i, 0]), float(centre[i, 1]), float(area[i]), float(edge[i]),
+                  float(motion[i]))
+        for j in range(6):
+            rows[i, j] = min(max(np.float32(values[j]), low[j]), high[j])
 
 
 def detection_rows(det: Detections) -> np.ndarray:
     """The detections as (MAX_DETECTIONS, 6) float32 rows of DETECTION_COLUMNS, zero-padded."""
     rows = np.zeros((MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
-    n = len(det)
-    rows[:n, 0] = 1
-    rows[:n, 1:3] = det.centre_px
-    rows[:n, 3], rows[:n, 4], rows[:n, 5] = det.colour_area_px, det.edge, det.motion
-    low, high = _row_bounds(det.image_size_px[::-1])
-    return np.clip(rows, low, high)
+    low, high = _row_bounds(tuple(det.image_size_px[::-1]))
+    _rows_into(det.centre_px, det.colour_area_px, det.edge, det.motion, low, high, rows)
+    return rows
 
 
 def detections_of(info: dict, image_size_px: tuple[int, int]) -> Detections:
@@ -100,19 +118,16 @@ def detections_of(info: dict, image_size_px: tuple[int, int]) -> Detections:
                       d["motion"][:n], image_size_px=image_size_px)
 
 
-def _padded(a: np.ndarray) -> np.ndarray:
-    """``a`` (float64, exactly) with zero rows after it up to MAX_DETECTIONS."""
-    out = np.zeros((MAX_DETECTIONS, *np.shape(a)[1:]))
-    out[:len(a)] = a
-    return out
-
-
 def info_of(trial: SceneTrial) -> dict:
     """The step's ``info``: the detector's report (padded) and how the trial stands."""
     det, fired = trial.detections, trial.seen is not None
+    n, rows = len(det), np.zeros((3, MAX_DETECTIONS))  # one allocation for three columns
+    centre = np.zeros((MAX_DETECTIONS, 2))
+    centre[:n] = det.centre_px
+    rows[0, :n], rows[1, :n], rows[2, :n] = det.colour_area_px, det.edge, det.motion
     return {
-        "detections": {f: _padded(getattr(det, f))
-                       for f in ("centre_px", "colour_area_px", "edge", "motion")},
+        "detections": {"centre_px": centre, "colour_area_px": rows[0], "edge": rows[1],
+                       "motion": rows[2]},
         "n_detections": len(det), "fired": fired,
         "seen": -1 if trial.seen is None else int(trial.seen),
         "attended": int(trial.attended), "target": int(trial.target),

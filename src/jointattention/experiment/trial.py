@@ -154,6 +154,8 @@ class SceneTrial:
         self.theta_rad = np.asarray(theta_start_rad, dtype=float)
         self.n_steps, self.end, self.attended = 0, None, -1
         self.limit_hit = False  # whether the last move was stopped by a joint limit
+        self._limits_rad = (*map(float, kinematics.pan_limits_rad),
+                            *map(float, kinematics.tilt_limits_rad))
         self._look()
 
     def _look(self) -> None:
@@ -169,10 +171,9 @@ class SceneTrial:
         """Move the head by ``dtheta_rad`` (stopping at the joint limits), look, evaluate."""
         if self.end is not None:
             raise RuntimeError("the trial has ended; expected a new trial")
-        k = self.kinematics
         pan, tilt, self.limit_hit = move_head(
             float(self.theta_rad[0]), float(self.theta_rad[1]), float(dtheta_rad[0]),
-            float(dtheta_rad[1]), *map(float, k.pan_limits_rad), *map(float, k.tilt_limits_rad))
+            float(dtheta_rad[1]), *self._limits_rad)
         self.theta_rad = np.array([pan, tilt])
         self.n_steps += 1
         self._look()

@@ -11,7 +11,7 @@ def _env_rate(envs, n_steps: int) -> float:
     """Environment steps per second of ``envs`` (one or a vector) under random actions.
 
     The actions are drawn, and the kernels loaded by a few steps, before the clock starts:
-    the figure is the environment's own.
+    the figure is the environment's own; the best of three runs of the same episodes.
     """
     envs.action_space.seed(0)
     actions = [envs.action_space.sample() for _ in range(n_steps)]
@@ -25,10 +25,13 @@ def _env_rate(envs, n_steps: int) -> float:
 
     envs.reset(seed=0)
     steps(actions[:20])
-    envs.reset(seed=0)
-    start = time.perf_counter()
-    steps(actions)
-    rate = n_steps * getattr(envs, "num_envs", 1) / (time.perf_counter() - start)
+    best = float("inf")
+    for _ in range(3):  # the best of three: the machine is shared
+        envs.reset(seed=0)
+        start = time.perf_counter()
+        steps(actions)
+        best = min(best, time.perf_counter() - start)
+    rate = n_steps * getattr(envs, "num_envs", 1) / best
     envs.close()
     return rate
 

@@ -15,7 +15,7 @@ from .._arrays import floats
 from .._jit import jit
 from ..agent.detections import Detections
 from ..errors import ConfigError
-from .kinematics import HeadKinematics, project_spheres_into
+from .kinematics import HeadKinematics, project_spheres_into, rotation_matrix
 from .mjcf import HEAD_RADII_M
 from .options import WorldConfig
 from .placement import place_into, region_of
@@ -103,6 +103,10 @@ class FastScene:
         self.edge = floats("edge", edge, (n,))
         self.target_index = int(target_index)
         self.visible_ids = np.arange(0)
+        # what every look needs of the camera, and the projection's scratch arrays, once
+        self._camera = (np.asarray(kinematics.offset_m, dtype=float), float(kinematics.focal_px),
+                        kinematics.width_px, kinematics.height_px)
+        self._scratch = np.empty((n, 2)), np.empty(n), np.empty(n)
 
     @classmethod
     def sample(cls, world: WorldConfig, kinematics: HeadKinematics, target_m, face_m,
@@ -127,13 +131,12 @@ class FastScene:
 
         The object ids of the detections are left in ``visible_ids``.
         """
-        kin, n = self.kinematics, len(self.object_radius_m)
+        n = len(self.object_radius_m)
         centre, area, edge = np.empty((n, 2)), np.empty(n), np.empty(n)
         ids = np.empty(n, dtype=np.int64)
+        offset_m, focal_px, width_px, height_px = self._camera
         m = detect_into(self.object_pos_m, self.object_radius_m, self.edge,
-                        kin.rotation(theta_rad), np.asarray(kin.offset_m, dtype=float),
-                        float(kin.focal_px), kin.width_px, kin.height_px, np.empty((n, 2)),
-                        np.empty(n), np.empty(n), centre, area, edge, ids)
+                        rotation_matrix(float(theta_rad[0]), float(theta_rad[1])), offset_m,
+                        focal_px, width_px, height_px, *self._scratch, centre, area, edge, ids)
         self.visible_ids = ids[:m]
-        return Detections(centre[:m], area[:m], edge[:m], np.zeros(m),
-                          (kin.width_px, kin.height_px))
+        return Detections(centre[:m], area[:m], edge[:m], np.zeros(m), (width_px, height_px))
