@@ -158,6 +158,8 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
             ("agent steps, python engine, population learner (quick n5, 1e5 steps)", population,
              "steps/s"),
             ("compiled / python engine", compiled / python, "x"),
+            ("compiled, paper's learner / memory learner (the recall's cost)", compiled / memory,
+             "x"),
             ("compiled / rendered", compiled / rendered, "x"),
             ("one compiled step (mean over the cell)", step_us, "us"),
             ("bound: one forward + backward pass, 752-7-2, compiled", bound_us, "us"),

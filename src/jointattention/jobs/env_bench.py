@@ -4,7 +4,60 @@ from __future__ import annotations
 
 import time
 
-__all__ = ["run_env_benchmark"]
+import numpy as np
+
+from .._jit import jit
+from ..agent.attention import attended_index
+from ..config import WorldConfig
+from ..experiment.trial import end_after_look, move_head
+from ..world.fast import FastScene, detect_into
+from ..world.kinematics import HeadKinematics, rotation_matrix
+
+__all__ = ["run_env_benchmark", "step_bound"]
+
+
+@jit
+def _kernel_steps(dtheta, pos, rad, edge, offset_m, focal_px, width_px, height_px, d_th_px,
+                  limits_rad, uv, depth, scratch, centre, area, seen_edge, ids) -> int:
+    """The arithmetic of ``len(dtheta)`` environment steps: move, project, evaluate, end."""
+    pan = tilt = 0.0
+    cx, cy = (width_px - 1) / 2, (height_px - 1) / 2
+    ended = 0
+    for i in range(len(dtheta)):
+        pan, tilt, hit = move_head(pan, tilt, dtheta[i, 0], dtheta[i, 1], limits_rad[0],
+                                   limits_rad[1], limits_rad[2], limits_rad[3])
+        m = detect_into(pos, rad, edge, rotation_matrix(pan, tilt), offset_m, focal_px,
+                        width_px, height_px, uv, depth, scratch, centre, area, seen_edge, ids)
+        seen = attended_index(centre[:m], cx, cy, d_th_px)
+        ended += end_after_look(seen, hit, i % 40, 40) >= 0
+    return ended
+
+
+def step_bound(n_steps: int = 200_000) -> float:
+    """Steps per second of one environment step's kernels alone, in one compiled loop.
+
+    Moving the head, projecting a 5-object scene and evaluating the image (Eq. 3): the bound
+    of an environment without images, whatever the Python around it.
+    """
+    world = WorldConfig()
+    kin = HeadKinematics.from_config(world)
+    rng = np.random.default_rng(0)
+    scene = FastScene.sample(world, kin, [0.1, 0.6, 0.0], [0.0, 1.2, 0.3], 5, rng)
+    n = len(scene.object_radius_m)
+    dtheta = rng.uniform(-0.02, 0.02, (n_steps, 2))
+    limits = np.array([*kin.pan_limits_rad, *kin.tilt_limits_rad])
+    arrays = (np.empty((n, 2)), np.empty(n), np.empty(n), np.empty((n, 2)), np.empty(n),
+              np.empty(n), np.empty(n, dtype=np.int64))
+    args = (scene.object_pos_m, scene.object_radius_m, scene.edge,
+            np.asarray(kin.offset_m, float), float(kin.focal_px), kin.width_px, kin.height_px,
+            WorldConfig().camera.width_px / 6, limits, *arrays)
+    _kernel_steps(dtheta[:10], *args)
+    best = np.inf
+    for _ in range(3):
+        start = time.perf_counter()
+        _kernel_steps(dtheta, *args)
+        best = min(best, time.perf_counter() - start)
+    return n_steps / best
 
 
 def _env_rate(envs, n_steps: int) -> float:
@@ -40,8 +93,9 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
     """Steps per second of the environment in each observation mode, single and vectorised.
 
     Random actions, resets included; vector environments count the steps of all their
-    sub-environments (async: 2 processes, started with spawn). Empty if Gymnasium is not
-    installed.
+    sub-environments (async: 2 processes, started with spawn). Beside them, their bound: the
+    kernels of one step alone (:func:`step_bound`), and how far each is from it. Empty if
+    Gymnasium is not installed.
     """
     try:
         import gymnasium as gym
@@ -65,4 +119,10 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
         envs = gym.make_vec(env_id, num_envs=2, vectorization_mode="async",
                             vector_kwargs={"context": "spawn"})
         rows.append((f"{env_id} x2, async vector (spawn)", _env_rate(envs, steps), "steps/s"))
+    bound, rates = step_bound(), {name: rate for name, rate, _ in rows}
+    rows += [("bound: one step's kernels alone (move, project, evaluate), compiled", bound,
+              "steps/s"),
+             ("bound / one env, face", bound / rates["JointAttention-v1 steps, face (no "
+                                                      "rendering)"], "x"),
+             ("bound / x64 native vector", bound / rates[f"{fast} x64, native vector"], "x")]
     return rows
