@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable
 
@@ -61,6 +62,13 @@ def run_world_benchmarks(
             )
         )
         rows.append(("new scene (sample + show)", _rate(lambda i: world.reset(), 200), "scenes/s"))
+    jagged = dataclasses.replace(config, camera=dataclasses.replace(config.camera,
+                                                                    antialias_samples=0))
+    with World(jagged, seed=0) as world:
+        world.render()
+        rows.append((f"render robot view, antialias_samples = 0 ({size})",
+                     _rate(lambda i: (world.set_head_angle(thetas[i]), world.render()), n_frames),
+                     "frames/s"))
     return rows
 
 

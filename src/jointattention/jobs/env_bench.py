@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
 
 from .._jit import jit
 from ..agent.attention import attended_index
-from ..config import WorldConfig
+from ..config import Config, WorldConfig
 from ..experiment.trial import end_after_look, move_head
 from ..world.fast import FastScene, detect_into
 from ..world.kinematics import HeadKinematics, rotation_matrix
@@ -103,8 +104,13 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
         from ..env import JointAttentionEnv
     except ImportError:
         return []
+    plain = Config()
+    jagged = dataclasses.replace(plain, world=dataclasses.replace(plain.world, camera=(
+        dataclasses.replace(plain.world.camera, antialias_samples=0))))
     rows = [("JointAttention-v1 steps, image (rendered)",
-             _env_rate(JointAttentionEnv(), n_steps), "steps/s")]
+             _env_rate(JointAttentionEnv(), n_steps), "steps/s"),
+            ("JointAttention-v1 steps, image, antialias_samples = 0",
+             _env_rate(JointAttentionEnv(config=jagged), n_steps), "steps/s")]
     for mode in ("face", "detections"):
         rows.append((f"JointAttention-v1 steps, {mode} (no rendering)",
                      _env_rate(JointAttentionEnv(obs_mode=mode), 20 * n_steps), "steps/s"))

@@ -47,6 +47,10 @@ class CameraConfig(Section):
         lo=-0.5,
         hi=0.5,
     )
+    antialias_samples: int = param(
+        4, "samples per pixel of the rendered images (MuJoCo's offsamples): 0 renders about "
+        "twice as fast on a CPU, with jagged edges; every image of the shipped data sets and "
+        "runs is rendered with 4", lo=0, hi=16)
 
 
 @dataclass(frozen=True)
