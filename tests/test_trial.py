@@ -150,7 +150,7 @@ def test_a_look_ends_a_trial_by_eq3_first_then_the_limit_then_the_step_limit():
 def test_every_trial_loop_steps_with_the_one_step():
     """The python trial, the compiled loop and the vector env step with the one move and end."""
     root = Path(jointattention.__file__).parent
-    for name in ("experiment/trial.py", "experiment/_compiled_loop.py", "env/vector.py"):
+    for name in ("experiment/trial.py", "experiment/_compiled_loop.py", "env/_vector_kernels.py"):
         text = (root / name).read_text()
         body = text.split("def end_after_look", 1)[-1] if name.endswith("trial.py") else text
         assert "move_head(" in body and "end_after_look(" in body, name

@@ -4,9 +4,10 @@
 "vector_entry_point")`` gives :class:`JointAttentionVectorEnv`. Its sub-environments are those
 of :class:`~.joint_attention.JointAttentionEnv` (the same episodes, steps and rewards as a
 ``SyncVectorEnv`` of them with the same seeds, tested); it moves every head, projects every
-scene and evaluates every image in one compiled call per step. An episode's scene is drawn,
-when it starts, by the kernel that draws the single environment's and the runner's
-(:func:`~jointattention.world.fast.draw_objects`), from the sub-environment's own generator.
+scene and evaluates every image in one compiled call per step, and starts the episodes that
+start in one more (:mod:`._vector_kernels`): each drawn from its sub-environment's own
+generator by the kernel that draws the single environment's and the runner's scenes
+(:func:`~jointattention.world.fast.draw_objects`).
 """
 
 from __future__ import annotations
@@ -20,47 +21,19 @@ from gymnasium.vector import AutoresetMode
 from gymnasium.vector.utils import batch_space
 
 from .._checks import check_int
-from .._jit import jit
-from ..agent.attention import attended_index
 from ..errors import ConfigError
 from ..experiment.cells import trial_geometry
-from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING, end_after_look, move_head
-from ..world.fast import detect_into, draw_objects
-from ..world.kinematics import rotation_matrix, separation_rad
+from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING
+from ..world.kinematics import separation_rad
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
 from ._args import check_action, refuse_options
-from ._looks import MAX_DETECTIONS, detection_rows, scaled
+from ._looks import DETECTION_COLUMNS, MAX_DETECTIONS, _row_bounds, scaled
+from ._vector_kernels import rows_all, start_all, step_all
 from .joint_attention import JointAttentionEnv
 
 __all__ = ["JointAttentionVectorEnv"]
 
-
-
-@jit
-def _step_all(theta, dtheta, lo, hi, pos, radius, edge, n_objects, offset_m, focal_px, width_px,
-              height_px, d_th_px, max_steps, n_steps, end, limit_hit, attended, seen, n_det,
-              centre, area, seen_edge, ids, uv, depth, scratch_area):
-    """One step of every running episode: move (Eq. 2's command), look, evaluate (Eq. 3)."""
-    cx, cy = (width_px - 1) / 2, (height_px - 1) / 2
-    for i in range(theta.shape[0]):
-        if end[i] != RUNNING:
-            continue
-        theta[i, 0], theta[i, 1], hit = move_head(theta[i, 0], theta[i, 1], dtheta[i, 0],
-                                                  dtheta[i, 1], lo[0], hi[0], lo[1], hi[1])
-        n_steps[i] += 1
-        limit_hit[i] = hit
-        n = n_objects
-        rot = rotation_matrix(theta[i, 0], theta[i, 1])
-        m = detect_into(pos[i, :n], radius[i, :n], edge[i, :n], rot, offset_m, focal_px,
-                        width_px, height_px, uv[i, :n], depth[i, :n], scratch_area[i, :n],
-                        centre[i], area[i], seen_edge[i], ids[i])
-        n_det[i] = m
-        s = attended_index(centre[i, :m], cx, cy, d_th_px)
-        seen[i] = s
-        end[i] = end_after_look(s, hit, n_steps[i], max_steps)
-        if s >= 0:
-            attended[i] = ids[i, s]
 
 
 class JointAttentionVectorEnv(gym.vector.VectorEnv):
@@ -103,6 +76,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         # has only its own generator, drawn as Env.reset draws it.
         self._env = one = JointAttentionEnv(**kwargs)
         self._rngs: list[np.random.Generator | None] = [None] * self.num_envs
+        self._rng_list = None  # the same generators, as the start kernel takes them
         self.obs_mode, self.max_steps, self.reward = one.obs_mode, one.max_steps, one.reward
         self.single_observation_space = one.observation_space
         self.single_action_space = one.action_space
@@ -137,22 +111,30 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._seen_edge, self._ids = f((k, n)), np.zeros((k, n), i)
         self._scratch = f((k, n, 2)), f((k, n)), f((k, n))
 
-    def _start(self, i: int, seed: int | None) -> None:
-        """Draw sub-environment ``i``'s next episode from its own generator (not yet seen)."""
-        if seed is not None or self._rngs[i] is None:
-            self._rngs[i], _ = seeding.np_random(seed)
-        rng = self._rngs[i]
-        k = int(rng.integers(len(self._targets_m)))  # as the runner's random_scene draws
-        target = draw_objects(rng, self._targets_m[k], self._faces_m[k], HEAD_RADII_M[2],
-                              *self._region, self._pos[i], self._radius[i], self._edge[i])
-        if target < 0:
+    def _start(self, which: np.ndarray, seeds=None) -> None:
+        """Start the episodes of sub-environments ``which`` from their own generators.
+
+        ``seeds`` (one per sub-environment of ``which``, or None) seeds them first; a
+        sub-environment that has none yet gets one, as ``Env.reset`` seeds.
+        """
+        for j, i in enumerate(which):
+            seed = None if seeds is None else seeds[j]
+            if seed is not None or self._rngs[i] is None:
+                self._rngs[i], _ = seeding.np_random(seed)
+                self._rng_list = None
+        if self._rng_list is None:  # numba's list of the same generators (their states shared)
+            from numba.typed import List
+
+            self._rng_list = List(self._rngs)
+        failed = start_all(self._rng_list, np.asarray(which, np.int64), self._targets_m,
+                           self._faces_m, HEAD_RADII_M[2], *self._region,
+                           self._env._datasets.theta_face_rad, self._lo, self._hi, self._pos,
+                           self._radius, self._edge, self._face_k, self._target, self._theta,
+                           self._n_steps, self._end, self._attended, self._limit_hit)
+        if failed >= 0:
             raise ConfigError(
                 f"objects: could not place {self._n} objects apart within the object region; "
                 "expected fewer objects, a wider region or smaller gaps")
-        self._face_k[i], self._target[i] = k, target
-        self._theta[i] = self._kin.clip(self._env._datasets.theta_face_rad[k])
-        self._n_steps[i], self._end[i], self._attended[i] = 0, RUNNING, -1
-        self._limit_hit[i] = False
 
     def _look(self, which: np.ndarray) -> None:
         """The first look of the episodes just started: project and evaluate, no move."""
@@ -166,7 +148,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
     def _kernel(self, dtheta: np.ndarray, end: np.ndarray, steps: np.ndarray) -> None:
         kin = self._kin
-        _step_all(self._theta, dtheta, self._lo, self._hi, self._pos, self._radius, self._edge,
+        step_all(self._theta, dtheta, self._lo, self._hi, self._pos, self._radius, self._edge,
                   self._n, self._offset_m, float(kin.focal_px), kin.width_px,
                   kin.height_px, self._d_th_px, self.max_steps, steps, end, self._limit_hit,
                   self._attended, self._seen, self._n_det, self._centre, self._area,
@@ -178,8 +160,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         refuse_options(options)
         seeds = seed if isinstance(seed, list) else (
             [None] * self.num_envs if seed is None else [seed + i for i in range(self.num_envs)])
-        for i, s in enumerate(seeds):
-            self._start(i, s)
+        self._start(np.arange(self.num_envs), seeds)
         self._look(np.arange(self.num_envs))
         self._needs_reset[:] = False
         self._started = True
@@ -192,9 +173,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
                                         "step()")
         actions = check_action(actions, (self.num_envs, 2), "actions")
         restart = np.flatnonzero(self._needs_reset)
-        for i in restart:
-            self._start(int(i), None)
         if len(restart):
+            self._start(restart)
             self._look(restart)
         space = self.single_action_space
         dtheta = np.clip(actions, space.low, space.high) * self._scale
@@ -219,7 +199,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         final_obs = np.full(self.num_envs, None, object)
         for i in np.flatnonzero(done):
             final_obs[i] = {key: value[i] for key, value in last.items()}
-            self._start(int(i), None)
+        self._start(np.flatnonzero(done))
         self._look(np.flatnonzero(done))
         self._needs_reset[:] = False
         return {**self._infos(), "final_obs": final_obs, "_final_obs": done,
@@ -236,18 +216,13 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         ds = self._env._datasets
         obs = {"head_angle": self._theta.astype(np.float32), "face": ds.face[self._face_k]}
         if self.obs_mode == "detections":
-            obs["detections"] = np.stack([detection_rows(self._detections(i))
-                                          for i in range(self.num_envs)])
+            rows = np.zeros((self.num_envs, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
+            rows_all(self._centre, self._area, self._seen_edge, self._n_det,
+                     *_row_bounds((self._kin.height_px, self._kin.width_px)), rows)
+            obs["detections"] = rows
         if self._env.scaled_obs:
             obs = scaled(obs, self._env.joint_limits_rad, (self._kin.height_px, self._kin.width_px))
         return obs
-
-    def _detections(self, i: int):
-        from ..agent.detections import Detections
-
-        m = int(self._n_det[i])
-        return Detections(self._centre[i, :m], self._area[i, :m], self._seen_edge[i, :m],
-                          np.zeros(m), (self._kin.width_px, self._kin.height_px))
 
     def _infos(self) -> dict:
         k, n = self.num_envs, self._n
