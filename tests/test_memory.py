@@ -120,3 +120,13 @@ def test_the_old_agent_classes_build_the_composed_agent_with_a_warning():
         with pytest.warns(DeprecationWarning, match="goes in version 0.5"):
             agent = old(BootstrapOptions(), AgentConfig(), BODY, np.random.default_rng(0))
         assert isinstance(agent, BootstrapAgent) and type(agent.module).__name__ == module
+
+
+@given(values=st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=200), data=st.data())
+def test_kth_smallest_is_numpys_partition(values, data):
+    """The recall's selection gives np.partition's k-th value, ties and all."""
+    from jointattention.agent.memory import kth_smallest
+
+    a = np.array(values)
+    k = data.draw(st.integers(0, len(a) - 1))
+    assert kth_smallest(a, k) == np.partition(a, k)[k]

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from jointattention.agent.detections import equal_area_radius
 from jointattention.config import ObjectsConfig, WorldConfig
@@ -142,3 +144,14 @@ def test_antialiasing_changes_only_the_edges(needs_gl):
         x, y = a.render().astype(int), b.render().astype(int)
     assert x.shape == y.shape and not np.array_equal(x, y)
     assert np.mean(np.abs(x - y).max(axis=2) > 40) < 0.05  # most pixels agree
+
+
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 60))
+@settings(max_examples=80, deadline=None)
+def test_the_compiled_permutation_draws_as_numpy(seed, n):
+    """world.fast.permutation gives numpy's rng.permutation(n) and leaves the stream alike."""
+    from jointattention.world.fast import permutation
+
+    a, b = np.random.default_rng(seed), np.random.default_rng(seed)
+    assert np.array_equal(permutation(a, n), b.permutation(n))
+    assert a.random() == b.random()

@@ -25,7 +25,8 @@ from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
 
-__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "memory_recall", "memory_store"]
+__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "kth_smallest", "memory_recall",
+           "memory_store"]
 
 
 @dataclass(frozen=True)
@@ -93,6 +94,36 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, aims, base, n_stored, l
 
 
 @jit
+def kth_smallest(values, k: int) -> float:
+    """``np.partition(values, k)[k]``: the (k+1)-th smallest of ``values`` (finite floats).
+
+    A quickselect on a copy: the same value as numpy's, and numba compiles it in a fraction
+    of the time its general ``np.partition`` takes (about 2.7 s of the first run's 22).
+    """
+    a = values.copy()
+    lo, hi = 0, len(a) - 1
+    while lo < hi:
+        pivot = a[(lo + hi) // 2]
+        i, j = lo, hi
+        while i <= j:
+            while a[i] < pivot:
+                i += 1
+            while a[j] > pivot:
+                j -= 1
+            if i <= j:
+                a[i], a[j] = a[j], a[i]
+                i += 1
+                j -= 1
+        if k <= j:
+            hi = j
+        elif k >= i:
+            lo = i
+        else:
+            return a[k]
+    return a[k]
+
+
+@jit
 def memory_recall(code, codes, aims, base, n_stored, lo_rad, cell_rad, k_nearest,
                   radius_rad, out) -> float:
     """The place recalled for a face code, into ``out``; returns its support (-1: no memory).
@@ -114,7 +145,7 @@ def memory_recall(code, codes, aims, base, n_stored, lo_rad, cell_rad, k_nearest
         for j in range(len(code)):
             s += (codes[i, j] - code[j]) ** 2
         d2[i] = s
-    d2_k = np.partition(d2, min(k_nearest, n) - 1)[min(k_nearest, n) - 1]
+    d2_k = kth_smallest(d2, min(k_nearest, n) - 1)
     near = np.flatnonzero(d2 <= d2_k)
     weight = np.exp(-d2[near] / max(d2_k, 1e-300))
     total, r2 = weight.sum(), radius_rad * radius_rad

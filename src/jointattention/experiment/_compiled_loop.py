@@ -54,7 +54,8 @@ def _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc, scaled, hid,
         if not recalled:
             return 0.0, 0.0
         return unit_step(aim[0] - pan, aim[1] - tilt, robot.step_rad)
-    acc[:] = face_acc
+    for i in range(len(acc)):  # element by element: quicker for numba to compile
+        acc[i] = face_acc[i]
     scale_angle_into(pan, tilt, robot.theta_mid_rad, robot.theta_half_rad, scaled, 0)
     accumulate(scaled, state.w1, len(state.w1[0]) - 2, acc)
     forward(acc, state.b1, state.w2, state.b2, hid, out)
@@ -115,7 +116,8 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             c[1] += 1
             welford_update(face, state.mean, state.m2, c[1])
         standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
-        face_acc[:] = 0.0
+        for i in range(len(face_acc)):
+            face_acc[i] = 0.0
         accumulate(face_x, state.w1, 0, face_acc)
         if robot.vf_fallback_sweep:
             sweep = random_step(move_rng, robot.step_rad)

@@ -96,7 +96,8 @@ def blur_into(face, width: int, height: int, sigma_px: float, tmp, out) -> None:
     scratch of the face's size.
     """
     if sigma_px <= 0.0:
-        out[:] = face
+        for i in range(len(face)):  # element by element: quicker for numba to compile
+            out[i] = face[i]
         return
     radius = int(math.ceil(3.0 * sigma_px))
     weights = np.empty(2 * radius + 1)

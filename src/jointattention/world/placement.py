@@ -79,7 +79,8 @@ def place_into(rng, pos, rad, n_fixed, head_pos_m, face_radius_m, region, offset
             if status != CENTRED or not (limits_rad[0] <= p <= limits_rad[1]
                                          and limits_rad[2] <= t <= limits_rad[3]):
                 continue
-            pos[placed] = cand
+            for d in range(3):  # element by element: quicker for numba to compile
+                pos[placed, d] = cand[d]
             rad[placed], half[placed] = radius[j], cand_half
             placed += 1
     return placed
