@@ -22,7 +22,7 @@ from gymnasium.vector.utils import batch_space
 
 from .._checks import check_int
 from ..errors import ConfigError
-from ..experiment.cells import trial_geometry
+from ..experiment.cells import trial_geometries
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING
 from ..world.kinematics import separation_rad
 from ..world.mjcf import HEAD_RADII_M
@@ -90,10 +90,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._hi = np.array([kin.pan_limits_rad[1], kin.tilt_limits_rad[1]])
         self._offset_m = np.asarray(kin.offset_m, float)
         self._scale = one.max_step_rad if one.normalize_actions else np.ones(2)
-        ds, distance_m = one._datasets, cfg.world.caregiver.distance_m
-        geometry = [trial_geometry(ds, k, kin, distance_m) for k in range(len(ds))]
-        self._targets_m = np.array([g[0] for g in geometry], dtype=float)
-        self._faces_m = np.array([g[1] for g in geometry], dtype=float)
+        self._targets_m, self._faces_m = trial_geometries(one._datasets, kin,
+                                                          cfg.world.caregiver.distance_m)
         self._region = region_of(cfg.world)
         self._alloc(self.num_envs, n)
         self._needs_reset = np.ones(self.num_envs, bool)

@@ -28,7 +28,7 @@ from .recorded import training_file
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
 __all__ = ["body_of", "datasets_file", "datasets_of", "engine_of", "evaluator", "make_agent",
-           "measure_ceiling", "random_scene", "run_cell", "trial_geometry"]
+           "measure_ceiling", "random_scene", "run_cell", "trial_geometries", "trial_geometry"]
 
 _CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learning steps)
 
@@ -63,6 +63,14 @@ def trial_geometry(ds: CaregiverDatasets, k: int, kin: HeadKinematics, distance_
         return ds.target_m[k], face
     theta = theta_face + ds.command_rad[k]
     return kin.camera_position(theta) + 0.65 * kin.gaze_direction(theta), face
+
+
+def trial_geometries(ds: CaregiverDatasets, kin: HeadKinematics,
+                     distance_m: float) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`trial_geometry` of every data set: targets (K, 3) and faces (K, 3)."""
+    geometry = [trial_geometry(ds, k, kin, distance_m) for k in range(len(ds))]
+    return (np.array([g[0] for g in geometry], dtype=float),
+            np.array([g[1] for g in geometry], dtype=float))
 
 
 def random_scene(config: Config, ds: CaregiverDatasets, kin: HeadKinematics, n_objects: int,
@@ -165,9 +173,8 @@ def _run_compiled(config, condition, ds, agent, rngs, progress, stops,
                   reached) -> dict[str, np.ndarray]:
     """run_cell in the compiled engine, stopping at ``stops`` and every _CHUNK_STEPS."""
     kin = HeadKinematics.from_config(config.world)
-    geometry = [trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
-                for k in range(len(ds))]
-    world = pack_world(config.world, ds, [g[0] for g in geometry], [g[1] for g in geometry],
+    world = pack_world(config.world, ds,
+                       *trial_geometries(ds, kin, config.world.caregiver.distance_m),
                        condition.n_objects, condition.shuffle_faces)
     n_steps = config.experiment.n_steps
     cell = CompiledCell(agent, world, *rngs, max_trials=n_steps)

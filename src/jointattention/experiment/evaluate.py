@@ -22,7 +22,7 @@ from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
 from ..rng import stream
 from ..world.kinematics import HeadKinematics
-from .cells import evaluator, random_scene, trial_geometry
+from .cells import evaluator, random_scene, trial_geometries
 from .compiled import CompiledCell, pack_world, unsupported
 from .oracle import OracleAgent
 from .probes import angle_errors
@@ -93,10 +93,9 @@ def frozen_success(agent, ds: CaregiverDatasets, config: Config, n_objects: int,
     kin = HeadKinematics.from_config(config.world)
     options = getattr(frozen, "options", None)
     if options is not None and unsupported(options) is None:
-        geometry = [trial_geometry(ds, k, kin, config.world.caregiver.distance_m)
-                    for k in range(len(ds))]
-        world = pack_world(config.world, ds, [g[0] for g in geometry],
-                           [g[1] for g in geometry], n_objects, False)
+        world = pack_world(config.world, ds,
+                           *trial_geometries(ds, kin, config.world.caregiver.distance_m),
+                           n_objects, False)
         cell = CompiledCell(frozen, world, rng, stream(seed, "evaluate-shuffle"), n_trials)
         cell.run_until(0)
         return float(np.mean(cell.records()["success"]))

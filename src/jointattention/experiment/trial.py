@@ -27,7 +27,7 @@ from ..world.kinematics import HeadKinematics, separation_rad
 from ..world.protocol import Scene
 
 __all__ = ["END_FIRED", "END_LIMIT", "END_STEPS", "RECORD", "RUNNING", "SceneTrial", "StepObserver",
-           "Trial", "TrialResult", "records", "run_trial"]
+           "Trial", "TrialResult", "end_after_look", "move_head", "records", "run_trial"]
 
 END_FIRED, END_STEPS, END_LIMIT = 0, 1, 2
 RUNNING = -1  # the end of a trial that has not ended, in the compiled loops
@@ -61,6 +61,7 @@ def end_after_look(seen: int, limit_hit: bool, n_steps: int, max_steps: int) -> 
     if n_steps >= max_steps:
         return END_STEPS
     return RUNNING
+
 
 # The trial record: one row per trial in a cell's file and in trials.csv.
 RECORD = {

@@ -11,7 +11,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.learner import LearningModule, sgd_update
 from ..config import WorldConfig
-from .env_bench import run_env_benchmark
+from .env_bench import run_env_benchmark, without_antialiasing
 
 __all__ = ["compile_times", "preset_estimates", "run_agent_benchmark", "run_env_benchmark",
            "run_follow_benchmark", "run_preset", "run_world_benchmarks"]
@@ -62,9 +62,7 @@ def run_world_benchmarks(
             )
         )
         rows.append(("new scene (sample + show)", _rate(lambda i: world.reset(), 200), "scenes/s"))
-    jagged = dataclasses.replace(config, camera=dataclasses.replace(config.camera,
-                                                                    antialias_samples=0))
-    with World(jagged, seed=0) as world:
+    with World(without_antialiasing(config), seed=0) as world:
         world.render()
         rows.append((f"render robot view, antialias_samples = 0 ({size})",
                      _rate(lambda i: (world.set_head_angle(thetas[i]), world.render()), n_frames),
@@ -116,8 +114,6 @@ def run_follow_benchmark(n_frames: int = 30) -> list[tuple[str, float, str]]:
 
 def _cell_rate(config, condition, **experiment) -> float:
     """Agent steps per second of one cell of ``config`` with ``experiment``'s fields changed."""
-    import dataclasses
-
     from ..experiment.cells import run_cell
 
     exp = dataclasses.replace(config.experiment, **experiment)
@@ -137,8 +133,6 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     against its bound: one forward and backward pass of the learning module alone, in compiled
     code.
     """
-    import dataclasses
-
     from ..config import load_config
 
     config = load_config("quick")

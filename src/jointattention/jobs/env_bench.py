@@ -14,7 +14,13 @@ from ..experiment.trial import end_after_look, move_head
 from ..world.fast import FastScene, detect_into
 from ..world.kinematics import HeadKinematics, rotation_matrix
 
-__all__ = ["run_env_benchmark", "step_bound"]
+__all__ = ["run_env_benchmark", "step_bound", "without_antialiasing"]
+
+
+def without_antialiasing(world: WorldConfig) -> WorldConfig:
+    """``world`` rendered with one sample per pixel (``antialias_samples = 0``)."""
+    return dataclasses.replace(world, camera=dataclasses.replace(world.camera,
+                                                                 antialias_samples=0))
 
 
 @jit
@@ -40,8 +46,8 @@ def step_bound(n_steps: int = 200_000) -> float:
     Moving the head, projecting a 5-object scene and evaluating the image (Eq. 3): the bound
     of an environment without images, whatever the Python around it.
     """
-    world = WorldConfig()
-    kin = HeadKinematics.from_config(world)
+    config = Config()
+    world, kin = config.world, HeadKinematics.from_config(config.world)
     rng = np.random.default_rng(0)
     scene = FastScene.sample(world, kin, [0.1, 0.6, 0.0], [0.0, 1.2, 0.3], 5, rng)
     n = len(scene.object_radius_m)
@@ -51,7 +57,7 @@ def step_bound(n_steps: int = 200_000) -> float:
               np.empty(n), np.empty(n, dtype=np.int64))
     args = (scene.object_pos_m, scene.object_radius_m, scene.edge,
             np.asarray(kin.offset_m, float), float(kin.focal_px), kin.width_px, kin.height_px,
-            WorldConfig().camera.width_px / 6, limits, *arrays)
+            config.agent.d_th_px(kin.width_px), limits, *arrays)  # Eq. 3's radius
     _kernel_steps(dtheta[:10], *args)
     best = np.inf
     for _ in range(3):
@@ -105,8 +111,7 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
     except ImportError:
         return []
     plain = Config()
-    jagged = dataclasses.replace(plain, world=dataclasses.replace(plain.world, camera=(
-        dataclasses.replace(plain.world.camera, antialias_samples=0))))
+    jagged = dataclasses.replace(plain, world=without_antialiasing(plain.world))
     rows = [("JointAttention-v1 steps, image (rendered)",
              _env_rate(JointAttentionEnv(), n_steps), "steps/s"),
             ("JointAttention-v1 steps, image, antialias_samples = 0",

@@ -93,6 +93,24 @@ def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
     return jobs, ran
 
 
+def _read_or_measure(path: Path, what: str, whole: Callable[[dict], bool], missing: str,
+                     measure: Callable[[], dict], progress) -> dict:
+    """The JSON at ``path`` if it is ``whole``, else measured (after a warning) and saved there."""
+    if path.exists():
+        try:
+            found = read_json(path, what)
+            if whole(found):
+                return found
+            _log.warning("%s: no ceiling for some %s; measured again", path, missing)
+        except JointAttentionError as err:
+            _log.warning("%s; measured again", err)
+    if progress is not None:
+        progress("ceilings")
+    measured = measure()
+    save_json(measured, path)
+    return measured
+
+
 def _held_out_ceilings(config: Config, path: Path, progress) -> dict[str, dict[str, float]]:
     """The oracle ceilings of the held-out sets, {kind: {str(n): ceiling}}: read or measured.
 
@@ -102,22 +120,14 @@ def _held_out_ceilings(config: Config, path: Path, progress) -> dict[str, dict[s
     if not config.experiment.held_out.n_trials:
         return {}
     counts = sorted({c.n_objects for c in config.experiment.conditions})
-    if path.exists():
-        try:
-            ceilings = read_json(path, "the held-out ceilings of a run folder")
-            if all(type(ceilings.get(k, {}).get(str(n))) in (int, float)
-                   for k in held_out_sets(config) for n in counts):
-                return ceilings
-            _log.warning("%s: no ceiling for some set or object count; measured again", path)
-        except JointAttentionError as err:
-            _log.warning("%s; measured again", err)
-    if progress is not None:
-        progress("ceilings")
     n = config.experiment.n_ceiling_trials
-    ceilings = {kind: {str(k): oracle_success(ds, config, k, n, config.seed) for k in counts}
-                for kind, ds in held_out_sets(config).items()}
-    save_json(ceilings, path)
-    return ceilings
+    return _read_or_measure(
+        path, "the held-out ceilings of a run folder",
+        lambda found: all(type(found.get(k, {}).get(str(m))) in (int, float)
+                          for k in held_out_sets(config) for m in counts),
+        "set or object count",
+        lambda: {kind: {str(k): oracle_success(ds, config, k, n, config.seed) for k in counts}
+                 for kind, ds in held_out_sets(config).items()}, progress)
 
 
 def _ceilings(config: Config, path: Path, progress) -> dict[str, float]:
@@ -126,20 +136,11 @@ def _ceilings(config: Config, path: Path, progress) -> dict[str, float]:
     A file that is not whole (unreadable, or without every count) is measured again.
     """
     counts = sorted({c.n_objects for c in config.experiment.conditions})
-    if path.exists():
-        try:
-            ceilings = read_json(path, "the oracle ceilings of a run folder")
-            if all(type(ceilings.get(str(n))) in (int, float) and 0 <= ceilings[str(n)] <= 1
-                   for n in counts):
-                return ceilings
-            _log.warning("%s: no ceiling for some object count; measured again", path)
-        except JointAttentionError as err:
-            _log.warning("%s; measured again", err)
-    if progress is not None:
-        progress("ceilings")
-    ceilings = {str(n): measure_ceiling(config, n) for n in counts}
-    save_json(ceilings, path)
-    return ceilings
+    return _read_or_measure(
+        path, "the oracle ceilings of a run folder",
+        lambda found: all(type(found.get(str(n))) in (int, float) and 0 <= found[str(n)] <= 1
+                          for n in counts),
+        "object count", lambda: {str(n): measure_ceiling(config, n) for n in counts}, progress)
 
 
 @dataclass(frozen=True)

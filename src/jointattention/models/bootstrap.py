@@ -97,12 +97,12 @@ class BootstrapOptions(ModelOptions):
                               f"1 with learner = '{self.learner}'")
 
     def caregiver_inputs(self, face_size_px) -> tuple:
-        """The caregiver's part as the compiled loop takes it: here she neither judges nor adapts.
+        """The caregiver's part as the compiled loop takes it: she judges if she teaches.
 
         (judges, adapts, criterion level, window, shrink, blur start, blur sharp steps, face
-        width, face height); the teacher and the developmental model say otherwise.
+        width, face height); her criterion adapts in the developmental model only.
         """
-        return (False, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px)
+        return (self.taught, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px)
 
     def save_refusal(self) -> str | None:
         """None: the network and the population code are saved; an episodic memory is not."""

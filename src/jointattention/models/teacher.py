@@ -37,10 +37,6 @@ class TeacherOptions(BootstrapOptions):
                               "teacher is the paper's network taught by the caregiver; "
                               "expected learner = 'backprop'")
 
-    def caregiver_inputs(self, face_size_px) -> tuple:
-        """The caregiver judges each trial: the agent learns only from those she approves."""
-        return (True, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px)
-
     def build(self, mechanisms: AgentConfig, body: Body, rng: np.random.Generator) -> TeacherAgent:
         """The untrained teacher agent."""
         return TeacherAgent(self, mechanisms, body, rng)
