@@ -21,7 +21,6 @@ import math
 
 import numpy as np
 
-from .._arrays import angles, windows
 from .._jit import jit
 from ..agent.face_features import face_features_into, n_features
 from ..agent.learner import FaceStandardiser, standardise
@@ -121,18 +120,14 @@ class PopulationModule:
             f.m2_ = arrays["population_feature_m2"].astype(float)
             f.n_seen_ = int(arrays["population_feature_n_seen"])
 
-    def features(self, face_window: np.ndarray, theta_rad, *, fit: bool = False) -> np.ndarray:
-        """The module's input: the face window's features and the head angle, scaled.
-
-        With ``standardise`` the face features are standardised by their running statistics;
-        ``fit`` adds this face's features to those statistics first.
-        """
-        window = windows("face_window", face_window, self.host.body.face_size_px).ravel()
-        return self._features(window, angles("theta_rad", theta_rad), fit)
-
     def _features(self, window: np.ndarray, theta_rad: np.ndarray, fit: bool = False
                   ) -> np.ndarray:
-        """:meth:`features` of a checked window (H * W floats) and head angle (2,)."""
+        """The module's input: a checked window's features (H * W floats) and the head angle.
+
+        The head angle (2,) is scaled by the joint ranges. With ``standardise`` the face
+        features are standardised by their running statistics; ``fit`` adds this face's
+        features to those statistics first.
+        """
         host = self.host
         o = host.options.population
         w, h = host.body.face_size_px
