@@ -122,11 +122,51 @@ def test_the_old_agent_classes_build_the_composed_agent_with_a_warning():
         assert isinstance(agent, BootstrapAgent) and type(agent.module).__name__ == module
 
 
-@given(values=st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=200), data=st.data())
-def test_kth_smallest_is_numpys_partition(values, data):
-    """The recall's selection gives np.partition's k-th value, ties and all."""
-    from jointattention.agent.memory import kth_smallest
+@given(values=st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=60), data=st.data())
+def test_weighted_kth_is_numpys_partition_of_the_repeated_values(values, data):
+    """The recall's selection over distinct codes is np.partition's over every trial."""
+    from jointattention.agent.memory import weighted_kth
 
     a = np.array(values)
-    k = data.draw(st.integers(0, len(a) - 1))
-    assert kth_smallest(a, k) == np.partition(a, k)[k]
+    w = np.array(data.draw(st.lists(st.integers(0, 5), min_size=len(a), max_size=len(a))))
+    if w.sum() == 0:
+        w[0] = 1
+    k = data.draw(st.integers(1, int(w.sum())))
+    assert weighted_kth(a, w, k) == np.partition(np.repeat(a, w), k - 1)[k - 1]
+
+
+def _recall_of_every_trial(memory, code):
+    """The recall as it was before codes were kept once: distances to every kept trial."""
+    n = min(memory.n_stored_, memory.options.capacity)
+    codes = memory.codes_[memory.code_of_[:n]]
+    aims = memory.aims_[:n]
+    d2 = ((codes - code) ** 2).sum(axis=1)
+    d2_k = np.partition(d2, min(memory.options.k_nearest, n) - 1)[
+        min(memory.options.k_nearest, n) - 1]
+    near = np.flatnonzero(d2 <= d2_k)
+    weight = np.exp(-d2[near] / max(d2_k, 1e-300))
+    close = ((aims[near, None, :] - aims[None, near, :]) ** 2).sum(-1) < memory.radius_rad ** 2
+    votes = np.array([sum(w for w, c in zip(weight, row, strict=True) if c) for row in close])
+    cells = ((aims[near] - memory.lo_rad) / memory.cell_rad).astype(int)
+    cells = np.minimum(np.maximum(cells, 0), np.array(memory.base_.shape) - 1)
+    excess = votes - weight.sum() * memory.base_[cells[:, 0], cells[:, 1]] / n
+    best = int(np.argmax(excess))
+    return (weight * close[best]) @ aims[near] / (weight @ close[best]), excess[best] / weight.sum()
+
+
+@given(faces=st.lists(st.integers(0, 5), min_size=1, max_size=80),
+       capacity=st.integers(1, 30), k=st.integers(1, 12), seed=st.integers(0, 2**16))
+def test_recall_over_distinct_codes_is_the_recall_over_every_trial(faces, capacity, k, seed):
+    """Faces seen again are kept once; the recall equals a scan of every kept trial."""
+    rng = np.random.default_rng(seed)
+    windows = rng.uniform(0, 255, (6, 12))
+    memory = _memory(capacity=capacity, k_nearest=k)
+    memory.partial_fit(windows[faces], rng.uniform(-0.6, 0.5, (len(faces), 2)))
+    kept = memory.counts_[: memory.n_codes_]
+    assert kept.sum() == min(len(faces), capacity)
+    assert (kept > 0).sum() == len(set(faces[-capacity:]))  # one live code per distinct face
+    for query in (windows[faces[-1]], windows[5] + 1.0):
+        aim, support = memory.recall(memory.code(query))
+        ref_aim, ref_support = _recall_of_every_trial(memory, memory.code(query))
+        assert np.allclose(aim, ref_aim, rtol=0, atol=1e-12)
+        assert support == pytest.approx(ref_support, abs=1e-12)

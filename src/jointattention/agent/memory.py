@@ -25,8 +25,8 @@ from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
 
-__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "kth_smallest", "memory_recall",
-           "memory_store"]
+__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "memory_recall", "memory_store",
+           "weighted_kth"]
 
 
 @dataclass(frozen=True)
@@ -79,53 +79,87 @@ def _count_around(pan_rad, tilt_rad, grid, lo_rad, cell_rad, by) -> None:
 
 
 @jit
-def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, aims, base, n_stored, lo_rad,
-                 cell_rad) -> None:
+def _same(a, b) -> bool:
+    for j in range(len(a)):  # noqa: SIM110 (a plain loop: numba compiles no generator in all())
+        if a[j] != b[j]:
+            return False
+    return True
+
+
+@jit
+def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, code_of, aims, base, n_stored,
+                 n_codes, lo_rad, cell_rad) -> int:
     """Keep a trial (face code, place) in slot ``n_stored % capacity``, forgetting its last.
 
-    ``base`` counts, per grid cell, the kept places within the voting radius: the base rate.
+    Equal face codes are kept once (``codes[u]``, with ``counts[u]`` trials; ``code_of`` is
+    each slot's), so that a recall measures each distinct face once: with the data sets' faces
+    a few hundred codes, not every kept trial. ``base`` counts, per grid cell, the kept places
+    within the voting radius: the base rate. Returns the rows of ``codes`` in use.
     """
-    slot = n_stored % len(codes)
-    if n_stored >= len(codes):
+    slot = n_stored % len(aims)
+    if n_stored >= len(aims):
         _count_around(aims[slot, 0], aims[slot, 1], base, lo_rad, cell_rad, -1.0)
-    codes[slot, :] = code
+        counts[code_of[slot]] -= 1
+    u = code_of[slot - 1] if n_stored > 0 else 0  # a trial's places share its face
+    if not (n_stored > 0 and counts[u] > 0 and _same(codes[u], code)):
+        u, free = -1, -1
+        for v in range(n_codes):
+            if counts[v] == 0:
+                free = v if free < 0 else free
+            elif _same(codes[v], code):
+                u = v
+                break
+        if u < 0:
+            u = free if free >= 0 else n_codes
+            n_codes = max(n_codes, u + 1)
+            for j in range(len(code)):
+                codes[u, j] = code[j]
+    counts[u] += 1
+    code_of[slot] = u
     aims[slot, 0], aims[slot, 1] = aim_pan_rad, aim_tilt_rad
     _count_around(aim_pan_rad, aim_tilt_rad, base, lo_rad, cell_rad, 1.0)
+    return n_codes
 
 
 @jit
-def kth_smallest(values, k: int) -> float:
-    """``np.partition(values, k)[k]``: the (k+1)-th smallest of ``values`` (finite floats).
+def weighted_kth(values, weights, k: int) -> float:
+    """The k-th smallest (k >= 1) of ``values`` each repeated ``weights`` times.
 
-    A quickselect on a copy: the same value as numpy's, and numba compiles it in a fraction
-    of the time its general ``np.partition`` takes (about 2.7 s of the first run's 22).
+    ``np.partition(np.repeat(values, weights), k - 1)[k - 1]``, by a three-way quickselect
+    on the distinct values (``weights`` >= 0 sum to at least ``k``).
     """
-    a = values.copy()
-    lo, hi = 0, len(a) - 1
-    while lo < hi:
+    a, w = values.copy(), weights.copy()
+    lo, hi = 0, len(a)
+    while True:
         pivot = a[(lo + hi) // 2]
-        i, j = lo, hi
-        while i <= j:
-            while a[i] < pivot:
+        lt, i, gt = lo, lo, hi
+        while i < gt:  # a[lo:lt] < pivot, a[lt:i] == pivot, a[gt:hi] > pivot
+            if a[i] < pivot:
+                a[i], a[lt], w[i], w[lt] = a[lt], a[i], w[lt], w[i]
+                lt += 1
                 i += 1
-            while a[j] > pivot:
-                j -= 1
-            if i <= j:
-                a[i], a[j] = a[j], a[i]
+            elif a[i] > pivot:
+                gt -= 1
+                a[i], a[gt], w[i], w[gt] = a[gt], a[i], w[gt], w[i]
+            else:
                 i += 1
-                j -= 1
-        if k <= j:
-            hi = j
-        elif k >= i:
-            lo = i
+        below = equal = 0
+        for j in range(lo, lt):
+            below += w[j]
+        for j in range(lt, gt):
+            equal += w[j]
+        if k <= below:
+            hi = lt
+        elif k <= below + equal:
+            return pivot
         else:
-            return a[k]
-    return a[k]
+            k -= below + equal
+            lo = gt
 
 
 @jit
-def memory_recall(code, codes, aims, base, n_stored, lo_rad, cell_rad, k_nearest,
-                  radius_rad, out) -> float:
+def memory_recall(code, codes, counts, code_of, aims, base, n_stored, n_codes, lo_rad,
+                  cell_rad, k_nearest, radius_rad, out) -> float:
     """The place recalled for a face code, into ``out``; returns its support (-1: no memory).
 
     The trials of the k nearest face codes (ties included) vote, each with the weight
@@ -134,20 +168,28 @@ def memory_recall(code, codes, aims, base, n_stored, lo_rad, cell_rad, k_nearest
     within ``radius_rad`` of it, less what the base rate predicts for so much weight. The
     winner's neighbours are averaged (weighted) into ``out``. The support is the winner's
     excess over the base rate, as a fraction of the weight recalled (0: nothing beyond
-    chance; 1: all agree).
+    chance; 1: all agree). Distances are measured once per distinct code (:func:`memory_store`).
     """
-    n = min(n_stored, len(codes))
+    n = min(n_stored, len(aims))
     if n == 0:
         return -1.0
-    d2 = np.empty(n)
-    for i in range(n):
+    d2u = np.empty(n_codes)
+    for u in range(n_codes):
         s = 0.0
         for j in range(len(code)):
-            s += (codes[i, j] - code[j]) ** 2
-        d2[i] = s
-    d2_k = kth_smallest(d2, min(k_nearest, n) - 1)
-    near = np.flatnonzero(d2 <= d2_k)
-    weight = np.exp(-d2[near] / max(d2_k, 1e-300))
+            s += (codes[u, j] - code[j]) ** 2
+        d2u[u] = s
+    d2_k = weighted_kth(d2u, counts[:n_codes], min(k_nearest, n))
+    n_near = 0
+    for i in range(n):
+        n_near += d2u[code_of[i]] <= d2_k
+    near, d2 = np.empty(n_near, np.int64), np.empty(n_near)
+    n_near = 0
+    for i in range(n):  # in slot order, as the votes and their sums go
+        if d2u[code_of[i]] <= d2_k:
+            near[n_near], d2[n_near] = i, d2u[code_of[i]]
+            n_near += 1
+    weight = np.exp(-d2 / max(d2_k, 1e-300))
     total, r2 = weight.sum(), radius_rad * radius_rad
     best, best_a = -np.inf, 0
     for a in range(len(near)):
@@ -181,8 +223,10 @@ class EpisodicMemory:
             counted on a grid over them (a margin of 0.2 rad each side).
         rng: draws the face code's projection.
 
-    Learned state: ``codes_``, ``aims_`` (the kept trials), ``base_`` (the base-rate grid),
-    ``n_stored_`` (trials kept so far, forgotten ones included).
+    Learned state: ``aims_`` (the kept trials' places), ``codes_`` (their distinct face codes,
+    the first ``n_codes_`` rows), ``counts_`` (trials per code), ``code_of_`` (each trial's
+    code), ``base_`` (the base-rate grid), ``n_stored_`` (trials kept so far, forgotten ones
+    included).
     """
 
     def __init__(self, n_in: int, options: MemoryOptions, limits_rad, rng: np.random.Generator):
@@ -194,9 +238,11 @@ class EpisodicMemory:
         self.cell_rad = self.radius_rad / 2
         shape = np.ceil((limits[:, 1] + 0.2 - self.lo_rad) / self.cell_rad).astype(int) + 1
         self.codes_ = np.zeros((options.capacity, options.code_dims))
+        self.counts_ = np.zeros(options.capacity, np.int64)
+        self.code_of_ = np.zeros(options.capacity, np.int64)
         self.aims_ = np.zeros((options.capacity, 2))
         self.base_ = np.zeros(tuple(shape))
-        self.n_stored_ = 0
+        self.n_stored_ = self.n_codes_ = 0
 
     @property
     def radius_rad(self) -> float:
@@ -213,16 +259,20 @@ class EpisodicMemory:
     def store(self, code: np.ndarray, aim_rad) -> None:
         """Keep one trial: the face's code and the place (pan, tilt) where it found an object."""
         code, aim_rad = floats("code", code, (len(self.projection),)), angles("aim_rad", aim_rad)
-        memory_store(code, float(aim_rad[0]), float(aim_rad[1]), self.codes_, self.aims_,
-                     self.base_, self.n_stored_, self.lo_rad, self.cell_rad)
+        self.n_codes_ = memory_store(code, float(aim_rad[0]), float(aim_rad[1]), *self._kept(),
+                                     self.lo_rad, self.cell_rad)
         self.n_stored_ += 1
+
+    def _kept(self) -> tuple:
+        """The kept trials as the kernels take them, with ``n_stored_`` and ``n_codes_``."""
+        return (self.codes_, self.counts_, self.code_of_, self.aims_, self.base_,
+                self.n_stored_, self.n_codes_)
 
     def recall(self, code: np.ndarray) -> tuple[np.ndarray | None, float]:
         """The place recalled for a face code and its support; (None, -1) with no memory."""
         code, out = floats("code", code, (len(self.projection),)), np.empty(2)
-        support = memory_recall(code, self.codes_, self.aims_, self.base_, self.n_stored_,
-                                self.lo_rad, self.cell_rad, self.options.k_nearest,
-                                self.radius_rad, out)
+        support = memory_recall(code, *self._kept(), self.lo_rad, self.cell_rad,
+                                self.options.k_nearest, self.radius_rad, out)
         return (None if support < 0 else out), support
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> EpisodicMemory:

@@ -63,6 +63,16 @@ def _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc, scaled, hid,
 
 
 @jit
+def _keep(code, pan, tilt, robot, state, c) -> int:
+    """:func:`~jointattention.agent.memory.memory_store` of a place; the codes in use."""
+    n_codes = memory_store(code, pan, tilt, state.codes, state.counts, state.code_of,
+                           state.aims, state.base, c[4], c[5], robot.memory_lo_rad,
+                           robot.memory_cell_rad)
+    c[4] += 1
+    return n_codes
+
+
+@jit
 def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, gate_rng,
          move_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
@@ -109,8 +119,9 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         recalled = False
         if robot.memory:
             face_code_into(face, robot.projection, code)
-            recalled = memory_recall(code, state.codes, state.aims, state.base, c[4],
-                                     robot.memory_lo_rad, robot.memory_cell_rad, robot.memory_k,
+            recalled = memory_recall(code, state.codes, state.counts, state.code_of, state.aims,
+                                     state.base, c[4], c[5], robot.memory_lo_rad,
+                                     robot.memory_cell_rad, robot.memory_k,
                                      robot.memory_radius_rad, aim) >= 0
         if robot.learning:
             c[1] += 1
@@ -199,16 +210,12 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             if robot.learning_target == _OBJECT_DIRECTION:
                 place[0], place[1] = pan + v_pan, tilt + v_tilt
         if learns and robot.memory:
-            memory_store(code, place[0], place[1], state.codes, state.aims, state.base, c[4],
-                         robot.memory_lo_rad, robot.memory_cell_rad)
-            c[4] += 1
+            c[5] = _keep(code, place[0], place[1], robot, state, c)
             for i in range(m if robot.memory_in_view else 0):  # MemoryModule.learn
                 if i != seen:
                     v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
                                                         robot.gain_rad_per_px)
-                    memory_store(code, pan + v_pan, tilt + v_tilt, state.codes, state.aims,
-                                 state.base, c[4], robot.memory_lo_rad, robot.memory_cell_rad)
-                    c[4] += 1
+                    c[5] = _keep(code, pan + v_pan, tilt + v_tilt, robot, state, c)
         elif learns:
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])

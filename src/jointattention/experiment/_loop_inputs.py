@@ -87,9 +87,11 @@ class LoopState(NamedTuple):
     vb2: np.ndarray
     mean: np.ndarray
     m2: np.ndarray
-    codes: np.ndarray  # the memory's kept trials (empty for back-propagation)
+    codes: np.ndarray  # the memory's kept trials (stand-ins for back-propagation)
+    counts: np.ndarray
+    code_of: np.ndarray
     aims: np.ndarray
     base: np.ndarray
-    counters: np.ndarray  # learning time, faces seen, updates, records, trials kept
+    counters: np.ndarray  # learning time, faces seen, updates, records, trials kept, codes
     agreement: np.ndarray  # (1,): the performance gate's measure
     caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving

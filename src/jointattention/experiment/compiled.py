@@ -104,13 +104,16 @@ class CompiledCell:
         learner, faces = agent.learner, agent.faces
         if faces.n_seen_ == 0:
             faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
-        kept = (np.zeros((1, 1)), np.zeros((1, 2)), np.zeros((1, 1))) if memory is None else (
-            memory.codes_, memory.aims_, memory.base_)
+        if memory is None:
+            ones = np.zeros(1, np.int64)
+            kept = (np.zeros((1, 1)), ones, ones, np.zeros((1, 2)), np.zeros((1, 1)), 0, 0)
+        else:
+            kept = memory._kept()
         self._state = LoopState(
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
-            faces.mean_, faces.m2_, *kept,
+            faces.mean_, faces.m2_, *kept[:5],
             np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0,
-                      0 if memory is None else memory.n_stored_]),
+                      *kept[5:]]),
             np.array([agent.agreement_]),
             np.array([getattr(agent, "criterion_rad_", 0.0),
                       getattr(agent, "approved_rate_", 0.0)]))
@@ -132,7 +135,8 @@ class CompiledCell:
             self.agent.criterion_rad_, self.agent.approved_rate_ = map(float,
                                                                        self._state.caregiver)
         if hasattr(self.agent.module, "memory"):
-            self.agent.module.memory.n_stored_ = int(c[4])
+            self.agent.module.memory.n_stored_, self.agent.module.memory.n_codes_ = (
+                int(c[4]), int(c[5]))
 
     def records(self) -> dict[str, np.ndarray]:
         """The trial records so far (:data:`~.trial.RECORD`)."""
