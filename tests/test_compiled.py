@@ -59,6 +59,9 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
         "criterion_shrink": 0.9, "blur_start_px": 3.0, "blur_sharp_steps": 2000.0}),
     ConditionConfig(name="developmental-shuffled", n_objects=3, shuffle_faces=True, model={
         "kind": "developmental", "criterion_level": 0.2, "blur_start_px": 0.5}),
+    ConditionConfig(name="rl", n_objects=3, model={"kind": "rl"}),
+    ConditionConfig(name="rl-shuffled", n_objects=5, shuffle_faces=True, model={
+        "kind": "rl", "n_directions": 8, "temperature": 0.5, "gamma": 0.5}),
 ]
 CONFIG = Config(
     model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),

@@ -237,15 +237,19 @@ def test_claim_horizontal_before_vertical(factor, holds):
 
 
 def test_engine_auto_compiles_what_it_can():
-    """With engine "auto" the bootstrap family runs compiled, the RL learner step by step."""
+    """With engine "auto" the bootstrap family and the RL learner run compiled, the population
+    learner step by step; engine "compiled" refuses the population learner in one line."""
     from jointattention.experiment.cells import engine_of
 
+    population = {"learner": "population", "vf_fallback": "sweep"}
     config = load_config({"experiment": {"engine": "auto", "conditions": [
-        {"name": "d", "model": {"kind": "developmental"}}, {"name": "r", "model": {"kind": "rl"}}
-    ]}})
-    assert [engine_of(config, c) for c in config.experiment.conditions] == ["compiled", "python"]
-    with pytest.raises(ConfigError, match="does not run model kind 'rl'"):
-        load_config({"experiment": {"conditions": [{"name": "r", "model": {"kind": "rl"}}]}})
+        {"name": "d", "model": {"kind": "developmental"}}, {"name": "r", "model": {"kind": "rl"}},
+        {"name": "p", "model": population}]}})
+    assert [engine_of(config, c) for c in config.experiment.conditions] == [
+        "compiled", "compiled", "python"]
+    with pytest.raises(ConfigError, match="does not run learner 'population'") as error:
+        load_config({"experiment": {"conditions": [{"name": "p", "model": population}]}})
+    assert "\n" not in str(error.value)
 
 
 def test_a_developmental_model_is_saved_once_it_sees_sharp_faces(tmp_path):

@@ -12,7 +12,7 @@ from jointattention.agent.protocol import LM, Body, Outcome
 from jointattention.analysis.metrics import final_success
 from jointattention.config import load_config, model_options
 from jointattention.errors import ConfigError
-from jointattention.experiment.cells import run_cell
+from jointattention.experiment.cells import datasets_of, make_agent, run_cell
 from jointattention.models.rl import STAY, RLAgent, RLOptions
 
 SHORT = {"seed": 0, "model": {"kind": "rl"},
@@ -119,8 +119,16 @@ def test_rl_options_declare_readings_and_refuse_bad_values():
         load_config({"model": {"kind": "rl", "temperature": 0.0}})
 
 
-def test_the_compiled_engine_refuses_the_rl_model():
-    """The compiled engine does not run the RL model: one ConfigError line naming it."""
-    with pytest.raises(ConfigError, match="does not run model kind 'rl'") as error:
-        load_config({"model": {"kind": "rl"}, "experiment": {"engine": "compiled"}})
-    assert "\n" not in str(error.value)
+def test_a_frozen_rl_agent_that_saw_no_face_is_refused_by_both_engines():
+    """Frozen before any face: one error line in either engine (nothing to standardise by)."""
+    from jointattention.errors import ArgumentError
+    from jointattention.experiment.evaluate import frozen_success
+
+    config = load_config(SHORT)
+    ds = datasets_of(config)
+    agent = make_agent(config, config.experiment.conditions[0], 0, ds)
+    with pytest.raises(ArgumentError, match="seen no face"):
+        frozen_success(agent, ds, config, 1, 10, 0)
+    agent.learning = False
+    with pytest.raises(ArgumentError, match="seen no face"):
+        agent.begin_trial(ds.face[0], ds.theta_face_rad[0])

@@ -1,7 +1,9 @@
-"""What the compiled loop (:mod:`._compiled_loop`) takes: the world, the robot, its state.
+"""What the compiled loops take (the world, the robot, its state) and what they give back.
 
 Plain named tuples of numbers and arrays, which numba compiles as records; :mod:`.compiled`
-packs them from the configuration and the agent.
+packs them from the configuration and the agent. The loops (:mod:`._compiled_loop`,
+:mod:`._rl_loop`) write one row per trial of :data:`~._compiled_loop.COLUMNS`, which
+:func:`trial_records` turns into the trial records.
 """
 
 from __future__ import annotations
@@ -10,8 +12,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["LoopRobot", "LoopState", "LoopWorld"]
+from ..errors import ConfigError
+from ._compiled_loop import COLUMNS
+from .trial import END_FIRED, RECORD
 
+__all__ = ["LoopRobot", "LoopState", "LoopWorld", "placed", "trial_records"]
 
 
 class LoopWorld(NamedTuple):
@@ -95,3 +100,20 @@ class LoopState(NamedTuple):
     counters: np.ndarray  # learning time, faces seen, updates, records, trials kept, codes
     agreement: np.ndarray  # (1,): the performance gate's measure
     caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving
+
+
+def placed(code: int, world: LoopWorld) -> int:
+    """A compiled loop's answer, or the error of a scene whose objects could not be placed."""
+    if code == -1:
+        raise ConfigError(
+            f"objects: could not place {world.n_objects} objects apart within the "
+            "object region; expected fewer objects, a wider region or smaller gaps")
+    return code
+
+
+def trial_records(rows: np.ndarray) -> dict[str, np.ndarray]:
+    """The trial records (:data:`~.trial.RECORD`) of a compiled loop's rows (:data:`COLUMNS`)."""
+    cols = dict(zip(COLUMNS, rows, strict=True))
+    cols["success"] = cols["attended"] == cols["target"]
+    cols["fired"] = cols["end"] == END_FIRED
+    return {name: cols[name].astype(dtype) for name, (dtype, _) in RECORD.items()}

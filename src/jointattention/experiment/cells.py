@@ -21,7 +21,7 @@ from ..datasets import CaregiverDatasets, default_datasets, load, shipped_file
 from ..rng import stream
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
-from .compiled import CompiledCell, pack_world, unsupported
+from .compiled import compiled_cell, pack_world, unsupported
 from .oracle import OracleAgent
 from .probes import lm_errors_deg
 from .recorded import training_file
@@ -177,7 +177,7 @@ def _run_compiled(config, condition, ds, agent, rngs, progress, stops,
                        *trial_geometries(ds, kin, config.world.caregiver.distance_m),
                        condition.n_objects, condition.shuffle_faces)
     n_steps = config.experiment.n_steps
-    cell = CompiledCell(agent, world, *rngs, max_trials=n_steps)
+    cell = compiled_cell(agent, world, *rngs, max_trials=n_steps)
     for stop in sorted({*range(_CHUNK_STEPS, n_steps, _CHUNK_STEPS), *stops, n_steps}):
         if stop > n_steps:
             break

@@ -24,14 +24,15 @@ from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
 from ..models.bootstrap import LEARNING_TARGETS, BootstrapAgent
 from ..models.registry import ModelOptions
+from ..models.rl import RLAgent
 from ..world.kinematics import HeadKinematics
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
 from ._compiled_loop import COLUMNS, run_trials
-from ._loop_inputs import LoopRobot, LoopState, LoopWorld
-from .trial import END_FIRED, RECORD
+from ._loop_inputs import LoopRobot, LoopState, LoopWorld, placed, trial_records
+from .compiled_rl import RLCell
 
-__all__ = ["CompiledCell", "pack_world", "unsupported"]
+__all__ = ["CompiledCell", "compiled_cell", "pack_world", "unsupported"]
 
 
 def unsupported(options: ModelOptions) -> str | None:
@@ -40,6 +41,14 @@ def unsupported(options: ModelOptions) -> str | None:
     See :meth:`~jointattention.models.registry.ModelOptions.compiled_refusal`.
     """
     return options.compiled_refusal()
+
+
+def compiled_cell(agent, world: LoopWorld, trials: np.random.Generator,
+                  shuffle: np.random.Generator, max_trials: int) -> CompiledCell | RLCell:
+    """The compiled cell of ``agent``'s model (the arguments are :class:`CompiledCell`'s)."""
+    if isinstance(agent, RLAgent):
+        return RLCell(agent, world, trials, shuffle, max_trials)
+    return CompiledCell(agent, world, trials, shuffle, max_trials)
 
 
 def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_objects: int,
@@ -121,12 +130,9 @@ class CompiledCell:
 
     def run_until(self, learning_time_steps: int) -> None:
         """Learn trial after trial until the learning time reaches ``learning_time_steps``."""
-        if run_trials(learning_time_steps, self._records.shape[1], self._world, self._robot,
-                self._state, self._trials, self._shuffle, self.agent.gate_rng,
-                self.agent.move_rng, self._records) < 0:
-            raise ConfigError(
-                f"objects: could not place {self._world.n_objects} objects apart within the "
-                "object region; expected fewer objects, a wider region or smaller gaps")
+        placed(run_trials(learning_time_steps, self._records.shape[1], self._world, self._robot,
+                          self._state, self._trials, self._shuffle, self.agent.gate_rng,
+                          self.agent.move_rng, self._records), self._world)
         c = self._state.counters
         self.agent.learning_time_steps = int(c[0])
         self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
@@ -140,8 +146,5 @@ class CompiledCell:
 
     def records(self) -> dict[str, np.ndarray]:
         """The trial records so far (:data:`~.trial.RECORD`)."""
-        r = self._records[:, : self._state.counters[3]]
-        cols = dict(zip(COLUMNS, r, strict=True))
-        cols["success"] = cols["attended"] == cols["target"]
-        cols["fired"] = cols["end"] == END_FIRED
-        return {name: cols[name].astype(dtype) for name, (dtype, _) in RECORD.items()}
+        return trial_records(self._records[:, : self._state.counters[3]])
+

@@ -23,7 +23,7 @@ from ..errors import ConfigError
 from ..rng import stream
 from ..world.kinematics import HeadKinematics
 from .cells import evaluator, random_scene, trial_geometries
-from .compiled import CompiledCell, pack_world, unsupported
+from .compiled import compiled_cell, pack_world, unsupported
 from .oracle import OracleAgent
 from .probes import angle_errors
 from .trial import SceneTrial, run_trial
@@ -96,7 +96,7 @@ def frozen_success(agent, ds: CaregiverDatasets, config: Config, n_objects: int,
         world = pack_world(config.world, ds,
                            *trial_geometries(ds, kin, config.world.caregiver.distance_m),
                            n_objects, False)
-        cell = CompiledCell(frozen, world, rng, stream(seed, "evaluate-shuffle"), n_trials)
+        cell = compiled_cell(frozen, world, rng, stream(seed, "evaluate-shuffle"), n_trials)
         cell.run_until(0)
         return float(np.mean(cell.records()["success"]))
     evaluate, wins = evaluator(config), 0

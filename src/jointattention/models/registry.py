@@ -75,8 +75,8 @@ class ModelOptions(Section):
         else:
             return None
         return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap, "
-                "teacher or developmental model with a sigmoid, constant or performance gate, or "
-                "experiment.engine = 'python' or 'auto'")
+                "teacher or developmental model with a sigmoid, constant or performance gate, "
+                "the RL model, or experiment.engine = 'python' or 'auto'")
 
     def save_refusal(self) -> str | None:
         """Why a model file cannot hold this model, as the reason's words (None if it can).

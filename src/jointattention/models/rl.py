@@ -33,14 +33,14 @@ marked *reading* are ours):
   stays); the shift's weights by normalised LMS.
 
 There is no gate and no visual controller: steps spent looking at her are module ``"stay"``
-(neither :data:`~.protocol.LM` nor random in the trial records). The compiled engine does not
-run this model (``experiment.engine = "python"``).
+(neither :data:`~.protocol.LM` nor random in the trial records). Its arithmetic is compiled
+(:mod:`._rl_kernels`), and the compiled engine runs it too
+(:mod:`jointattention.experiment.compiled_rl`).
 """
 
 from __future__ import annotations
 
 import math
-from bisect import bisect_right
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -52,6 +52,7 @@ from ..agent.detections import Detections
 from ..agent.learner import FaceStandardiser
 from ..agent.options import AgentConfig
 from ..agent.protocol import LM, Body, Outcome
+from . import _rl_kernels as kernels
 from .registry import ModelOptions
 
 __all__ = ["STAY", "RLAgent", "RLOptions"]
@@ -62,6 +63,8 @@ STAY = "stay"  # the module name of a step spent looking at the caregiver
 @dataclass(frozen=True)
 class RLOptions(ModelOptions):
     """The reinforcement-learning model's options (Triesch et al. 2006, our reading)."""
+
+    compiled: ClassVar[bool] = True
 
     readings: ClassVar[tuple[str, ...]] = ("n_directions", "place_cell_deg")
 
@@ -128,6 +131,7 @@ class RLAgent:
         self.b_ = np.zeros(options.n_directions)
         self.q_stay_ = np.zeros(mechanisms.max_steps + 1)
         self.limits_rad = np.asarray(body.joint_limits_rad, dtype=float)
+        self.lo_rad = np.ascontiguousarray(self.limits_rad[:, 0])  # the habituation grid's origin
         self.cell_rad = math.radians(options.place_cell_deg)
         n_cells = np.ceil((self.limits_rad[:, 1] - self.limits_rad[:, 0]) / self.cell_rad)
         self.place_habituation_ = np.zeros(tuple(int(max(n, 1)) for n in n_cells))
@@ -140,6 +144,7 @@ class RLAgent:
         self._zero = _readonly(np.zeros(2))
         self._x = np.zeros(n_pix)
         self._q, self._k, self._dir, self._n_moves = self.b_.copy(), 0, -1, 0
+        self._cdf, self._p_stay = np.empty(options.n_directions), np.empty(len(self.q_stay_))
 
     # -- values ----------------------------------------------------------------------------
     def _standardised(self, faces: np.ndarray) -> np.ndarray:
@@ -166,40 +171,36 @@ class RLAgent:
 
     def place_of(self, theta_rad) -> tuple[int, ...]:
         """The habituation grid's cell of a head angle (clipped to the grid)."""
-        i = np.floor((np.asarray(theta_rad, dtype=float) - self.limits_rad[:, 0]) / self.cell_rad)
-        return tuple(int(min(max(v, 0), n - 1))
-                     for v, n in zip(i, self.place_habituation_.shape, strict=True))
+        theta = angles("theta_rad", theta_rad)
+        return kernels.rl_cell(float(theta[0]), float(theta[1]), self.lo_rad, self.cell_rad,
+                               self.place_habituation_.shape)
 
     # -- rewards (the basic set's preference for interesting things, habituated) ------------
-    def stay_reward(self, k):
-        """What looking at the caregiver pays after ``k`` steps (or an array of k) of looking."""
-        return self.options.face_reward * self.options.face_habituation ** k
+    def stay_reward(self, k: int) -> float:
+        """What looking at the caregiver pays after ``k`` steps of looking in the trial."""
+        o = self.options
+        return kernels.stay_reward(float(o.face_reward), float(o.face_habituation), int(k))
 
     def object_reward_at(self, theta_rad) -> float:
         """What finding an object pays with the head at ``theta_rad``, habituated to its place."""
-        h = self.place_habituation_[self.place_of(theta_rad)]
-        return self.options.object_reward * (1.0 - float(h))
+        return kernels.object_reward(float(self.options.object_reward),
+                                     float(self.place_habituation_[self.place_of(theta_rad)]))
 
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Start a trial looking at the caregiver: her face's shift values and the choice odds.
 
         Per step, staying has probability ``p_stay[k]``; a shift's direction is drawn from the
-        softmax over the shift values alone (``cdf``): together, the softmax over all actions.
+        softmax over the shift values alone (``cdf``): together, the softmax over all actions
+        (:func:`~._rl_kernels.rl_choice_odds`).
         """
         face = windows("face_window", face_window, self.body.face_size_px).ravel()
         if self.learning:
             self.faces.partial_fit(face)
         self._x = self.faces.transform(face)
-        self._q = self.W_ @ self._x + self.b_
-        t, top = self.options.temperature, float(self._q.max())
-        e = np.exp((self._q - top) / t)
-        total = float(e.sum())
-        cdf = np.cumsum(e) / total
-        cdf[-1] = 1.0
-        self._cdf = cdf.tolist()
-        z = math.log(total) + (top - self.q_stay_) / t  # log(shift weights / stay weight)
-        self._p_stay = np.exp(-np.logaddexp(0.0, z)).tolist()
+        kernels.rl_values_into(self._x, self.W_, self.b_, self._q)
+        kernels.rl_choice_odds(self._q, self.q_stay_, float(self.options.temperature),
+                               self._cdf, self._p_stay)
         self._k, self._dir, self._n_moves = 0, -1, 0
 
     def act(self, detections: Detections, theta_rad) -> tuple[np.ndarray, str]:
@@ -209,13 +210,12 @@ class RLAgent:
         if self._dir >= 0:
             self._n_moves += 1
             return self.steps_rad[self._dir], LM
-        p = self._p_stay[min(self._k, len(self._p_stay) - 1)]
-        u = self.choice_rng.random()
-        if u < p:
+        d = kernels.rl_choose(self.choice_rng.random(),
+                              float(self._p_stay[min(self._k, len(self._p_stay) - 1)]), self._cdf)
+        if d < 0:
             self._k += 1
             return self._zero, STAY
-        d = bisect_right(self._cdf, (u - p) / (1.0 - p))
-        self._dir, self._n_moves = min(d, len(self._cdf) - 1), 1
+        self._dir, self._n_moves = d, 1
         return self.steps_rad[self._dir], LM
 
     def end_trial(self, outcome: Outcome) -> None:
@@ -225,22 +225,11 @@ class RLAgent:
         """
         if not self.learning:
             return
-        o, k, d = self.options, self._k, self._dir
-        r_end = self.object_reward_at(outcome.theta_rad) if outcome.fired else 0.0
-        self.place_habituation_ *= o.place_recovery
-        if outcome.fired:
-            cell = self.place_of(outcome.theta_rad)
-            h = self.place_habituation_[cell]
-            self.place_habituation_[cell] = h + o.place_habituation * (1.0 - h)
-        if k:  # the stays: toward r_k + gamma * Q(next decision)
-            n = min(k, len(self.q_stay_))
-            nxt = np.empty(n)
-            nxt[:-1] = self.q_stay_[1:n]
-            nxt[-1] = self._q[d] if d >= 0 else 0.0
-            r = self.stay_reward(np.arange(n))
-            self.q_stay_[:n] += o.learning_rate_stay * (r + o.gamma * nxt - self.q_stay_[:n])
-        if d >= 0:  # the shift: its return, by normalised LMS
-            delta = o.gamma ** (self._n_moves - 1) * r_end - self._q[d]
-            rate = o.learning_rate_shift * delta / (float(self._x @ self._x) + 1.0)
-            self.W_[d] += rate * self._x
-            self.b_[d] += rate
+        o = self.options
+        theta = angles("theta_rad", outcome.theta_rad)
+        kernels.rl_learn(bool(outcome.fired), float(theta[0]), float(theta[1]), self._k,
+                         self._dir, self._n_moves, self._x, self._q, self.W_, self.b_,
+                         self.q_stay_, self.place_habituation_, self.lo_rad, self.cell_rad,
+                         float(o.face_reward), float(o.face_habituation), float(o.object_reward),
+                         float(o.place_habituation), float(o.place_recovery), float(o.gamma),
+                         float(o.learning_rate_shift), float(o.learning_rate_stay))

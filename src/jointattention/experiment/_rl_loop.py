@@ -1,0 +1,144 @@
+"""The compiled engine's loop over a cell's trials of the reinforcement learner.
+
+:mod:`.compiled_rl` packs its inputs and drives it. Each trial draws as the step-by-step path
+draws (:func:`~.cells.random_scene`, then :class:`~.trial.SceneTrial` and
+:func:`~.trial.run_trial` of an :class:`~jointattention.models.rl.RLAgent`) and calls the same
+kernels (:mod:`jointattention.models._rl_kernels`).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .._jit import jit
+from ..agent.attention import attended_index
+from ..agent.learner import standardise, welford_update
+from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
+from ..world.fast import detect_into, draw_objects
+from ..world.kinematics import rotation_matrix
+from .trial import END_FIRED, RUNNING, end_after_look, move_head
+
+__all__ = ["RLRobot", "RLState", "run_rl_trials"]
+
+NO_FACE_STATISTICS = -2  # run_rl_trials' answer for a frozen learner that has seen no face
+
+
+class RLRobot(NamedTuple):
+    """The RL agent's options and mechanisms as the loop takes them."""
+
+    d_th_px: float
+    max_steps: int
+    steps_rad: np.ndarray  # (n_directions, 2): one step along each shift direction
+    min_std: float
+    temperature: float
+    face_reward: float
+    face_habituation: float
+    object_reward: float
+    place_habituation: float
+    place_recovery: float
+    gamma: float
+    learning_rate_shift: float
+    learning_rate_stay: float
+    lo_rad: np.ndarray  # the habituation grid's origin
+    cell_rad: float
+    learning: bool
+
+
+class RLState(NamedTuple):
+    """The RL agent's learned arrays and the counters, changed in place."""
+
+    w: np.ndarray
+    b: np.ndarray
+    q_stay: np.ndarray
+    habituation: np.ndarray
+    mean: np.ndarray
+    m2: np.ndarray
+    counters: np.ndarray  # learning time, faces seen, records
+
+
+@jit
+def run_rl_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng,
+                  choice_rng, records) -> int:
+    """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
+
+    A frozen robot runs ``max_trials`` trials (-2 if it has seen no face to standardise by).
+    ``records`` take the compiled loop's columns (:data:`._compiled_loop.COLUMNS`).
+    """
+    n, n_pix = world.n_objects, world.faces.shape[1]
+    w, h = world.width_px, world.height_px
+    cx, cy = (w - 1) / 2, (h - 1) / 2
+    obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
+    uv, depth, area = np.empty((n, 2)), np.empty(n), np.empty(n)
+    centre, seen_area, seen_edge = np.empty((n, 2)), np.empty(n), np.empty(n)
+    ids = np.empty(n, dtype=np.int64)
+    n_dir = len(robot.steps_rad)
+    x, q, cdf = np.empty(n_pix), np.empty(n_dir), np.empty(n_dir)
+    p_stay = np.empty(len(state.q_stay))
+    c = state.counters
+    while (c[0] < until_steps or not robot.learning) and c[2] < max_trials:
+        start = c[0]
+        # the scene (cells.random_scene, FastScene.sample)
+        k = trials_rng.integers(0, len(world.faces))
+        target = draw_objects(trials_rng, world.target_m[k], world.face_m[k], world.face_radius_m,
+                              world.region, world.offset_m, world.limits_rad, obj_pos, obj_rad,
+                              edge)
+        if target < 0:
+            return -1
+        face = world.faces[shuffle_rng.integers(0, len(world.faces))
+                           if world.shuffle_faces else k]
+        # the agent begins (RLAgent.begin_trial)
+        if robot.learning:
+            c[1] += 1
+            welford_update(face, state.mean, state.m2, c[1])
+        if c[1] == 0:
+            return NO_FACE_STATISTICS
+        standardise(face, state.mean, state.m2, c[1], robot.min_std, x)
+        rl_values_into(x, state.w, state.b, q)
+        rl_choice_odds(q, state.q_stay, robot.temperature, cdf, p_stay)
+        n_stays, shift, n_moves = 0, -1, 0
+        # the trial (SceneTrial, run_trial)
+        pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
+        n_steps, n_lm, end, attended = 0, 0, -1, -1
+        limit_hit = False
+        while True:
+            m = detect_into(obj_pos, obj_rad, edge, rotation_matrix(pan, tilt), world.offset_m,
+                            world.focal_px, w, h, uv, depth, area, centre, seen_area,
+                            seen_edge, ids)
+            seen = attended_index(centre[:m], cx, cy, robot.d_th_px)
+            end = end_after_look(seen, limit_hit, n_steps, robot.max_steps)
+            if end == END_FIRED:
+                attended = ids[seen]
+            if end != RUNNING:
+                break
+            # the agent acts (RLAgent.act)
+            c[0] += robot.learning
+            if shift >= 0:
+                n_moves += 1
+            else:
+                shift = rl_choose(choice_rng.random(),
+                                  p_stay[min(n_stays, len(p_stay) - 1)], cdf)
+                if shift < 0:
+                    n_stays += 1
+                else:
+                    n_moves = 1
+            d_pan = d_tilt = 0.0  # a stay
+            if shift >= 0:
+                d_pan, d_tilt = robot.steps_rad[shift, 0], robot.steps_rad[shift, 1]
+                n_lm += 1
+            lim = world.limits_rad
+            pan, tilt, limit_hit = move_head(pan, tilt, d_pan, d_tilt, lim[0], lim[1], lim[2],
+                                             lim[3])
+            n_steps += 1
+        if robot.learning:  # RLAgent.end_trial
+            rl_learn(end == END_FIRED, pan, tilt, n_stays, shift, n_moves, x, q, state.w,
+                     state.b, state.q_stay, state.habituation, robot.lo_rad, robot.cell_rad,
+                     robot.face_reward, robot.face_habituation, robot.object_reward,
+                     robot.place_habituation, robot.place_recovery, robot.gamma,
+                     robot.learning_rate_shift, robot.learning_rate_stay)
+        r = c[2]
+        records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, 0
+        records[4, r], records[5, r], records[6, r] = attended, target, end
+        c[2] += 1
+    return 0

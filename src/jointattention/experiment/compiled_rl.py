@@ -1,0 +1,67 @@
+"""The compiled engine for the reinforcement learner (:mod:`jointattention.models.rl`).
+
+It runs what :func:`~.cells.run_cell` runs step by step for an
+:class:`~jointattention.models.rl.RLAgent` as one compiled loop over trials
+(:mod:`._rl_loop`), drawing from the same streams in the same order and calling the same
+kernels (:mod:`jointattention.models._rl_kernels`), so both give byte-identical cells
+(``tests/test_compiled.py``). It learns the agent's own arrays in place.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import ArgumentError
+from ..models.rl import RLAgent
+from ._compiled_loop import COLUMNS
+from ._loop_inputs import LoopWorld, placed, trial_records
+from ._rl_loop import NO_FACE_STATISTICS, RLRobot, RLState, run_rl_trials
+
+__all__ = ["RLCell"]
+
+
+class RLCell:
+    """One cell of the reinforcement learner in the compiled engine.
+
+    Args:
+        agent: the cell's agent; it learns in place (frozen, it only acts).
+        world: the data sets, the world and the condition (:func:`~.compiled.pack_world`).
+        trials: the stream that draws each trial's data set and scene.
+        shuffle: the stream that draws a random face (``shuffle_faces`` conditions).
+        max_trials: the most trials the cell may hold.
+    """
+
+    def __init__(self, agent: RLAgent, world: LoopWorld, trials: np.random.Generator,
+                 shuffle: np.random.Generator, max_trials: int):
+        self.agent, self._world = agent, world
+        self._trials, self._shuffle = trials, shuffle
+        o, faces = agent.options, agent.faces
+        if faces.n_seen_ == 0:
+            faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
+        self._robot = RLRobot(
+            float(agent.mechanisms.d_th_px(world.width_px)), int(agent.mechanisms.max_steps),
+            np.ascontiguousarray(agent.steps_rad), float(faces.min_std), float(o.temperature),
+            float(o.face_reward), float(o.face_habituation), float(o.object_reward),
+            float(o.place_habituation), float(o.place_recovery), float(o.gamma),
+            float(o.learning_rate_shift), float(o.learning_rate_stay),
+            agent.lo_rad, float(agent.cell_rad),
+            bool(agent.learning))
+        self._state = RLState(agent.W_, agent.b_, agent.q_stay_, agent.place_habituation_,
+                              faces.mean_, faces.m2_,
+                              np.array([agent.learning_time_steps, faces.n_seen_, 0]))
+        self._records = np.zeros((len(COLUMNS), max_trials), dtype=np.int64)
+
+    def run_until(self, learning_time_steps: int) -> None:
+        """Learn trial after trial until the learning time reaches ``learning_time_steps``."""
+        code = placed(run_rl_trials(learning_time_steps, self._records.shape[1], self._world,
+                                    self._robot, self._state, self._trials, self._shuffle,
+                                    self.agent.choice_rng, self._records), self._world)
+        if code == NO_FACE_STATISTICS:
+            raise ArgumentError("faces: the standardiser has seen no face; expected "
+                                "partial_fit before transform")
+        c = self._state.counters
+        self.agent.learning_time_steps, self.agent.faces.n_seen_ = int(c[0]), int(c[1])
+
+    def records(self) -> dict[str, np.ndarray]:
+        """The trial records so far (:data:`~.trial.RECORD`)."""
+        return trial_records(self._records[:, : self._state.counters[2]])
