@@ -81,7 +81,7 @@ def test_run_folder_of_another_version_is_refused(tmp_path):
 
 
 def test_a_run_folder_explains_itself_bin_by_bin(tmp_path):
-    """diagnostics.csv: per condition and bin, fractions that add up, and the module's error."""
+    """diagnostics.csv: fractions per bin that add up; learning_speed.csv: a row per seed."""
     cfg = Config(experiment=ExperimentConfig(n_steps=1200, n_seeds=2, bin_steps=400,
                                              n_ceiling_trials=50, conditions=(
         ConditionConfig(name="one", n_objects=1), ConditionConfig(name="five", n_objects=5))))
@@ -103,6 +103,10 @@ def test_a_run_folder_explains_itself_bin_by_bin(tmp_path):
     assert len(cell["lm_error_deg"]) == 3
     seeds = read_csv(result.out / "diagnostics_seeds.csv")
     assert (result.out / "diagnostics_seeds.png").exists()
+    speed = read_csv(result.out / "learning_speed.csv")  # each seed's speed and final
+    assert [(r[0], int(r[2])) for r in speed.rows] == [(c, i) for c in ("one", "five")
+                                                       for i in (0, 1)]
+    assert (result.out / "learning_speed.png").exists()
     assert [(r[0], int(r[1]), int(r[3])) for r in seeds.rows] == [
         (c, i, t) for c in ("one", "five") for i in (0, 1) for t in (400, 800, 1200)]
     by_key = {(r[0], int(r[3])): [] for r in seeds.rows}

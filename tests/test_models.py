@@ -237,8 +237,7 @@ def test_claim_horizontal_before_vertical(factor, holds):
 
 
 def test_engine_auto_compiles_what_it_can():
-    """With engine "auto" the bootstrap family and the RL learner run compiled, the population
-    learner step by step; engine "compiled" refuses the population learner in one line."""
+    """Engine "auto" compiles the bootstrap family and RL, not the population learner."""
     from jointattention.experiment.cells import engine_of
 
     population = {"learner": "population", "vf_fallback": "sweep"}

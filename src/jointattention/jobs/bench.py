@@ -128,8 +128,9 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     The quick preset's 5-object sigmoid cell (whose gate goes from the visual controller to the
     learning module) in both engines, and its first ``rendered_steps`` steps in rendered mode
     (MuJoCo render + OpenCV detection each step); the beyond preset's 5-object memory cell at
-    the paper's scale (its recall grows with the trials kept); the models preset's 5-object
-    reinforcement learner (python engine) for 1e5 steps. Then one compiled step's time
+    the paper's scale (its recall grows with the distinct faces kept); the models preset's
+    5-object reinforcement learner (compiled) for 1e5 steps; the population learner (python
+    engine) for 1e5 steps. Then one compiled step's time
     against its bound: one forward and backward pass of the learning module alone, in compiled
     code.
     """
@@ -156,7 +157,7 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
             ("agent steps, rendered mode + OpenCV, learning (same cell)", rendered, "steps/s"),
             ("agent steps, compiled engine, memory learner (beyond memory-n5)", memory,
              "steps/s"),
-            ("agent steps, python engine, RL learner (models rl-n5, 1e5 steps)", rl, "steps/s"),
+            ("agent steps, compiled engine, RL learner (models rl-n5, 1e5 steps)", rl, "steps/s"),
             ("agent steps, python engine, population learner (quick n5, 1e5 steps)", population,
              "steps/s"),
             ("compiled / python engine", compiled / python, "x"),

@@ -28,6 +28,7 @@ from ..analysis.diagnostics import (
     seeds_table,
 )
 from ..analysis.held_out import held_out_claims, held_out_curves, held_out_table
+from ..analysis.learning_speed import learning_speed_table
 from ..config import Config, check_config
 from ..deploy.saved import check_savable
 from ..errors import JointAttentionError
@@ -175,7 +176,9 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     ``claims.csv``/``.md``, one row per reading (``readings.csv``/``.md``), the diagnostics per
     learning-time bin
     (``diagnostics.csv``/``.md``/``.png``; per seed ``diagnostics_seeds.csv``/``.png``,
-    :mod:`jointattention.analysis.diagnostics`), and
+    :mod:`jointattention.analysis.diagnostics`), each seed's final success and steps to 90% of
+    it (``learning_speed.csv``/``.md``/``.png``, :mod:`jointattention.analysis.learning_speed`),
+    and
     what the models carry over to held-out data sets (``held_out_ceilings.json``,
     ``held_out.csv``/``.md``/``.png``, :mod:`jointattention.analysis.held_out`).
     ``progress`` hears the runner's messages (see
@@ -185,6 +188,7 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     """
     from ..figures.diagnostics import diagnostics_figure, seeds_figure  # matplotlib: drawn
     from ..figures.held_out import held_out_figure
+    from ..figures.learning_speed import learning_speed_figure
     from ..figures.paper import write_figures
 
     out = Path(check_path(out, "out"))
@@ -206,6 +210,7 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
         claims += held_out_claims(config, held, held_ceilings)
         seeds = seed_diagnostics(out, config, curves)
         diagnostics = condition_diagnostics(out, config, seeds)
+        speed = learning_speed_table(config, curves, ceilings)
         files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
                  *final_table(config, curves, ceilings, held, held_ceilings).write(out / "table"),
                  *claims_table(claims).write(out / "claims"),
@@ -213,7 +218,9 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
                  *diagnostics_table(diagnostics).write(out / "diagnostics"),
                  diagnostics_figure(diagnostics, out / "diagnostics.png"),
                  write_text(out / "diagnostics_seeds.csv", seeds_table(seeds).to_csv()),
-                 seeds_figure(seeds, out / "diagnostics_seeds.png")]
+                 seeds_figure(seeds, out / "diagnostics_seeds.png"),
+                 *speed.write(out / "learning_speed"),
+                 learning_speed_figure(speed, out / "learning_speed.png")]
         if held:
             files += [*held_out_table(config, held, held_ceilings).write(out / "held_out"),
                       held_out_figure(config, held, held_ceilings, out / "held_out.png")]

@@ -1,0 +1,46 @@
+"""Each seed's learning speed beside its final success: the table, the target, the figure."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from jointattention.analysis.learning_speed import learning_speed_table, speed_points
+from jointattention.config import ConditionConfig, Config, ExperimentConfig
+
+CONFIG = Config(experiment=ExperimentConfig(
+    n_steps=100_000, n_seeds=2, bin_steps=10_000, conditions=(
+        ConditionConfig(name="fast", n_objects=5), ConditionConfig(name="flat", n_objects=5))))
+ENDS = CONFIG.experiment.bin_ends_steps()
+
+
+def _curves():
+    fast = np.array([[0.2, 0.85, *[0.9] * 8], [0.2, 0.5, 0.6, 0.7, 0.8, 0.85, *[0.9] * 4]])
+    flat = np.zeros((2, 10))  # never above 0: its "90% of final" is reached at once
+    flat[1, 3] = np.nan  # a bin without trials is skipped, not fatal
+    return {"fast": (ENDS, fast), "flat": (ENDS, flat)}
+
+
+def test_each_seed_gets_its_own_steps_to_90pct_and_final():
+    """Per seed: the first bin end at 90% of that seed's final, and the final over the ceiling."""
+    table = learning_speed_table(CONFIG, _curves(), {"5": 0.9})
+    rows = {(r[0], r[2]): r for r in table.rows}
+    assert rows[("fast", 0)][5] == 20_000 and rows[("fast", 1)][5] == 60_000
+    assert rows[("fast", 0)][4] == 1.0 and rows[("flat", 0)][4] == 0.0
+    assert rows[("fast", 0)][6] is True  # 2x10^4 steps and the whole ceiling
+    assert rows[("fast", 1)][6] is False  # 6x10^4 steps: too slow
+    assert rows[("flat", 0)][6] is False  # fast to nothing: below 0.95 of the ceiling
+
+
+def test_the_figures_points_are_the_tables_rows(tmp_path):
+    """speed_points reads the table back per condition; the figure is written."""
+    from jointattention.figures.learning_speed import learning_speed_figure
+
+    table = learning_speed_table(CONFIG, _curves(), {"5": 0.9})
+    points = speed_points(table)
+    assert sorted(points) == ["fast", "flat"]
+    assert np.array_equal(points["fast"], [[20_000, 1.0], [60_000, 1.0]])
+    path = learning_speed_figure(table, tmp_path / "speed.png")
+    assert path.stat().st_size > 1000
+    assert not math.isnan(points["flat"][0, 0])
