@@ -219,7 +219,8 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         elif learns:
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])
-            x_full[:n_pix] = face_x
+            for i in range(n_pix):  # element by element: numba compiles no shape check
+                x_full[i] = face_x[i]
             for _ in range(robot.n_passes):
                 for s in range(n_steps):
                     if keep[s]:
