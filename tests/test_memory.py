@@ -125,7 +125,7 @@ def test_the_old_agent_classes_build_the_composed_agent_with_a_warning():
 @given(values=st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=60), data=st.data())
 def test_weighted_kth_is_numpys_partition_of_the_repeated_values(values, data):
     """The recall's selection over distinct codes is np.partition's over every trial."""
-    from jointattention.agent.memory import weighted_kth
+    from jointattention.agent._recall import weighted_kth
 
     a = np.array(values)
     w = np.array(data.draw(st.lists(st.integers(0, 5), min_size=len(a), max_size=len(a))))
@@ -170,3 +170,18 @@ def test_recall_over_distinct_codes_is_the_recall_over_every_trial(faces, capaci
         ref_aim, ref_support = _recall_of_every_trial(memory, memory.code(query))
         assert np.allclose(aim, ref_aim, rtol=0, atol=1e-12)
         assert support == pytest.approx(ref_support, abs=1e-12)
+
+
+@given(n=st.integers(32, 400), spread=st.floats(0.001, 1.0), seed=st.integers(0, 2**16))
+def test_the_counted_votes_of_a_face_seen_often_are_the_scan_over_every_trial(n, spread, seed):
+    """A face's own trials (weight 1) are counted by strips of pan: the same recall as a scan."""
+    rng = np.random.default_rng(seed)
+    windows = rng.uniform(0, 255, (2, 12))
+    memory = _memory(capacity=500, k_nearest=16)
+    faces = np.r_[np.zeros(n, int), np.ones(20, int)]
+    places = np.array([0.2, -0.1]) + rng.uniform(-spread, spread, (len(faces), 2))
+    memory.partial_fit(windows[faces], places)
+    aim, support = memory.recall(memory.code(windows[0]))
+    ref_aim, ref_support = _recall_of_every_trial(memory, memory.code(windows[0]))
+    assert np.array_equal(aim, ref_aim) or np.allclose(aim, ref_aim, rtol=0, atol=1e-12)
+    assert support == pytest.approx(ref_support, abs=1e-12)

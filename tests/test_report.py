@@ -36,10 +36,10 @@ def test_report_holds_everything_inline(run):
     the versions.
     """
     page = write_report(run).read_text()
-    assert page.count('src="data:image/png;base64,') == len(list(run.glob("*.png"))) == 6
+    assert page.count('src="data:image/png;base64,') == len(list(run.glob("*.png"))) == 7
     assert "Generalisation: training sets, new poses, unseen caregivers" in page
     assert "Diagnostics per learning-time bin" in page and "Why a seed fails" in page
-    assert "One row per reading" in page
+    assert "One row per reading" in page and "Learning speed" in page
     assert "The paper&#x27;s claims, checked" in page and "n5-sigmoid" in page
     assert "n_steps = 300" in page and "mujoco" in page
     assert not re.search(r'(src|href)="(https?:)?//', page)  # readable offline

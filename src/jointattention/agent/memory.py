@@ -24,9 +24,9 @@ import numpy as np
 from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
+from ._recall import votes_into, weighted_kth
 
-__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "memory_recall", "memory_store",
-           "weighted_kth"]
+__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "memory_recall", "memory_store"]
 
 
 @dataclass(frozen=True)
@@ -122,42 +122,6 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, code_of, aims, 
 
 
 @jit
-def weighted_kth(values, weights, k: int) -> float:
-    """The k-th smallest (k >= 1) of ``values`` each repeated ``weights`` times.
-
-    ``np.partition(np.repeat(values, weights), k - 1)[k - 1]``, by a three-way quickselect
-    on the distinct values (``weights`` >= 0 sum to at least ``k``).
-    """
-    a, w = values.copy(), weights.copy()
-    lo, hi = 0, len(a)
-    while True:
-        pivot = a[(lo + hi) // 2]
-        lt, i, gt = lo, lo, hi
-        while i < gt:  # a[lo:lt] < pivot, a[lt:i] == pivot, a[gt:hi] > pivot
-            if a[i] < pivot:
-                a[i], a[lt], w[i], w[lt] = a[lt], a[i], w[lt], w[i]
-                lt += 1
-                i += 1
-            elif a[i] > pivot:
-                gt -= 1
-                a[i], a[gt], w[i], w[gt] = a[gt], a[i], w[gt], w[i]
-            else:
-                i += 1
-        below = equal = 0
-        for j in range(lo, lt):
-            below += w[j]
-        for j in range(lt, gt):
-            equal += w[j]
-        if k <= below:
-            hi = lt
-        elif k <= below + equal:
-            return pivot
-        else:
-            k -= below + equal
-            lo = gt
-
-
-@jit
 def memory_recall(code, codes, counts, code_of, aims, base, n_stored, n_codes, lo_rad,
                   cell_rad, k_nearest, radius_rad, out) -> float:
     """The place recalled for a face code, into ``out``; returns its support (-1: no memory).
@@ -181,8 +145,8 @@ def memory_recall(code, codes, counts, code_of, aims, base, n_stored, n_codes, l
         d2u[u] = s
     d2_k = weighted_kth(d2u, counts[:n_codes], min(k_nearest, n))
     n_near = 0
-    for i in range(n):
-        n_near += d2u[code_of[i]] <= d2_k
+    for u in range(n_codes):
+        n_near += counts[u] if d2u[u] <= d2_k else 0
     near, d2 = np.empty(n_near, np.int64), np.empty(n_near)
     n_near = 0
     for i in range(n):  # in slot order, as the votes and their sums go
@@ -191,25 +155,22 @@ def memory_recall(code, codes, counts, code_of, aims, base, n_stored, n_codes, l
             n_near += 1
     weight = np.exp(-d2 / max(d2_k, 1e-300))
     total, r2 = weight.sum(), radius_rad * radius_rad
+    votes = np.empty(n_near)
+    votes_into(near, weight, aims, radius_rad, votes)
     best, best_a = -np.inf, 0
-    for a in range(len(near)):
-        pa, ta = aims[near[a], 0], aims[near[a], 1]
-        votes = 0.0
-        for b in range(len(near)):
-            if (aims[near[b], 0] - pa) ** 2 + (aims[near[b], 1] - ta) ** 2 < r2:
-                votes += weight[b]
-        ci, cj = _cell_of(pa, ta, lo_rad, cell_rad, base.shape)
-        excess = votes - total * base[ci, cj] / n
+    for a in range(n_near):
+        ci, cj = _cell_of(aims[near[a], 0], aims[near[a], 1], lo_rad, cell_rad, base.shape)
+        excess = votes[a] - total * base[ci, cj] / n
         if excess > best:  # the first of equal votes
             best, best_a = excess, a
     pa, ta = aims[near[best_a], 0], aims[near[best_a], 1]
-    s0 = s1 = votes = 0.0
-    for b in range(len(near)):
+    s0 = s1 = kept = 0.0
+    for b in range(n_near):
         if (aims[near[b], 0] - pa) ** 2 + (aims[near[b], 1] - ta) ** 2 < r2:
             s0 += weight[b] * aims[near[b], 0]
             s1 += weight[b] * aims[near[b], 1]
-            votes += weight[b]
-    out[0], out[1] = s0 / votes, s1 / votes
+            kept += weight[b]
+    out[0], out[1] = s0 / kept, s1 / kept
     return best / total
 
 

@@ -35,11 +35,15 @@ _FIGURES = {
     "held_out.png": "Generalisation: each condition's model, frozen, on its training sets, new "
                     "poses of its caregivers and caregivers it never saw, as fractions of each "
                     "set's ceiling, against learning time (held_out.csv).",
+    "learning_speed.png": "Learning fast against learning well: each seed's final success over "
+                          "the ceiling against the learning time to 90% of it "
+                          "(learning_speed.csv).",
 }
 _CONFIG = "a run's configuration (TOML)"
 _TABLES = {"claims": "The paper's claims, checked", "table": "Final success per condition",
            "readings": "One row per reading, ranked by the rule (docs/readings.md)",
            "held_out": "Generalisation: training sets, new poses, unseen caregivers (frozen)",
+           "learning_speed": "Learning speed: each seed's steps to 90% of its final success",
            "summary": "Sweep summary"}
 _STYLE = """
 body { font-family: sans-serif; max-width: 70em; margin: 2em auto; padding: 0 1em;

@@ -1,0 +1,97 @@
+"""The episodic memory's recall, its two costly parts (:func:`.memory.memory_recall`).
+
+Which trials are near a face (:func:`weighted_kth` over the distinct face codes), and how many
+near places agree with each (:func:`votes_into`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import jit
+
+__all__ = ["votes_into", "weighted_kth"]
+
+
+@jit
+def weighted_kth(values, weights, k: int) -> float:
+    """The k-th smallest (k >= 1) of ``values`` each repeated ``weights`` times.
+
+    ``np.partition(np.repeat(values, weights), k - 1)[k - 1]``, by a three-way quickselect
+    on the distinct values (``weights`` >= 0 sum to at least ``k``).
+    """
+    a, w = values.copy(), weights.copy()
+    lo, hi = 0, len(a)
+    while True:
+        pivot = a[(lo + hi) // 2]
+        lt, i, gt = lo, lo, hi
+        while i < gt:  # a[lo:lt] < pivot, a[lt:i] == pivot, a[gt:hi] > pivot
+            if a[i] < pivot:
+                a[i], a[lt], w[i], w[lt] = a[lt], a[i], w[lt], w[i]
+                lt += 1
+                i += 1
+            elif a[i] > pivot:
+                gt -= 1
+                a[i], a[gt], w[i], w[gt] = a[gt], a[i], w[gt], w[i]
+            else:
+                i += 1
+        below = equal = 0
+        for j in range(lo, lt):
+            below += w[j]
+        for j in range(lt, gt):
+            equal += w[j]
+        if k <= below:
+            hi = lt
+        elif k <= below + equal:
+            return pivot
+        else:
+            k -= below + equal
+            lo = gt
+
+
+@jit
+def votes_into(near, weight, aims, radius_rad: float, votes) -> None:
+    """``votes[a]``: the weight of the near places within ``radius_rad`` of place ``a``.
+
+    Summed over the places in their order in ``near``. When every weight is 1 (the face's
+    own trials, at distance 0), the sum is a count, the same in any order: then only the
+    places in the neighbouring strips of pan are compared (a bucket sort by pan), not all
+    pairs.
+    """
+    n, r2 = len(near), radius_rad * radius_rad
+    ones = True
+    for b in range(n):
+        ones = ones and weight[b] == 1.0
+    if not ones or n < 32:
+        for a in range(n):
+            pa, ta = aims[near[a], 0], aims[near[a], 1]
+            v = 0.0
+            for b in range(n):
+                if (aims[near[b], 0] - pa) ** 2 + (aims[near[b], 1] - ta) ** 2 < r2:
+                    v += weight[b]
+            votes[a] = v
+        return
+    lo = hi = aims[near[0], 0]
+    for b in range(n):
+        lo, hi = min(lo, aims[near[b], 0]), max(hi, aims[near[b], 0])
+    width = radius_rad * (1.0 + 1e-9)  # a hair wider: two places closer than the radius are
+    n_strips = int((hi - lo) / width) + 1  # in the same or the next strip, rounding and all
+    start = np.zeros(n_strips + 1, np.int64)  # places of strip s: order[start[s]:start[s + 1]]
+    strip = np.empty(n, np.int64)
+    for b in range(n):
+        strip[b] = min(int((aims[near[b], 0] - lo) / width), n_strips - 1)
+        start[strip[b] + 1] += 1
+    for s in range(n_strips):
+        start[s + 1] += start[s]
+    order, filled = np.empty(n, np.int64), start[:-1].copy()
+    for b in range(n):
+        order[filled[strip[b]]] = b
+        filled[strip[b]] += 1
+    for a in range(n):
+        pa, ta = aims[near[a], 0], aims[near[a], 1]
+        count = 0
+        for s in range(max(strip[a] - 1, 0), min(strip[a] + 2, n_strips)):
+            for o in range(start[s], start[s + 1]):
+                b = near[order[o]]
+                count += (aims[b, 0] - pa) ** 2 + (aims[b, 1] - ta) ** 2 < r2
+        votes[a] = float(count)
