@@ -53,16 +53,17 @@ def weighted_kth(values, weights, k: int) -> float:
 def votes_into(near, weight, aims, radius_rad: float, votes) -> None:
     """``votes[a]``: the weight of the near places within ``radius_rad`` of place ``a``.
 
-    Summed over the places in their order in ``near``. When every weight is 1 (the face's
-    own trials, at distance 0), the sum is a count, the same in any order: then only the
-    places in the neighbouring strips of pan are compared (a bucket sort by pan), not all
-    pairs.
+    Summed over the places in their order in ``near``. When every weight is the same (the
+    trials of one face: its own, at weight 1, or the nearest face's), a sum of c of them is
+    the same whichever c they are: then the places within the radius are counted, comparing
+    only the places in the neighbouring strips of pan (a bucket sort by pan) instead of all
+    pairs, and the count looked up in the table of those sums.
     """
     n, r2 = len(near), radius_rad * radius_rad
-    ones = True
+    same = True
     for b in range(n):
-        ones = ones and weight[b] == 1.0
-    if not ones or n < 32:
+        same = same and weight[b] == weight[0]
+    if not same or n < 32:
         for a in range(n):
             pa, ta = aims[near[a], 0], aims[near[a], 1]
             v = 0.0
@@ -87,6 +88,10 @@ def votes_into(near, weight, aims, radius_rad: float, votes) -> None:
     for b in range(n):
         order[filled[strip[b]]] = b
         filled[strip[b]] += 1
+    sums = np.empty(n + 1)  # sums[c]: c of the weights added one by one
+    sums[0] = 0.0
+    for c in range(n):
+        sums[c + 1] = sums[c] + weight[0]
     for a in range(n):
         pa, ta = aims[near[a], 0], aims[near[a], 1]
         count = 0
@@ -94,4 +99,4 @@ def votes_into(near, weight, aims, radius_rad: float, votes) -> None:
             for o in range(start[s], start[s + 1]):
                 b = near[order[o]]
                 count += (aims[b, 0] - pa) ** 2 + (aims[b, 1] - ta) ** 2 < r2
-        votes[a] = float(count)
+        votes[a] = sums[count]

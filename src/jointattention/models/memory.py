@@ -14,11 +14,31 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.memory import EpisodicMemory
+from .._jit import jit
+from ..agent.memory import EpisodicMemory, face_code_into, memory_recall
 from ..agent.moves import random_step, unit_step
 from ..agent.protocol import Outcome
 
-__all__ = ["MemoryModule"]
+__all__ = ["MemoryModule", "recall_commands_into"]
+
+
+@jit
+def recall_commands_into(faces, thetas, projection, codes, counts, code_of, aims, base,
+                         n_stored, n_codes, lo_rad, cell_rad, k_nearest, radius_rad, step_rad,
+                         out) -> None:
+    """One step toward the place recalled for each face window (K, pixels), into ``out``.
+
+    From each head angle ``thetas`` (K, 2); no step for a face with no place recalled.
+    """
+    code, aim = np.empty(len(projection)), np.empty(2)
+    for r in range(len(faces)):
+        face_code_into(faces[r], projection, code)
+        if memory_recall(code, codes, counts, code_of, aims, base, n_stored, n_codes, lo_rad,
+                         cell_rad, k_nearest, radius_rad, aim) < 0:
+            out[r, 0], out[r, 1] = 0.0, 0.0
+        else:
+            out[r, 0], out[r, 1] = unit_step(aim[0] - thetas[r, 0], aim[1] - thetas[r, 1],
+                                             step_rad)
 
 
 class MemoryModule:
@@ -85,13 +105,16 @@ class MemoryModule:
 
     def command(self, face: np.ndarray, theta_rad: np.ndarray) -> np.ndarray:
         """The command for a checked flat face window and head angle (zero with no memory)."""
-        aim, _ = self.memory.recall(self.memory.code(face))
-        return self._toward(aim, theta_rad)
+        return self.commands(np.reshape(face, (1, -1)), np.reshape(theta_rad, (1, 2)))[0]
 
     def commands(self, faces: np.ndarray, thetas: np.ndarray) -> np.ndarray:
         """:meth:`command` for K checked flat face windows and head angles, (K, 2)."""
-        return np.array([self.command(f, t) for f, t in zip(faces, thetas, strict=True)]
-                        ).reshape(-1, 2)
+        m, out = self.memory, np.empty((len(faces), 2))
+        recall_commands_into(np.ascontiguousarray(faces, dtype=float),
+                             np.ascontiguousarray(thetas, dtype=float), m.projection,
+                             *m._kept(), m.lo_rad, m.cell_rad, m.options.k_nearest,
+                             m.radius_rad, self.host.step_rad, out)
+        return out
 
     def saved_arrays(self) -> dict[str, np.ndarray]:
         """Nothing: a memory is not saved in a model file."""
