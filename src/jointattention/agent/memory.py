@@ -220,11 +220,11 @@ class EpisodicMemory:
     def store(self, code: np.ndarray, aim_rad) -> None:
         """Keep one trial: the face's code and the place (pan, tilt) where it found an object."""
         code, aim_rad = floats("code", code, (len(self.projection),)), angles("aim_rad", aim_rad)
-        self.n_codes_ = memory_store(code, float(aim_rad[0]), float(aim_rad[1]), *self._kept(),
-                                     self.lo_rad, self.cell_rad)
+        self.n_codes_ = memory_store(code, float(aim_rad[0]), float(aim_rad[1]),
+                                     *self.kept_arrays(), self.lo_rad, self.cell_rad)
         self.n_stored_ += 1
 
-    def _kept(self) -> tuple:
+    def kept_arrays(self) -> tuple:
         """The kept trials as the kernels take them, with ``n_stored_`` and ``n_codes_``."""
         return (self.codes_, self.counts_, self.code_of_, self.aims_, self.base_,
                 self.n_stored_, self.n_codes_)
@@ -232,7 +232,7 @@ class EpisodicMemory:
     def recall(self, code: np.ndarray) -> tuple[np.ndarray | None, float]:
         """The place recalled for a face code and its support; (None, -1) with no memory."""
         code, out = floats("code", code, (len(self.projection),)), np.empty(2)
-        support = memory_recall(code, *self._kept(), self.lo_rad, self.cell_rad,
+        support = memory_recall(code, *self.kept_arrays(), self.lo_rad, self.cell_rad,
                                 self.options.k_nearest, self.radius_rad, out)
         return (None if support < 0 else out), support
 

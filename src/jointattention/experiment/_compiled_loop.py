@@ -13,16 +13,16 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..agent.attention import attended_index, interest_argmax, visual_feedback_rad
+from ..agent.attention import interest_argmax, visual_feedback_rad
 from ..agent.gates import CONSTANT, PERFORMANCE, agreement_update, performance_rate, sigmoid_rate
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
 from ..models.bootstrap import LEARNING_TARGETS
 from ..models.developmental import blur_into, blur_px, caregiver_update
-from ..world.fast import detect_into, draw_objects
-from ..world.kinematics import rotation_matrix, separation_rad
-from .trial import END_FIRED, RUNNING, end_after_look, move_head
+from ..world.kinematics import separation_rad
+from ._loop_steps import draw_trial, look, look_arrays
+from .trial import END_FIRED, RUNNING, move_head
 
 __all__ = ["COLUMNS", "run_trials"]
 
@@ -84,12 +84,10 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
     """
     n, n_pix = world.n_objects, world.faces.shape[1]
     n_hidden = len(state.b1)
-    w, h = world.width_px, world.height_px
-    cx, cy = (w - 1) / 2, (h - 1) / 2
+    cx, cy = (world.width_px - 1) / 2, (world.height_px - 1) / 2
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
-    uv, depth, area = np.empty((n, 2)), np.empty(n), np.empty(n)
-    centre, seen_area, seen_edge = np.empty((n, 2)), np.empty(n), np.empty(n)
-    ids, motion = np.empty(n, dtype=np.int64), np.zeros(n)
+    arrays = look_arrays(n)
+    centre, seen_area, seen_edge, motion = arrays[3], arrays[4], arrays[5], np.zeros(n)
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, x_full = np.empty(n_hidden), np.empty(2), np.empty(n_pix + 2)
     scaled, code, sweep = np.empty(2), np.empty(len(robot.projection)), (0.0, 0.0)
@@ -102,14 +100,10 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
     while (c[0] < until_steps or not robot.learning) and c[3] < max_trials:
         start = c[0]
         # the scene (cells.random_scene, FastScene.sample)
-        k = trials_rng.integers(0, len(world.faces))
-        target = draw_objects(trials_rng, world.target_m[k], world.face_m[k], world.face_radius_m,
-                              world.region, world.offset_m, world.limits_rad, obj_pos, obj_rad,
-                              edge)
+        k, target, shown = draw_trial(world, trials_rng, shuffle_rng, obj_pos, obj_rad, edge)
         if target < 0:
             return -1
-        face = world.faces[shuffle_rng.integers(0, len(world.faces))
-                           if world.shuffle_faces else k]
+        face = world.faces[shown]
         if robot.blur_start_px > 0:  # DevelopmentalAgent.see
             blur_into(face, robot.face_width_px, robot.face_height_px,
                       blur_px(robot.blur_start_px, robot.blur_sharp_steps, float(c[0])),
@@ -143,13 +137,9 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         last_module = -1
         limit_hit = False
         while True:
-            m = detect_into(obj_pos, obj_rad, edge, rotation_matrix(pan, tilt), world.offset_m,
-                            world.focal_px, w, h, uv, depth, area, centre, seen_area,
-                            seen_edge, ids)
-            seen = attended_index(centre[:m], cx, cy, robot.d_th_px)
-            end = end_after_look(seen, limit_hit, n_steps, robot.max_steps)
-            if end == END_FIRED:
-                attended = ids[seen]
+            m, seen, end, attended = look(world, obj_pos, obj_rad, edge, pan, tilt,
+                                          robot.d_th_px, limit_hit, n_steps, robot.max_steps,
+                                          arrays)
             if end != RUNNING:
                 break
             # the agent acts (BootstrapAgent.act)

@@ -13,14 +13,12 @@ from typing import NamedTuple
 import numpy as np
 
 from .._jit import jit
-from ..agent.attention import attended_index
 from ..agent.learner import standardise, welford_update
 from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
-from ..world.fast import detect_into, draw_objects
-from ..world.kinematics import rotation_matrix
-from .trial import END_FIRED, RUNNING, end_after_look, move_head
+from ._loop_steps import draw_trial, look, look_arrays
+from .trial import END_FIRED, RUNNING, move_head
 
-__all__ = ["RLRobot", "RLState", "run_rl_trials"]
+__all__ = ["NO_FACE_STATISTICS", "RLRobot", "RLState", "run_rl_trials"]
 
 NO_FACE_STATISTICS = -2  # run_rl_trials' answer for a frozen learner that has seen no face
 
@@ -67,12 +65,8 @@ def run_rl_trials(until_steps, max_trials, world, robot, state, trials_rng, shuf
     ``records`` take the compiled loop's columns (:data:`._compiled_loop.COLUMNS`).
     """
     n, n_pix = world.n_objects, world.faces.shape[1]
-    w, h = world.width_px, world.height_px
-    cx, cy = (w - 1) / 2, (h - 1) / 2
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
-    uv, depth, area = np.empty((n, 2)), np.empty(n), np.empty(n)
-    centre, seen_area, seen_edge = np.empty((n, 2)), np.empty(n), np.empty(n)
-    ids = np.empty(n, dtype=np.int64)
+    arrays = look_arrays(n)
     n_dir = len(robot.steps_rad)
     x, q, cdf = np.empty(n_pix), np.empty(n_dir), np.empty(n_dir)
     p_stay = np.empty(len(state.q_stay))
@@ -80,14 +74,10 @@ def run_rl_trials(until_steps, max_trials, world, robot, state, trials_rng, shuf
     while (c[0] < until_steps or not robot.learning) and c[2] < max_trials:
         start = c[0]
         # the scene (cells.random_scene, FastScene.sample)
-        k = trials_rng.integers(0, len(world.faces))
-        target = draw_objects(trials_rng, world.target_m[k], world.face_m[k], world.face_radius_m,
-                              world.region, world.offset_m, world.limits_rad, obj_pos, obj_rad,
-                              edge)
+        k, target, shown = draw_trial(world, trials_rng, shuffle_rng, obj_pos, obj_rad, edge)
         if target < 0:
             return -1
-        face = world.faces[shuffle_rng.integers(0, len(world.faces))
-                           if world.shuffle_faces else k]
+        face = world.faces[shown]
         # the agent begins (RLAgent.begin_trial)
         if robot.learning:
             c[1] += 1
@@ -103,13 +93,8 @@ def run_rl_trials(until_steps, max_trials, world, robot, state, trials_rng, shuf
         n_steps, n_lm, end, attended = 0, 0, -1, -1
         limit_hit = False
         while True:
-            m = detect_into(obj_pos, obj_rad, edge, rotation_matrix(pan, tilt), world.offset_m,
-                            world.focal_px, w, h, uv, depth, area, centre, seen_area,
-                            seen_edge, ids)
-            seen = attended_index(centre[:m], cx, cy, robot.d_th_px)
-            end = end_after_look(seen, limit_hit, n_steps, robot.max_steps)
-            if end == END_FIRED:
-                attended = ids[seen]
+            _, _, end, attended = look(world, obj_pos, obj_rad, edge, pan, tilt, robot.d_th_px,
+                                       limit_hit, n_steps, robot.max_steps, arrays)
             if end != RUNNING:
                 break
             # the agent acts (RLAgent.act)

@@ -11,8 +11,9 @@ order, so both give byte-identical cells (``tests/test_compiled.py``).
 
 It learns in place the arrays of a :class:`~jointattention.models.bootstrap.BootstrapAgent`,
 so the learned agent is the same object either way. It runs the bootstrap model (every gate,
-reading and learner), the teacher and the developmental model; anything else is refused
-(:func:`unsupported`).
+reading, the network and the memory), the teacher and the developmental model, and the
+reinforcement learner through :mod:`.compiled_rl` (:func:`compiled_cell` picks the loop);
+anything else is refused (:func:`unsupported`).
 """
 
 from __future__ import annotations
@@ -113,11 +114,11 @@ class CompiledCell:
         learner, faces = agent.learner, agent.faces
         if faces.n_seen_ == 0:
             faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
-        if memory is None:
-            ones = np.zeros(1, np.int64)
-            kept = (np.zeros((1, 1)), ones, ones, np.zeros((1, 2)), np.zeros((1, 1)), 0, 0)
+        if memory is None:  # stand-ins of the memory's arrays and counters
+            none = np.zeros(1, np.int64)
+            kept = (np.zeros((1, 1)), none, none, np.zeros((1, 2)), np.zeros((1, 1)), 0, 0)
         else:
-            kept = memory._kept()
+            kept = memory.kept_arrays()
         self._state = LoopState(
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
             faces.mean_, faces.m2_, *kept[:5],

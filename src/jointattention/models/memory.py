@@ -112,7 +112,7 @@ class MemoryModule:
         m, out = self.memory, np.empty((len(faces), 2))
         recall_commands_into(np.ascontiguousarray(faces, dtype=float),
                              np.ascontiguousarray(thetas, dtype=float), m.projection,
-                             *m._kept(), m.lo_rad, m.cell_rad, m.options.k_nearest,
+                             *m.kept_arrays(), m.lo_rad, m.cell_rad, m.options.k_nearest,
                              m.radius_rad, self.host.step_rad, out)
         return out
 

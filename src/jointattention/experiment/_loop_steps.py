@@ -1,0 +1,63 @@
+"""The parts of a trial that both compiled loops share: drawing the trial, and one look.
+
+:mod:`._compiled_loop` (the bootstrap family) and :mod:`._rl_loop` (the reinforcement
+learner) call them in the order of the step-by-step path's draws (:func:`~.cells.random_scene`,
+then :class:`~.trial.SceneTrial`'s looks).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import jit
+from ..agent.attention import attended_index
+from ..world.fast import detect_into, draw_objects
+from ..world.kinematics import rotation_matrix
+from .trial import END_FIRED, end_after_look
+
+__all__ = ["draw_trial", "look", "look_arrays"]
+
+
+@jit
+def look_arrays(n: int):
+    """A look's arrays for ``n`` objects: their projections and what the detector reports.
+
+    (uv, depth, area, centre, seen_area, seen_edge, ids); :func:`look` fills them.
+    """
+    return (np.empty((n, 2)), np.empty(n), np.empty(n), np.empty((n, 2)), np.empty(n),
+            np.empty(n), np.empty(n, dtype=np.int64))
+
+
+@jit
+def draw_trial(world, trials_rng, shuffle_rng, obj_pos, obj_rad, edge) -> tuple[int, int, int]:
+    """A trial's data set, objects and face: (data set k, the target, the face's data set).
+
+    The objects go into ``obj_pos``, ``obj_rad`` and ``edge``. The target is -1 if they
+    could not be placed (then no face is drawn).
+    """
+    k = trials_rng.integers(0, len(world.faces))
+    target = draw_objects(trials_rng, world.target_m[k], world.face_m[k], world.face_radius_m,
+                          world.region, world.offset_m, world.limits_rad, obj_pos, obj_rad, edge)
+    if target < 0:
+        return k, target, k
+    return k, target, shuffle_rng.integers(0, len(world.faces)) if world.shuffle_faces else k
+
+
+@jit
+def look(world, obj_pos, obj_rad, edge, pan, tilt, d_th_px, limit_hit, n_steps, max_steps,
+         arrays) -> tuple[int, int, int, int]:
+    """One look at head angle (pan, tilt): (detections, the centre's, the end, the attended).
+
+    The detections (how many) fill ``arrays`` (:func:`look_arrays`); the centre's is the
+    detection within ``d_th_px`` of the image centre (Eq. 3; -1 if none); the end is
+    :func:`~.trial.end_after_look`'s; the attended is the experimenter's id of the object the
+    evaluator fired on (-1 if it did not).
+    """
+    uv, depth, area, centre, seen_area, seen_edge, ids = arrays
+    m = detect_into(obj_pos, obj_rad, edge, rotation_matrix(pan, tilt), world.offset_m,
+                    world.focal_px, world.width_px, world.height_px, uv, depth, area, centre,
+                    seen_area, seen_edge, ids)
+    seen = attended_index(centre[:m], (world.width_px - 1) / 2, (world.height_px - 1) / 2,
+                          d_th_px)
+    end = end_after_look(seen, limit_hit, n_steps, max_steps)
+    return m, seen, end, ids[seen] if end == END_FIRED else -1
