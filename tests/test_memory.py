@@ -138,7 +138,7 @@ def test_weighted_kth_is_numpys_partition_of_the_repeated_values(values, data):
 def _recall_of_every_trial(memory, code):
     """The recall as it was before codes were kept once: distances to every kept trial."""
     n = min(memory.n_stored_, memory.options.capacity)
-    codes = memory.codes_[memory.code_of_[:n]]
+    codes = memory.codes_[memory.links_[0, :n]]
     aims = memory.aims_[:n]
     d2 = ((codes - code) ** 2).sum(axis=1)
     d2_k = np.partition(d2, min(memory.options.k_nearest, n) - 1)[
@@ -164,6 +164,13 @@ def test_recall_over_distinct_codes_is_the_recall_over_every_trial(faces, capaci
     memory.partial_fit(windows[faces], rng.uniform(-0.6, 0.5, (len(faces), 2)))
     kept = memory.counts_[: memory.n_codes_]
     assert kept.sum() == min(len(faces), capacity)
+    links, n = memory.links_, min(len(faces), capacity)
+    for u in range(memory.n_codes_):  # each code's list: its slots, in slot order
+        walked, slot = [], links[3, u]
+        while slot >= 0:
+            walked.append(slot)
+            slot = links[1, slot]
+        assert walked == list(np.flatnonzero(links[0, :n] == u)) if kept[u] else walked == []
     assert (kept > 0).sum() == len(set(faces[-capacity:]))  # one live code per distinct face
     for query in (windows[faces[-1]], windows[5] + 1.0):
         aim, support = memory.recall(memory.code(query))

@@ -1,7 +1,12 @@
-"""The episodic memory's recall, its two costly parts (:func:`.memory.memory_recall`).
+"""The episodic memory's recall, its costly parts (:func:`.memory.memory_recall`).
 
-Which trials are near a face (:func:`weighted_kth` over the distinct face codes), and how many
-near places agree with each (:func:`votes_into`).
+Which trials are near a face (:func:`weighted_kth` over the distinct face codes, then
+:func:`near_slots` from each code's list of trials), and how many near places agree with each
+(:func:`votes_into`). The lists (``links``, one row each): ``CODE_OF[slot]``, the slot's code;
+``NEXT``/``PREV[slot]``, the code's next and previous slot in slot order (-1: none);
+``HEAD[u]``, code u's first slot; ``LAST[u]``, its slot written last in this lap of the
+ring (-1: none yet). The ring writes slots in increasing order, so a new slot of u goes right
+after ``LAST[u]``: before it, u's slots of this lap; after it, those of the last lap.
 """
 
 from __future__ import annotations
@@ -10,7 +15,80 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["votes_into", "weighted_kth"]
+__all__ = ["CODE_OF", "link", "near_slots", "new_lap", "no_links", "unlink", "votes_into",
+           "weighted_kth"]
+
+CODE_OF, NEXT, PREV, HEAD, LAST = range(5)  # the rows of links
+
+
+def no_links(capacity: int) -> np.ndarray:
+    """The lists of an empty memory of ``capacity`` slots."""
+    links = np.full((5, capacity), -1, np.int64)
+    links[CODE_OF] = 0
+    return links
+
+
+@jit
+def link(links, slot: int, u: int) -> None:
+    """Put ``slot`` in code ``u``'s list, in slot order (see the module)."""
+    links[CODE_OF, slot] = u
+    p = links[LAST, u]
+    if p < 0:
+        q = links[HEAD, u]
+        links[HEAD, u] = slot
+    else:
+        q = links[NEXT, p]
+        links[NEXT, p] = slot
+    links[PREV, slot], links[NEXT, slot] = p, q
+    if q >= 0:
+        links[PREV, q] = slot
+    links[LAST, u] = slot
+
+
+@jit
+def unlink(links, slot: int) -> None:
+    """Take ``slot`` out of its code's list."""
+    u, p, q = links[CODE_OF, slot], links[PREV, slot], links[NEXT, slot]
+    if p < 0:
+        links[HEAD, u] = q
+    else:
+        links[NEXT, p] = q
+    if q >= 0:
+        links[PREV, q] = p
+
+
+@jit
+def new_lap(links, n_codes: int) -> None:
+    """The ring starts again at slot 0: no code has a slot of this lap yet."""
+    for u in range(n_codes):
+        links[LAST, u] = -1
+
+
+@jit
+def near_slots(links, counts, d2u, d2_k: float, n_codes: int):
+    """The slots of every code within ``d2_k`` (squared distances ``d2u``), in slot order.
+
+    Each code's list is in slot order; several are merged.
+    """
+    n_near = n_lists = 0
+    for u in range(n_codes):
+        if d2u[u] <= d2_k and counts[u] > 0:
+            n_near += counts[u]
+            n_lists += 1
+    near, at = np.empty(n_near, np.int64), np.empty(n_lists, np.int64)
+    n_lists = 0
+    for u in range(n_codes):
+        if d2u[u] <= d2_k and counts[u] > 0:
+            at[n_lists] = links[HEAD, u]
+            n_lists += 1
+    for i in range(n_near):
+        best = -1
+        for j in range(n_lists):
+            if at[j] >= 0 and (best < 0 or at[j] < at[best]):
+                best = j
+        near[i] = at[best]
+        at[best] = links[NEXT, at[best]]
+    return near
 
 
 @jit

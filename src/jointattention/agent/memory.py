@@ -24,9 +24,10 @@ import numpy as np
 from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
-from ._recall import votes_into, weighted_kth
+from ._recall import CODE_OF, link, near_slots, new_lap, no_links, unlink, votes_into, weighted_kth
 
-__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "memory_recall", "memory_store"]
+__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "memory_recall", "memory_store",
+           "no_links"]
 
 
 @dataclass(frozen=True)
@@ -87,19 +88,23 @@ def _same(a, b) -> bool:
 
 
 @jit
-def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, code_of, aims, base, n_stored,
+def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, base, n_stored,
                  n_codes, lo_rad, cell_rad) -> int:
     """Keep a trial (face code, place) in slot ``n_stored % capacity``, forgetting its last.
 
-    Equal face codes are kept once (``codes[u]``, with ``counts[u]`` trials; ``code_of`` is
-    each slot's), so that a recall measures each distinct face once: with the data sets' faces
-    a few hundred codes, not every kept trial. ``base`` counts, per grid cell, the kept places
-    within the voting radius: the base rate. Returns the rows of ``codes`` in use.
+    Equal face codes are kept once (``codes[u]``, with ``counts[u]`` trials), so that a recall
+    measures each distinct face once: with the data sets' faces a few hundred codes, not every
+    kept trial. ``links`` holds each slot's code and each code's slots in slot order
+    (:mod:`._recall`). ``base`` counts, per grid cell, the kept places within the voting
+    radius: the base rate. Returns the rows of ``codes`` in use.
     """
-    slot = n_stored % len(aims)
+    slot, code_of = n_stored % len(aims), links[CODE_OF]
     if n_stored >= len(aims):
         _count_around(aims[slot, 0], aims[slot, 1], base, lo_rad, cell_rad, -1.0)
         counts[code_of[slot]] -= 1
+        unlink(links, slot)
+    if slot == 0:
+        new_lap(links, n_codes)
     u = code_of[slot - 1] if n_stored > 0 else 0  # a trial's places share its face
     if not (n_stored > 0 and counts[u] > 0 and _same(codes[u], code)):
         u, free = -1, -1
@@ -115,14 +120,14 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, code_of, aims, 
             for j in range(len(code)):
                 codes[u, j] = code[j]
     counts[u] += 1
-    code_of[slot] = u
+    link(links, slot, u)
     aims[slot, 0], aims[slot, 1] = aim_pan_rad, aim_tilt_rad
     _count_around(aim_pan_rad, aim_tilt_rad, base, lo_rad, cell_rad, 1.0)
     return n_codes
 
 
 @jit
-def memory_recall(code, codes, counts, code_of, aims, base, n_stored, n_codes, lo_rad,
+def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_rad,
                   cell_rad, k_nearest, radius_rad, out) -> float:
     """The place recalled for a face code, into ``out``; returns its support (-1: no memory).
 
@@ -144,15 +149,11 @@ def memory_recall(code, codes, counts, code_of, aims, base, n_stored, n_codes, l
             s += (codes[u, j] - code[j]) ** 2
         d2u[u] = s
     d2_k = weighted_kth(d2u, counts[:n_codes], min(k_nearest, n))
-    n_near = 0
-    for u in range(n_codes):
-        n_near += counts[u] if d2u[u] <= d2_k else 0
-    near, d2 = np.empty(n_near, np.int64), np.empty(n_near)
-    n_near = 0
-    for i in range(n):  # in slot order, as the votes and their sums go
-        if d2u[code_of[i]] <= d2_k:
-            near[n_near], d2[n_near] = i, d2u[code_of[i]]
-            n_near += 1
+    near = near_slots(links, counts, d2u, d2_k, n_codes)  # in slot order, as the sums go
+    n_near = len(near)
+    d2 = np.empty(n_near)
+    for b in range(n_near):
+        d2[b] = d2u[links[CODE_OF, near[b]]]
     weight = np.exp(-d2 / max(d2_k, 1e-300))
     total, r2 = weight.sum(), radius_rad * radius_rad
     votes = np.empty(n_near)
@@ -185,9 +186,9 @@ class EpisodicMemory:
         rng: draws the face code's projection.
 
     Learned state: ``aims_`` (the kept trials' places), ``codes_`` (their distinct face codes,
-    the first ``n_codes_`` rows), ``counts_`` (trials per code), ``code_of_`` (each trial's
-    code), ``base_`` (the base-rate grid), ``n_stored_`` (trials kept so far, forgotten ones
-    included).
+    the first ``n_codes_`` rows), ``counts_`` (trials per code), ``links_`` (each trial's code,
+    and each code's trials in slot order: :mod:`._recall`), ``base_`` (the base-rate grid),
+    ``n_stored_`` (trials kept so far, forgotten ones included).
     """
 
     def __init__(self, n_in: int, options: MemoryOptions, limits_rad, rng: np.random.Generator):
@@ -200,7 +201,7 @@ class EpisodicMemory:
         shape = np.ceil((limits[:, 1] + 0.2 - self.lo_rad) / self.cell_rad).astype(int) + 1
         self.codes_ = np.zeros((options.capacity, options.code_dims))
         self.counts_ = np.zeros(options.capacity, np.int64)
-        self.code_of_ = np.zeros(options.capacity, np.int64)
+        self.links_ = no_links(options.capacity)
         self.aims_ = np.zeros((options.capacity, 2))
         self.base_ = np.zeros(tuple(shape))
         self.n_stored_ = self.n_codes_ = 0
@@ -226,7 +227,7 @@ class EpisodicMemory:
 
     def kept_arrays(self) -> tuple:
         """The kept trials as the kernels take them, with ``n_stored_`` and ``n_codes_``."""
-        return (self.codes_, self.counts_, self.code_of_, self.aims_, self.base_,
+        return (self.codes_, self.counts_, self.links_, self.aims_, self.base_,
                 self.n_stored_, self.n_codes_)
 
     def recall(self, code: np.ndarray) -> tuple[np.ndarray | None, float]:

@@ -65,7 +65,7 @@ def _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc, scaled, hid,
 @jit
 def _keep(code, pan, tilt, robot, state, c) -> int:
     """:func:`~jointattention.agent.memory.memory_store` of a place; the codes in use."""
-    n_codes = memory_store(code, pan, tilt, state.codes, state.counts, state.code_of,
+    n_codes = memory_store(code, pan, tilt, state.codes, state.counts, state.links,
                            state.aims, state.base, c[4], c[5], robot.memory_lo_rad,
                            robot.memory_cell_rad)
     c[4] += 1
@@ -113,7 +113,7 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         recalled = False
         if robot.memory:
             face_code_into(face, robot.projection, code)
-            recalled = memory_recall(code, state.codes, state.counts, state.code_of, state.aims,
+            recalled = memory_recall(code, state.codes, state.counts, state.links, state.aims,
                                      state.base, c[4], c[5], robot.memory_lo_rad,
                                      robot.memory_cell_rad, robot.memory_k,
                                      robot.memory_radius_rad, aim) >= 0

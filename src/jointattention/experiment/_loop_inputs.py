@@ -94,7 +94,7 @@ class LoopState(NamedTuple):
     m2: np.ndarray
     codes: np.ndarray  # the memory's kept trials (stand-ins for back-propagation)
     counts: np.ndarray
-    code_of: np.ndarray
+    links: np.ndarray  # the memory's lists (agent/_recall.py)
     aims: np.ndarray
     base: np.ndarray
     counters: np.ndarray  # learning time, faces seen, updates, records, trials kept, codes

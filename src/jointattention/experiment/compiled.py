@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..agent.memory import no_links
 from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
@@ -115,8 +116,8 @@ class CompiledCell:
         if faces.n_seen_ == 0:
             faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
         if memory is None:  # stand-ins of the memory's arrays and counters
-            none = np.zeros(1, np.int64)
-            kept = (np.zeros((1, 1)), none, none, np.zeros((1, 2)), np.zeros((1, 1)), 0, 0)
+            kept = (np.zeros((1, 1)), np.zeros(1, np.int64), no_links(1), np.zeros((1, 2)),
+                    np.zeros((1, 1)), 0, 0)
         else:
             kept = memory.kept_arrays()
         self._state = LoopState(

@@ -23,7 +23,7 @@ __all__ = ["MemoryModule", "recall_commands_into"]
 
 
 @jit
-def recall_commands_into(faces, thetas, projection, codes, counts, code_of, aims, base,
+def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, base,
                          n_stored, n_codes, lo_rad, cell_rad, k_nearest, radius_rad, step_rad,
                          out) -> None:
     """One step toward the place recalled for each face window (K, pixels), into ``out``.
@@ -33,7 +33,7 @@ def recall_commands_into(faces, thetas, projection, codes, counts, code_of, aims
     code, aim = np.empty(len(projection)), np.empty(2)
     for r in range(len(faces)):
         face_code_into(faces[r], projection, code)
-        if memory_recall(code, codes, counts, code_of, aims, base, n_stored, n_codes, lo_rad,
+        if memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_rad,
                          cell_rad, k_nearest, radius_rad, aim) < 0:
             out[r, 0], out[r, 1] = 0.0, 0.0
         else:
