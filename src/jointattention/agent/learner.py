@@ -19,8 +19,11 @@ from .._arrays import rows
 from .._jit import jit
 from ..errors import ArgumentError
 
-__all__ = ["FaceStandardiser", "LearningModule", "accumulate", "forward", "sgd_update",
-           "standardise", "welford_update"]
+__all__ = ["NO_FACE_SEEN", "FaceStandardiser", "LearningModule", "accumulate", "forward",
+           "sgd_update", "standardise", "welford_update"]
+
+# transform's error before any face (the compiled loops raise it too)
+NO_FACE_SEEN = "faces: the standardiser has seen no face; expected partial_fit before transform"
 
 
 @jit
@@ -126,13 +129,21 @@ class FaceStandardiser:
     def transform(self, faces: np.ndarray) -> np.ndarray:
         """The faces standardised: minus the mean, over the s.d. (at least ``min_std``)."""
         if not self.n_seen_:
-            raise ArgumentError("faces: the standardiser has seen no face; expected "
-                                "partial_fit before transform")
+            raise ArgumentError(NO_FACE_SEEN)
         x = rows("faces", faces, len(self.mean_))
         out = np.empty_like(x)
         for row, o in zip(x, out, strict=True):
             standardise(row, self.mean_, self.m2_, self.n_seen_, float(self.min_std), o)
         return out if np.ndim(faces) == 2 else out[0]
+
+    def statistics(self, n_pixels: int) -> tuple[np.ndarray, np.ndarray]:
+        """``mean_`` and ``m2_``, which the compiled loops update in place.
+
+        Zeros of ``n_pixels`` before the first face.
+        """
+        if self.n_seen_ == 0:
+            self.mean_, self.m2_ = np.zeros(n_pixels), np.zeros(n_pixels)
+        return self.mean_, self.m2_
 
 
 class LearningModule:

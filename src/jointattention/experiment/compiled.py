@@ -113,8 +113,6 @@ class CompiledCell:
             *_memory_inputs(memory, world.faces.shape[1]),
             *opts.caregiver_inputs(agent.body.face_size_px), bool(agent.learning))
         learner, faces = agent.learner, agent.faces
-        if faces.n_seen_ == 0:
-            faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
         if memory is None:  # stand-ins of the memory's arrays and counters
             kept = (np.zeros((1, 1)), np.zeros(1, np.int64), no_links(1), np.zeros((1, 2)),
                     np.zeros((1, 1)), 0, 0)
@@ -122,7 +120,7 @@ class CompiledCell:
             kept = memory.kept_arrays()
         self._state = LoopState(
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
-            faces.mean_, faces.m2_, *kept[:5],
+            *faces.statistics(world.faces.shape[1]), *kept[:5],
             np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0,
                       *kept[5:]]),
             np.array([agent.agreement_]),

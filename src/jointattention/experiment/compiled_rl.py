@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..agent.learner import NO_FACE_SEEN
 from ..errors import ArgumentError
 from ..models.rl import RLAgent
 from ._compiled_loop import COLUMNS
@@ -36,8 +37,6 @@ class RLCell:
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
         o, faces = agent.options, agent.faces
-        if faces.n_seen_ == 0:
-            faces.mean_, faces.m2_ = np.zeros(world.faces.shape[1]), np.zeros(world.faces.shape[1])
         self._robot = RLRobot(
             float(agent.mechanisms.d_th_px(world.width_px)), int(agent.mechanisms.max_steps),
             np.ascontiguousarray(agent.steps_rad), float(faces.min_std), float(o.temperature),
@@ -47,7 +46,7 @@ class RLCell:
             agent.lo_rad, float(agent.cell_rad),
             bool(agent.learning))
         self._state = RLState(agent.W_, agent.b_, agent.q_stay_, agent.place_habituation_,
-                              faces.mean_, faces.m2_,
+                              *faces.statistics(world.faces.shape[1]),
                               np.array([agent.learning_time_steps, faces.n_seen_, 0]))
         self._records = np.zeros((len(COLUMNS), max_trials), dtype=np.int64)
 
@@ -57,8 +56,7 @@ class RLCell:
                                     self._robot, self._state, self._trials, self._shuffle,
                                     self.agent.choice_rng, self._records), self._world)
         if code == NO_FACE_STATISTICS:
-            raise ArgumentError("faces: the standardiser has seen no face; expected "
-                                "partial_fit before transform")
+            raise ArgumentError(NO_FACE_SEEN)
         c = self._state.counters
         self.agent.learning_time_steps, self.agent.faces.n_seen_ = int(c[0]), int(c[1])
 
