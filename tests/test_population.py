@@ -180,3 +180,49 @@ class _Wrapped:
 
 def _as_python(agent):
     return _Wrapped(agent)
+
+
+@pytest.mark.parametrize("readout", ["excess", "ratio", "mode"])
+@pytest.mark.parametrize("standardise", [False, True])
+def test_batched_commands_are_the_trial_s_readout(readout, standardise):
+    """The batched commands (probes) are each face's own readout at the start of a trial."""
+    agent = _agent(readout=readout, standardise=standardise, n_hidden=16)
+    module, ds = agent.module, default_datasets()
+    faces = ds.face[:40].reshape(40, -1).astype(float)
+    rng = np.random.default_rng(3)
+    for face, theta in zip(faces[:20], ds.theta_face_rad[:20], strict=True):
+        module.begin(face, theta)  # fits the features' statistics with ``standardise``
+        module._keep(rng.uniform(-np.pi, np.pi, 3))
+        module._replay()
+        module.population.average()
+    out = module.commands(faces, ds.theta_face_rad[:40])
+    for face, theta, o in zip(faces, ds.theta_face_rad[:40], out, strict=True):
+        psi, _ = module.population.direction(module._features(face, theta))
+        assert np.array_equal(o, agent.step_rad * np.array([math.cos(psi), math.sin(psi)]))
+
+
+def test_the_ratio_readout_is_the_difference_of_the_output_units():
+    """``ratio`` scores are w2 h - w2 (mean hidden): the log-odds, normalisers cancelled."""
+    code = PopulationCode(6, PopulationOptions(n_hidden=5, n_bins=8, readout="ratio",
+                                               average_rate=0.0), np.random.default_rng(1))
+    code.hidden_mean_ = np.random.default_rng(2).normal(size=5)
+    x = np.random.default_rng(3).normal(size=6)
+    h = np.tanh(code.w1_ @ x + code.b1_)
+    np.testing.assert_allclose(code.scores(x), code.w2_ @ h - code.w2_ @ code.hidden_mean_,
+                               atol=1e-12)
+
+
+def test_a_replayed_trial_teaches_as_teaching_it_again():
+    """The replay kernel's update equals teaching the kept trial's input and directions."""
+    a, b = _agent(n_hidden=8, replay=1), _agent(n_hidden=8, replay=1)
+    ds = default_datasets()
+    face = ds.face[5].reshape(-1).astype(float)
+    for agent in (a, b):
+        agent.module.begin(face, ds.theta_face_rad[5])
+        agent.module._keep(np.array([0.3, -2.0]))
+    a.module._replay()  # one kept trial: the draw is that trial
+    x = b.module._features(face, ds.theta_face_rad[5])
+    b.module.population.teach(x, [0.3, -2.0])
+    for name in ("w1_", "b1_", "w2_", "b2_", "hidden_mean_", "n_taught_"):
+        assert np.array_equal(getattr(a.module.population, name),
+                              getattr(b.module.population, name)), name

@@ -17,9 +17,10 @@ direction whose probability for this face most exceeds its probability for the a
 (the module's own output at the running mean of its hidden units): the target, not the mean.
 
 Inputs are the robot's own features of the face window (:mod:`.face_features`) and the head
-angle at the face. Kernels :func:`population_forward`, :func:`population_update` and
-:func:`population_readout` are compiled; :class:`PopulationCode` is their scikit-learn-style
-wrapper (``partial_fit`` on inputs and directions, ``predict`` a direction).
+angle at the face. The kernels (:func:`population_forward`, :func:`population_update`,
+:func:`population_scores_into`, :func:`population_readout`, ...) are compiled, in
+:mod:`._population_kernels`; :class:`PopulationCode` is their scikit-learn-style wrapper
+(``partial_fit`` on inputs and directions, ``predict`` a direction).
 """
 
 from __future__ import annotations
@@ -31,10 +32,19 @@ import numpy as np
 
 from .._arrays import floats, rows
 from .._fields import Section, param
-from .._jit import jit
+from ._population_kernels import (
+    average_into,
+    population_forward,
+    population_readout,
+    population_scores_into,
+    population_teach,
+    population_update,
+    von_mises_into,
+)
 
 __all__ = ["READOUTS", "PopulationCode", "PopulationOptions", "population_forward",
-           "population_readout", "population_update", "von_mises_into"]
+           "population_readout", "population_scores_into", "population_teach",
+           "population_update", "von_mises_into"]
 
 READOUTS = ("excess", "ratio", "mode")
 
@@ -81,117 +91,6 @@ class PopulationOptions(Section):
                                  "forgotten)", lo=1, hi=10_000_000)
 
 
-@jit
-def von_mises_into(psi_rad: float, kappa: float, weight: float, out) -> None:
-    """Add ``weight`` times a von Mises bump at ``psi_rad`` (summing to 1 over the units)."""
-    n = len(out)
-    total = 0.0
-    for b in range(n):
-        total += math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0))
-    for b in range(n):
-        out[b] += weight * math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0)) / total
-
-
-@jit
-def _softmax_into(z, p) -> None:
-    top = -np.inf
-    for b in range(len(z)):
-        top = max(top, z[b])
-    total = 0.0
-    for b in range(len(z)):
-        p[b] = math.exp(z[b] - top)
-        total += p[b]
-    for b in range(len(z)):
-        p[b] /= total
-
-
-@jit
-def _output_into(h, w2, b2, z) -> None:
-    """The output units' input ``z = w2 h + b2``."""
-    for b in range(len(z)):
-        s = b2[b]
-        row = w2[b]
-        for j in range(len(h)):
-            s += row[j] * h[j]
-        z[b] = s
-
-
-@jit
-def population_forward(x, w1, b1, w2, b2, h, p) -> None:
-    """Hidden units ``h = tanh(w1 x + b1)`` and the softmax ``p`` of ``w2 h + b2``.
-
-    Four hidden units at a time: each unit's sum runs over the inputs in the same order as
-    one at a time (the same bits), but the four sums do not wait for each other.
-    """
-    n4 = len(h) - len(h) % 4
-    for j in range(0, n4, 4):
-        r0, r1, r2, r3 = w1[j], w1[j + 1], w1[j + 2], w1[j + 3]
-        s0, s1, s2, s3 = b1[j], b1[j + 1], b1[j + 2], b1[j + 3]
-        for i in range(len(x)):
-            s0 += r0[i] * x[i]
-            s1 += r1[i] * x[i]
-            s2 += r2[i] * x[i]
-            s3 += r3[i] * x[i]
-        h[j], h[j + 1], h[j + 2], h[j + 3] = (math.tanh(s0), math.tanh(s1), math.tanh(s2),
-                                              math.tanh(s3))
-    for j in range(n4, len(h)):
-        s = b1[j]
-        row = w1[j]
-        for i in range(len(x)):
-            s += row[i] * x[i]
-        h[j] = math.tanh(s)
-    _output_into(h, w2, b2, p)
-    _softmax_into(p, p)
-
-
-@jit
-def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate: float, h, p,
-                      grad_h) -> None:
-    """One gradient step on the summed cross-entropy of ``n_taught`` places for input ``x``.
-
-    ``taught`` is the sum of their spread directions; the gradient at the output units' input
-    is ``n_taught p - taught``.
-    """
-    population_forward(x, w1, b1, w2, b2, h, p)
-    grad_h[:] = 0.0
-    for b in range(len(p)):
-        g = n_taught * p[b] - taught[b]
-        row = w2[b]
-        for j in range(len(h)):
-            grad_h[j] += g * row[j]
-            row[j] -= learning_rate * g * h[j]
-        b2[b] -= learning_rate * g
-    for j in range(len(h)):
-        g = grad_h[j] * (1.0 - h[j] * h[j]) * learning_rate
-        row = w1[j]
-        for i in range(len(x)):
-            row[i] -= g * x[i]
-        b1[j] -= g
-
-
-@jit
-def population_readout(score) -> tuple[float, float]:
-    """The direction (rad) of the largest ``score`` over the units, and that score.
-
-    The direction is the circular mean of the best unit and its two neighbours on each side,
-    weighted by how far their scores exceed the fifth best (finer than a unit).
-    """
-    n = len(score)
-    best = 0
-    for b in range(n):
-        if score[b] > score[best]:
-            best = b
-    floor = np.sort(score)[max(n - 5, 0)]
-    s = c = 0.0
-    for d in range(-2, 3):
-        b = (best + d) % n
-        w = max(score[b] - floor, 0.0) + 1e-12
-        angle = 2 * math.pi * b / n
-        s += w * math.sin(angle)
-        c += w * math.cos(angle)
-    return math.atan2(s, c), score[best]
-
-
 class PopulationCode:
     """The population-coded network (see the module docstring).
 
@@ -232,9 +131,14 @@ class PopulationCode:
 
     def average(self) -> None:
         """Move the running averages of the weights toward the weights (once per trial)."""
-        rate = self.options.average_rate
+        rate = float(self.options.average_rate)
         for a, w in zip(self.averaged_, (self.w1_, self.b1_, self.w2_, self.b2_), strict=True):
-            a += rate * (w - a)
+            average_into(a.reshape(-1), w.reshape(-1), rate)  # views: the arrays are contiguous
+
+    @property
+    def readout_code(self) -> int:
+        """``options.readout`` as the kernels take it (its place in :data:`READOUTS`)."""
+        return READOUTS.index(self.options.readout)
 
     def probabilities(self, x: np.ndarray) -> np.ndarray:
         """p(direction | input) over the units, for one input (n_in,), by the readout weights."""
@@ -244,16 +148,11 @@ class PopulationCode:
 
     def scores(self, x: np.ndarray) -> np.ndarray:
         """The readout's score of each unit for one input (see ``options.readout``)."""
-        p = self.probabilities(x)
-        readout = self.options.readout
-        if readout == "mode":
-            return p
-        _, _, w2, b2 = self._readout_weights()
-        _output_into(self.hidden_mean_, w2, b2, self._z)
-        if readout == "ratio":  # log p - log p(average face): the normalisers do not matter
-            return w2 @ self._h - w2 @ self.hidden_mean_
-        _softmax_into(self._z, self._z)
-        return p - self._z
+        score = np.empty(len(self.b2_))
+        population_scores_into(floats("x", x, (self.w1_.shape[1],)), *self._readout_weights(),
+                               self.hidden_mean_, self.readout_code, self._h, self._p, self._z,
+                               score)
+        return score
 
     def direction(self, x: np.ndarray) -> tuple[float, float]:
         """The readout direction (rad) for one input, and its score."""
@@ -266,16 +165,15 @@ class PopulationCode:
 
     def _teach(self, x: np.ndarray, directions_rad: np.ndarray) -> None:
         """:meth:`teach` on checked arrays: ``x`` (n_in,) and ``directions_rad`` 1-D floats."""
-        if len(directions_rad) == 0:
-            return
-        self._taught[:] = 0.0
-        for psi in directions_rad:
-            von_mises_into(float(psi), self.kappa, 1.0, self._taught)
-        population_update(x, self._taught,
-                          float(len(directions_rad)), self.w1_, self.b1_, self.w2_, self.b2_,
-                          float(self.options.learning_rate), self._h, self._p, self._grad_h)
-        self.hidden_mean_ += self.options.hidden_rate * (self._h - self.hidden_mean_)
+        population_teach(x, directions_rad, self.kappa, *self.teach_arrays())
         self.n_taught_ += len(directions_rad)
+
+    def teach_arrays(self) -> tuple:
+        """What :func:`population_teach` takes after the input, directions and ``kappa``."""
+        o = self.options
+        return (self.w1_, self.b1_, self.w2_, self.b2_, float(o.learning_rate),
+                self.hidden_mean_, float(o.hidden_rate), self._h, self._p, self._grad_h,
+                self._taught)
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> PopulationCode:
         """One update per row: inputs ``X`` (n, n_in), one direction (rad) each ``Y`` (n,).

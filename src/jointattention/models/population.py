@@ -18,6 +18,7 @@ trial: more updates from each trial the robot lived through.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -25,10 +26,77 @@ from .._jit import jit
 from ..agent.face_features import face_features_into, n_features
 from ..agent.learner import FaceStandardiser, standardise
 from ..agent.moves import scale_angle_into, unit_step
-from ..agent.population import PopulationCode
+from ..agent.population import (
+    PopulationCode,
+    population_readout,
+    population_scores_into,
+    population_teach,
+)
 from ..agent.protocol import Outcome
 
-__all__ = ["PopulationModule", "line_step"]
+__all__ = ["InputSpec", "PopulationModule", "commands_into", "line_step", "module_input_into",
+           "replay_into"]
+
+
+class InputSpec(NamedTuple):
+    """How the module's input is made from a face window and a head angle (for the kernels)."""
+
+    height: int
+    width: int
+    cell_px: int
+    n_orientations: int
+    pixels: bool
+    hog: bool
+    min_std: float  # of the features' standardiser
+    theta_mid_rad: np.ndarray
+    theta_half_rad: np.ndarray
+
+
+@jit
+def module_input_into(face, pan, tilt, spec, mean, m2, n_seen, x, tmp) -> None:
+    """The module's input ``x``: the window's features, then the scaled head angle.
+
+    The features are standardised by ``mean``, ``m2`` of ``n_seen`` faces if ``n_seen`` > 0
+    (pass 0 to leave them as they are). ``tmp`` holds the features meanwhile.
+    """
+    n = len(x) - 2
+    face_features_into(face, spec.height, spec.width, spec.cell_px, spec.n_orientations,
+                       spec.pixels, spec.hog, x)
+    if n_seen > 0:
+        for i in range(n):
+            tmp[i] = x[i]
+        standardise(tmp[:n], mean, m2, n_seen, spec.min_std, x[:n])
+    scale_angle_into(pan, tilt, spec.theta_mid_rad, spec.theta_half_rad, x, n)
+
+
+@jit
+def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_mean,
+                  readout, step_rad, out) -> None:
+    """The first step from each face (K, pixels) at its head angle (K, 2): ``out`` (K, 2)."""
+    x, tmp = np.empty(len(w1[0])), np.empty(len(w1[0]))
+    h, p, z, score = np.empty(len(b1)), np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
+    for k in range(len(faces)):
+        module_input_into(faces[k], thetas[k, 0], thetas[k, 1], spec, mean, m2, n_seen, x, tmp)
+        population_scores_into(x, w1, b1, w2, b2, hidden_mean, readout, h, p, z, score)
+        psi, _ = population_readout(score)
+        out[k, 0], out[k, 1] = step_rad * math.cos(psi), step_rad * math.sin(psi)
+
+
+@jit
+def replay_into(drawn, faces, thetas, directions, counts, spec, mean, m2, n_seen, kappa, w1,
+                b1, w2, b2, learning_rate, hidden_mean, hidden_rate, h, p, grad_h,
+                taught) -> int:
+    """Teach again the kept trials ``drawn`` (replay memory rows); the places taught."""
+    x, tmp, face = np.empty(len(w1[0])), np.empty(len(w1[0])), np.empty(faces.shape[1])
+    n_taught = 0
+    for i in drawn:
+        for j in range(len(face)):
+            face[j] = faces[i, j]
+        module_input_into(face, thetas[i, 0], thetas[i, 1], spec, mean, m2, n_seen, x, tmp)
+        population_teach(x, directions[i, : counts[i]], kappa, w1, b1, w2, b2, learning_rate,
+                         hidden_mean, hidden_rate, h, p, grad_h, taught)
+        n_taught += counts[i]
+    return n_taught
 
 
 @jit
@@ -74,8 +142,13 @@ class PopulationModule:
                                      *self._parts)
         self.population = PopulationCode(self.n_features + 2, o, init_rng)
         self.feature_stats = FaceStandardiser(min_std=1e-3)  # with ``standardise``
-        self.direction_rad_ = 0.0
         w, h = body.face_size_px
+        self.spec = InputSpec(h, w, o.cell_px, o.n_orientations, *self._parts,
+                              float(self.feature_stats.min_std),
+                              np.asarray(host.theta_mid_rad, float),
+                              np.asarray(host.theta_half_rad, float))
+        self._no_stats = np.zeros(self.n_features)
+        self.direction_rad_ = 0.0
         self.replay_faces_ = np.zeros((o.replay_capacity, h * w), np.uint8)
         self.replay_thetas_ = np.zeros((o.replay_capacity, 2))
         self.replay_directions_ = np.zeros((o.replay_capacity, self.MAX_PLACES))
@@ -120,6 +193,16 @@ class PopulationModule:
             f.m2_ = arrays["population_feature_m2"].astype(float)
             f.n_seen_ = int(arrays["population_feature_n_seen"])
 
+    def _stats(self) -> tuple:
+        """The features' standardiser as the kernels take it: mean, m2, faces seen.
+
+        0 faces seen (no standardising) without ``standardise`` or before the first face.
+        """
+        f = self.feature_stats
+        if not self.host.options.population.standardise or not f.n_seen_:
+            return self._no_stats, self._no_stats, 0
+        return f.mean_, f.m2_, f.n_seen_
+
     def _features(self, window: np.ndarray, theta_rad: np.ndarray, fit: bool = False
                   ) -> np.ndarray:
         """The module's input: a checked window's features (H * W floats) and the head angle.
@@ -128,20 +211,13 @@ class PopulationModule:
         features are standardised by their running statistics; ``fit`` adds this face's
         features to those statistics first.
         """
-        host = self.host
-        o = host.options.population
-        w, h = host.body.face_size_px
-        x = np.empty(self.n_features + 2)
-        face = x[: self.n_features]
-        face_features_into(window, h, w, o.cell_px, o.n_orientations, *self._parts, x)
-        if o.standardise:
-            f = self.feature_stats
-            if fit:
-                f.partial_fit(face)
-            if f.n_seen_:
-                standardise(face.copy(), f.mean_, f.m2_, f.n_seen_, f.min_std, face)
-        scale_angle_into(float(theta_rad[0]), float(theta_rad[1]), host.theta_mid_rad,
-                         host.theta_half_rad, x, self.n_features)
+        x, tmp = np.empty(self.n_features + 2), np.empty(self.n_features + 2)
+        pan, tilt = float(theta_rad[0]), float(theta_rad[1])
+        if fit and self.host.options.population.standardise:
+            module_input_into(window, pan, tilt, self.spec, self._no_stats, self._no_stats, 0,
+                              x, tmp)
+            self.feature_stats.partial_fit(x[: self.n_features])
+        module_input_into(window, pan, tilt, self.spec, *self._stats(), x, tmp)
         return x
 
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
@@ -180,13 +256,16 @@ class PopulationModule:
 
     def command(self, face: np.ndarray, theta_rad: np.ndarray) -> np.ndarray:
         """The first step from the face, for a checked flat face window and the head angle."""
-        psi, _ = self.population.direction(self._features(face, theta_rad))
-        return self.host.step_rad * np.array([math.cos(psi), math.sin(psi)])
+        return self.commands(np.reshape(face, (1, -1)), np.reshape(theta_rad, (1, 2)))[0]
 
     def commands(self, faces: np.ndarray, thetas: np.ndarray) -> np.ndarray:
         """:meth:`command` for K checked flat face windows and head angles, (K, 2)."""
-        return np.array([self.command(f, t) for f, t in zip(faces, thetas, strict=True)]
-                        ).reshape(-1, 2)
+        out = np.empty((len(faces), 2))
+        p = self.population
+        commands_into(np.ascontiguousarray(faces, float), np.ascontiguousarray(thetas, float),
+                      self.spec, *self._stats(), *p._readout_weights(), p.hidden_mean_,
+                      p.readout_code, float(self.host.step_rad), out)
+        return out
 
     def _keep(self, directions: np.ndarray) -> None:
         """Keep the trial in the replay memory, forgetting the oldest when it is full."""
@@ -200,7 +279,9 @@ class PopulationModule:
     def _replay(self) -> None:
         """Teach ``replay`` trials drawn at random from the replay memory."""
         n = min(self.n_kept_, len(self.replay_counts_))
-        for i in self.replay_rng.integers(n, size=self.host.options.population.replay):
-            # the memory holds checked windows and angles: no door to pass again
-            x = self._features(self.replay_faces_[i].astype(float), self.replay_thetas_[i])
-            self.population._teach(x, self.replay_directions_[i, : self.replay_counts_[i]])
+        drawn = self.replay_rng.integers(n, size=self.host.options.population.replay)
+        p = self.population
+        # the memory holds checked windows and angles: no door to pass again
+        p.n_taught_ += replay_into(drawn, self.replay_faces_, self.replay_thetas_,
+                                   self.replay_directions_, self.replay_counts_, self.spec,
+                                   *self._stats(), p.kappa, *p.teach_arrays())
