@@ -127,6 +127,7 @@ def test_a_rerun_that_only_redraws_keeps_the_measured_time(tmp_path):
     reproduce(cfg, tmp_path / "run")
     assert json.loads((tmp_path / "run" / "timing.json").read_text()) == first
     assert first["cells_run"] == 1
+    assert 0 <= first["cells_min"] <= first["wall_min"]  # the whole call: cells and outputs
 
 
 def test_the_time_to_90pct_never_exceeds_the_learning_time():
@@ -139,3 +140,15 @@ def test_the_time_to_90pct_never_exceeds_the_learning_time():
     exp = ExperimentConfig(n_steps=2500, bin_steps=1000, conditions=SMALL.experiment.conditions)
     curve = np.array([0.1, 0.2, 0.6])
     assert time_to_fraction(curve, exp.bin_ends_steps()) == 2500  # the last bin ends early
+
+
+def test_the_probe_s_angle_errors_are_angle_deg_row_by_row():
+    """The probe's errors, in one pass, are angle_deg of each output and command, bit for bit."""
+    from jointattention.datasets import default_datasets
+    from jointattention.experiment.probes import _angle_errors_of, angle_deg
+
+    ds = default_datasets()
+    out = np.random.default_rng(0).normal(size=(len(ds), 2)) * 0.03
+    out[:5] = ds.command_rad[:5] * 2.0  # parallel: the clip
+    rows = np.array([angle_deg(o, c) for o, c in zip(out, ds.command_rad, strict=True)])
+    assert np.array_equal(_angle_errors_of(out, ds), rows)

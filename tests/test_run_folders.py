@@ -56,3 +56,27 @@ def test_a_killed_start_and_stale_temporary_files_do_not_block_the_folder(tmp_pa
     (out / ".table.csv.abc123.tmp").write_text("half")
     run_experiment(SMALL, out)
     assert (out / "config.toml").is_file() and not list(out.glob(".*.tmp"))
+
+
+def test_trials_csv_is_what_the_csv_module_writes(tmp_path):
+    """trials.csv, written by a compiled loop, equals csv.writer's rows (quoting, signs, CR LF)."""
+    import csv
+
+    import numpy as np
+
+    from jointattention.experiment.results import write_trials_csv
+    from jointattention.experiment.trial import RECORD
+
+    rng = np.random.default_rng(0)
+    cells = {}
+    for name, seed, n in (('odd, "name"', 3, 50), ("plain", 0, 0), ("plain", 12, 7)):
+        cells[(name, seed)] = {k: rng.integers(-3, 10**12 if t is np.int64 else 90, n).astype(t)
+                               for k, (t, _) in RECORD.items()}
+    path = write_trials_csv(tmp_path, cells)
+    with open(tmp_path / "expected.csv", "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(("condition", "seed", "trial", *RECORD))
+        for (name, seed), rec in sorted(cells.items()):
+            for i, row in enumerate(zip(*[rec[c].astype(int) for c in RECORD], strict=True)):
+                writer.writerow((name, seed, i, *row))
+    assert path.read_bytes() == (tmp_path / "expected.csv").read_bytes()

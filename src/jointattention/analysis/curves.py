@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Config
-from ..experiment.results import cell_path, load_cell
+from ..experiment.results import Cells, cell_records
 from .metrics import final_success, mean_interval, success_by_bin, time_to_fraction
 from .tables import Table
 
@@ -16,32 +16,35 @@ __all__ = ["condition_axis_errors", "condition_curves", "final_table"]
 Curves = dict[str, tuple[np.ndarray, np.ndarray]]
 
 
-def condition_curves(out: Path, config: Config) -> Curves:
-    """{condition: (bin ends, per-seed success curves (seeds, bins))} from the saved cells."""
+def condition_curves(out: Path, config: Config, cells: Cells | None = None) -> Curves:
+    """{condition: (bin ends, per-seed success curves (seeds, bins))} from the saved cells.
+
+    ``cells``: the cells' records if already loaded ({(condition, seed): records}).
+    """
     exp = config.experiment
     ends = exp.bin_ends_steps()
     curves = {}
     for c in exp.conditions:
         per_seed = []
         for i in range(exp.n_seeds):
-            rec = load_cell(cell_path(out, c.name, i))
+            rec = cell_records(out, c.name, i, cells)
             per_seed.append(success_by_bin(rec["learning_time"], rec["success"],
                                            exp.bin_steps, exp.n_steps))
         curves[c.name] = (ends, np.array(per_seed))
     return curves
 
 
-def condition_axis_errors(out: Path, config: Config) -> dict:
+def condition_axis_errors(out: Path, config: Config, cells: Cells | None = None) -> dict:
     """{condition: (horizontal, vertical) errors (seeds, bins)} of the learning module.
 
     For the conditions whose cells hold them (``lm_pan_error_deg``, ``lm_tilt_error_deg``) and
-    measured them (a model with a learning module).
+    measured them (a model with a learning module). ``cells`` as :func:`condition_curves`'s.
     """
     exp, errors = config.experiment, {}
     for c in exp.conditions:
-        cells = [load_cell(cell_path(out, c.name, i)) for i in range(exp.n_seeds)]
-        if all("lm_pan_error_deg" in r for r in cells):
-            pan, tilt = (np.array([r[k] for r in cells]) for k in
+        records = [cell_records(out, c.name, i, cells) for i in range(exp.n_seeds)]
+        if all("lm_pan_error_deg" in r for r in records):
+            pan, tilt = (np.array([r[k] for r in records]) for k in
                          ("lm_pan_error_deg", "lm_tilt_error_deg"))
             if np.isfinite(pan).all() and np.isfinite(tilt).all():
                 errors[c.name] = (pan, tilt)

@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Config, ExperimentConfig
-from ..experiment.results import cell_path, load_cell
+from ..experiment.results import Cells, cell_records
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
 from .claim import finals_of
 from .curves import Curves, condition_curves
@@ -86,18 +86,20 @@ def _cell_metrics(rec: dict[str, np.ndarray], exp: ExperimentConfig) -> np.ndarr
 SeedDiagnostics = dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]
 
 
-def seed_diagnostics(out: Path, config: Config, curves: Curves | None = None) -> SeedDiagnostics:
+def seed_diagnostics(out: Path, config: Config, curves: Curves | None = None,
+                     cells: Cells | None = None) -> SeedDiagnostics:
     """Every seed's metrics per bin and its final success, from a run folder's cells.
 
     The final success is the claims' and tables' (:func:`~.claim.finals_of` of the success
     curves, ``curves`` as from :func:`~.curves.condition_curves`: read from the cells if None).
+    ``cells``: the cells' records if already loaded.
     """
     exp = config.experiment
-    curves = condition_curves(out, config) if curves is None else curves
+    curves = condition_curves(out, config, cells) if curves is None else curves
     result = {}
     for c in exp.conditions:
-        cells = [load_cell(cell_path(out, c.name, i)) for i in range(exp.n_seeds)]
-        result[c.name] = (exp.bin_ends_steps(), np.array([_cell_metrics(r, exp) for r in cells]),
+        records = [cell_records(out, c.name, i, cells) for i in range(exp.n_seeds)]
+        result[c.name] = (exp.bin_ends_steps(), np.array([_cell_metrics(r, exp) for r in records]),
                           finals_of(curves[c.name][1]))
     return result
 

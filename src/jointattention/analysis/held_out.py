@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from ..config import Config
-from ..experiment.results import cell_path, load_cell
+from ..experiment.results import Cells, cell_records
 from .claim import Claim, reading_of
 from .tables import Table
 
@@ -26,7 +26,7 @@ AIM = {"fraction_of_ceiling": 0.9, "median_error_deg": 4.0, "share_over_10deg": 
 HeldOut = dict[str, tuple[np.ndarray, dict[str, np.ndarray]]]
 
 
-def held_out_curves(out: Path, config: Config) -> HeldOut:
+def held_out_curves(out: Path, config: Config, cells: Cells | None = None) -> HeldOut:
     """{condition: (learning times, {measure: (seeds, kinds, times)})} of the measured cells.
 
     Conditions whose cells were not measured are left out. Measures are named without their
@@ -34,12 +34,12 @@ def held_out_curves(out: Path, config: Config) -> HeldOut:
     """
     exp, curves = config.experiment, {}
     for c in exp.conditions:
-        cells = [load_cell(cell_path(out, c.name, i)) for i in range(exp.n_seeds)]
-        if not all("held_out_steps" in r for r in cells):
+        records = [cell_records(out, c.name, i, cells) for i in range(exp.n_seeds)]
+        if not all("held_out_steps" in r for r in records):
             continue
-        names = [k for k in cells[0] if k.startswith("held_out_") and k != "held_out_steps"]
-        curves[c.name] = (cells[0]["held_out_steps"],
-                          {k.removeprefix("held_out_"): np.array([r[k] for r in cells])
+        names = [k for k in records[0] if k.startswith("held_out_") and k != "held_out_steps"]
+        curves[c.name] = (records[0]["held_out_steps"],
+                          {k.removeprefix("held_out_"): np.array([r[k] for r in records])
                            for k in names})
     return curves
 

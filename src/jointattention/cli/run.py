@@ -27,7 +27,8 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
     for path in result.files:
         print(path)
     print((result.out / "claims.md").read_text(), end="")
-    print(f"{result.cells_run} cells in {result.wall_min:.1f} min on {n_workers} workers")
+    print(f"{result.cells_run} cells in {result.cells_min:.1f} min on {n_workers} workers; "
+          f"the whole run {result.wall_min:.1f} min")
 
 
 def _cmd_sweep(args: argparse.Namespace) -> None:

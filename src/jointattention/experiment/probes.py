@@ -58,8 +58,15 @@ def angle_errors(agent, ds: CaregiverDatasets) -> np.ndarray:
 
 
 def _angle_errors_of(out: np.ndarray, ds: CaregiverDatasets) -> np.ndarray:
-    """:func:`angle_errors` of the module's outputs ``out`` (N, 2)."""
-    return np.array([angle_deg(o, c) for o, c in zip(out, ds.command_rad, strict=True)])
+    """:func:`angle_errors` of the module's outputs ``out`` (N, 2).
+
+    Row by row, as :func:`angle_deg` of each output and its command (the same bits), in
+    one pass over the arrays.
+    """
+    out, c = np.asarray(out, dtype=float), np.asarray(ds.command_rad, dtype=float)
+    dot = out[:, 0] * c[:, 0] + out[:, 1] * c[:, 1]
+    norms = np.linalg.norm(out, axis=-1) * np.sqrt(c[:, 0] * c[:, 0] + c[:, 1] * c[:, 1])
+    return np.rad2deg(np.arccos(np.clip(dot / norms, -1.0, 1.0)))
 
 
 def median_error_deg(agent, ds: CaregiverDatasets) -> float:

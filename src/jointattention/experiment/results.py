@@ -9,6 +9,7 @@ writes from them.
 from __future__ import annotations
 
 import csv
+import io
 import platform
 from importlib import metadata
 from pathlib import Path
@@ -24,6 +25,7 @@ from .._files import (
     save_npz,
     write_text,
 )
+from .._jit import jit
 from .._readers import read_json, read_npz, sha256_of
 from .._version import __version__
 from ..config import Config, load_config, to_toml
@@ -31,8 +33,8 @@ from ..errors import FileError, JointAttentionError
 from .cells import datasets_file
 from .trial import RECORD
 
-__all__ = ["cell_path", "check_run_dir", "datasets_sha256", "load_cell", "prepare_run_dir",
-           "save_cell", "versions", "write_trials_csv"]
+__all__ = ["Cells", "cell_path", "cell_records", "check_run_dir", "datasets_sha256",
+           "load_cell", "prepare_run_dir", "save_cell", "versions", "write_trials_csv"]
 
 
 def versions() -> dict:
@@ -117,6 +119,17 @@ def cell_path(out: Path, condition: str, seed_index: int) -> Path:
     return Path(out) / "cells" / f"{condition}__seed{seed_index:03d}.npz"
 
 
+Cells = dict[tuple[str, int], dict[str, np.ndarray]]  # loaded cells: {(condition, seed): records}
+
+
+def cell_records(out: Path, name: str, seed_index: int, cells: Cells | None = None
+                 ) -> dict[str, np.ndarray]:
+    """A cell's records: from ``cells`` ({(condition, seed): records}) if given, else its file."""
+    if cells is not None:
+        return cells[(name, seed_index)]
+    return load_cell(cell_path(out, name, seed_index))
+
+
 def save_cell(path: Path, records: dict[str, np.ndarray]) -> None:
     """Save a cell's records (atomically)."""
     save_npz(path, records)
@@ -162,14 +175,59 @@ def load_cell(path: Path) -> dict[str, np.ndarray]:
     return records
 
 
-def write_trials_csv(out: Path, cells: dict[tuple[str, int], dict[str, np.ndarray]]) -> Path:
-    """One tidy table of every trial: condition, seed, then the trial's columns."""
+def write_trials_csv(out: Path, cells: Cells) -> Path:
+    """One tidy table of every trial: condition, seed, then the trial's columns.
+
+    As :mod:`csv` writes it (the header and each cell's condition and seed through
+    :func:`csv.writer`); the integers of the rows are written by a compiled loop, since a
+    large run has millions of trials.
+    """
     path = Path(out) / "trials.csv"
-    with atomic_path(path) as tmp, open(tmp, "w", newline="") as f:
-        writer = csv.writer(f)
-        writer.writerow(("condition", "seed", "trial", *RECORD))
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        f.write(_csv_line(("condition", "seed", "trial", *RECORD)).encode())
         for (name, seed), rec in sorted(cells.items()):
-            cols = [rec[c].astype(int) for c in RECORD]
-            for i, row in enumerate(zip(*cols, strict=True)):
-                writer.writerow((name, seed, i, *row))
+            cols = np.array([rec[c].astype(np.int64) for c in RECORD]).reshape(len(RECORD), -1)
+            prefix = np.frombuffer(_csv_line((name, seed, ""))[:-2].encode(), np.uint8)
+            buf = np.empty(cols.shape[1] * (len(prefix) + 21 * (len(RECORD) + 1) + 2), np.uint8)
+            f.write(buf[: _int_rows_into(prefix, cols, buf)].tobytes())
     return path
+
+
+def _csv_line(row) -> str:
+    """``row`` as :func:`csv.writer` writes it (quoted as needed, ending in CR LF)."""
+    text = io.StringIO()
+    csv.writer(text).writerow(row)
+    return text.getvalue()
+
+
+@jit
+def _int_rows_into(prefix, columns, out) -> int:
+    """Row i: ``prefix``, i, then ``columns[:, i]``, comma-separated, CR LF; the bytes used."""
+    at = 0
+    digits = np.empty(20, np.uint8)
+    for i in range(columns.shape[1]):
+        for b in prefix:
+            out[at] = b
+            at += 1
+        for c in range(-1, columns.shape[0]):
+            value = i if c < 0 else columns[c, i]
+            if c >= 0:
+                out[at] = 44  # ","
+                at += 1
+            if value < 0:
+                out[at] = 45  # "-"
+                at += 1
+                value = -value
+            n = 0
+            while True:
+                digits[n] = 48 + value % 10
+                value //= 10
+                n += 1
+                if value == 0:
+                    break
+            for k in range(n - 1, -1, -1):
+                out[at] = digits[k]
+                at += 1
+        out[at], out[at + 1] = 13, 10
+        at += 2
+    return at

@@ -153,7 +153,8 @@ class RunResult:
     claims: list[Claim]
     cells_run: int
     cells_total: int
-    wall_min: float
+    cells_min: float  # the wall time of this call's cells
+    wall_min: float  # of the whole call
 
 
 def _measured(path: Path) -> bool:
@@ -169,8 +170,7 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
               max_cells: int = MAX_CELLS, save_models: bool = False) -> RunResult:
     """Run ``config``'s experiment into the run folder ``out`` and write what it shows.
 
-    Cells already in ``out`` are kept (a re-run resumes). Then ``timing.json`` (the wall time
-    of this call's cells; a re-run that ran none keeps the one there), the oracle
+    Cells already in ``out`` are kept (a re-run resumes). Then the oracle
     ceilings (``ceilings.json``, measured once), ``trials.csv``, the figures
     (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md``,
     ``claims.csv``/``.md``, one row per reading (``readings.csv``/``.md``), the diagnostics per
@@ -180,7 +180,10 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     it (``learning_speed.csv``/``.md``/``.png``, :mod:`jointattention.analysis.learning_speed`),
     and
     what the models carry over to held-out data sets (``held_out_ceilings.json``,
-    ``held_out.csv``/``.md``/``.png``, :mod:`jointattention.analysis.held_out`).
+    ``held_out.csv``/``.md``/``.png``, :mod:`jointattention.analysis.held_out`); last
+    ``timing.json``: the wall time of this call (``wall_min``: cells, ceilings, tables and
+    figures) and of its cells alone (``cells_min``). A re-run that ran no cell keeps the one
+    there.
     ``progress`` hears the runner's messages (see
     :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``. Nothing is
     written unless the run passes :func:`~.preflight.check_runs` (at most ``max_cells``).
@@ -197,18 +200,15 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     with ExitStack() as lock:  # the folder's lock (taken after every check)
         jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells,
                                      save_models, lock)
-        wall_min = (time.perf_counter() - start) / 60
+        cells_min = (time.perf_counter() - start) / 60
         cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
-        if cells_run or not _measured(out / "timing.json"):  # a redraw keeps the measure
-            save_json({"wall_min": round(wall_min, 2), "workers": workers,
-                       "cells_run": cells_run, "cells_total": len(cells)}, out / "timing.json")
         ceilings = _ceilings(config, out / "ceilings.json", progress)
         held_ceilings = _held_out_ceilings(config, out / "held_out_ceilings.json", progress)
-        curves = condition_curves(out, config)
-        held = held_out_curves(out, config)
-        claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config))
+        curves = condition_curves(out, config, cells)
+        held = held_out_curves(out, config, cells)
+        claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config, cells))
         claims += held_out_claims(config, held, held_ceilings)
-        seeds = seed_diagnostics(out, config, curves)
+        seeds = seed_diagnostics(out, config, curves, cells)
         diagnostics = condition_diagnostics(out, config, seeds)
         speed = learning_speed_table(config, curves, ceilings)
         files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
@@ -224,4 +224,9 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
         if held:
             files += [*held_out_table(config, held, held_ceilings).write(out / "held_out"),
                       held_out_figure(config, held, held_ceilings, out / "held_out.png")]
-        return RunResult(out, files, claims, cells_run, len(cells), wall_min)
+        wall_min = (time.perf_counter() - start) / 60
+        if cells_run or not _measured(out / "timing.json"):  # a redraw keeps the measure
+            save_json({"wall_min": round(wall_min, 2), "cells_min": round(cells_min, 2),
+                       "workers": workers, "cells_run": cells_run, "cells_total": len(cells)},
+                      out / "timing.json")
+        return RunResult(out, files, claims, cells_run, len(cells), cells_min, wall_min)
