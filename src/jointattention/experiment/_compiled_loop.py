@@ -45,12 +45,13 @@ def _gate_rate(robot, t, agreement):
 
 
 @jit
-def _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc, scaled, hid, out):
+def _lm_step(robot, state, face_acc, pan, tilt, memory, recalled, aim, acc, scaled, hid, out):
     """The learning module's command at a head angle (no step if the memory recalled nothing).
 
-    As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`).
+    As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`);
+    ``memory`` is whether the learner is the episodic memory.
     """
-    if robot.memory:
+    if memory:
         if not recalled:
             return 0.0, 0.0
         return unit_step(aim[0] - pan, aim[1] - tilt, robot.step_rad)
@@ -63,19 +64,23 @@ def _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc, scaled, hid,
 
 
 @jit
-def _keep(code, pan, tilt, robot, state, c) -> int:
+def _keep(code, pan, tilt, memory, c) -> int:
     """:func:`~jointattention.agent.memory.memory_store` of a place; the codes in use."""
-    n_codes = memory_store(code, pan, tilt, state.codes, state.counts, state.links,
-                           state.aims, state.base, c[4], c[5], robot.memory_lo_rad,
-                           robot.memory_cell_rad)
+    n_codes = memory_store(code, pan, tilt, memory.codes, memory.counts, memory.links,
+                           memory.aims, memory.base, c[4], c[5], memory.lo_rad, memory.cell_rad)
     c[4] += 1
     return n_codes
 
 
 @jit
-def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle_rng, gate_rng,
-         move_rng, records) -> int:
+def run_trials(until_steps, max_trials, world, robot, state, memory, development, trials_rng,
+               shuffle_rng, gate_rng, move_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
+
+    ``memory``: the episodic memory (:class:`~._loop_inputs.LoopMemory`), or None for the
+    learners that back-propagate (its branches are then pruned at compile time: its kernels
+    are compiled only for a memory learner). ``development``: the developmental model's
+    caregiver and blur (:class:`~._loop_inputs.LoopDevelopment`), or None, likewise.
 
     A frozen robot (``robot.learning`` False) learns nothing and its learning time stands
     still: it runs ``max_trials`` trials. Each trial is :func:`~.cells.random_scene`, a
@@ -90,7 +95,11 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
     centre, seen_area, seen_edge, motion = arrays[3], arrays[4], arrays[5], np.zeros(n)
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, x_full = np.empty(n_hidden), np.empty(2), np.empty(n_pix + 2)
-    scaled, code, sweep = np.empty(2), np.empty(len(robot.projection)), (0.0, 0.0)
+    n_code = 0
+    if memory is not None:
+        n_code = len(memory.projection)
+    scaled, code, sweep = np.empty(2), np.empty(n_code), (0.0, 0.0)
+    has_memory = n_code > 0
     aim, place = np.empty(2), np.empty(2)  # the place recalled, the place found
     thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
     y = np.empty((robot.max_steps, 2))
@@ -104,19 +113,19 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
         if target < 0:
             return -1
         face = world.faces[shown]
-        if robot.blur_start_px > 0:  # DevelopmentalAgent.see
-            blur_into(face, robot.face_width_px, robot.face_height_px,
-                      blur_px(robot.blur_start_px, robot.blur_sharp_steps, float(c[0])),
-                      blur_tmp, seen_face)
+        if development is not None and development.blur_start_px > 0:  # DevelopmentalAgent.see
+            d = development
+            blur_into(face, d.face_width_px, d.face_height_px,
+                      blur_px(d.blur_start_px, d.blur_sharp_steps, float(c[0])), blur_tmp,
+                      seen_face)
             face = seen_face
         # the agent begins (BootstrapAgent.begin_trial, MemoryModule.begin)
         recalled = False
-        if robot.memory:
-            face_code_into(face, robot.projection, code)
-            recalled = memory_recall(code, state.codes, state.counts, state.links, state.aims,
-                                     state.base, c[4], c[5], robot.memory_lo_rad,
-                                     robot.memory_cell_rad, robot.memory_k,
-                                     robot.memory_radius_rad, aim) >= 0
+        if memory is not None:
+            face_code_into(face, memory.projection, code)
+            recalled = memory_recall(code, memory.codes, memory.counts, memory.links,
+                                     memory.aims, memory.base, c[4], c[5], memory.lo_rad,
+                                     memory.cell_rad, memory.k, memory.radius_rad, aim) >= 0
         if robot.learning:
             c[1] += 1
             welford_update(face, state.mean, state.m2, c[1])
@@ -155,11 +164,11 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             if module == _VF:
                 d_pan, d_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
                                                     robot.gain_rad_per_px)
-            elif module == _LM and robot.memory and not recalled:
+            elif module == _LM and has_memory and not recalled:
                 d_pan, d_tilt = random_step(move_rng, robot.step_rad)
             elif module == _LM:
-                d_pan, d_tilt = _lm_step(robot, state, face_acc, pan, tilt, recalled, aim, acc,
-                                         scaled, hid, out)
+                d_pan, d_tilt = _lm_step(robot, state, face_acc, pan, tilt, has_memory, recalled,
+                                         aim, acc, scaled, hid, out)
             elif robot.vf_fallback_sweep:
                 d_pan, d_tilt = sweep
             else:
@@ -177,13 +186,15 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             n_steps += 1
         # the agent learns (BootstrapAgent.end_trial, the module's learn; the teacher only
         # when the caregiver approves: TeacherAgent.end_trial, DevelopmentalAgent.end_trial)
-        approved = end == END_FIRED and (attended == target or (
-            robot.caregiver_adapts  # the developmental caregiver's criterion
-            and separation_rad(obj_pos[attended], obj_pos[target]) <= state.caregiver[0]))
-        if robot.caregiver_adapts and robot.learning:
-            state.caregiver[0], state.caregiver[1] = caregiver_update(
-                approved, state.caregiver[0], state.caregiver[1], robot.criterion_level,
-                robot.criterion_window_trials, robot.criterion_shrink)
+        approved = end == END_FIRED and attended == target
+        if development is not None:  # the developmental caregiver's criterion
+            d = development
+            approved = end == END_FIRED and (attended == target or separation_rad(
+                obj_pos[attended], obj_pos[target]) <= state.caregiver[0])
+            if robot.learning:
+                state.caregiver[0], state.caregiver[1] = caregiver_update(
+                    approved, state.caregiver[0], state.caregiver[1], d.criterion_level,
+                    d.criterion_window_trials, d.criterion_shrink)
         learns = (robot.learning and end == END_FIRED and n_steps > 0
                   and (not robot.caregiver_judges or approved)
                   and (not robot.learn_from_vf or last_module == _VF))
@@ -191,21 +202,21 @@ def run_trials(until_steps, max_trials, world, robot, state, trials_rng, shuffle
             v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
                                                 robot.gain_rad_per_px)
             if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
-                u_pan, u_tilt = _lm_step(robot, state, face_acc, pan_start, tilt_start, recalled,
-                                         aim, acc, scaled, hid, out)
+                u_pan, u_tilt = _lm_step(robot, state, face_acc, pan_start, tilt_start,
+                                         has_memory, recalled, aim, acc, scaled, hid, out)
                 state.agreement[0] = agreement_update(
                     state.agreement[0], u_pan, u_tilt, pan + v_pan - pan_start,
                     tilt + v_tilt - tilt_start, robot.gate_a, robot.gate_window)
             place[0], place[1] = pan, tilt
             if robot.learning_target == _OBJECT_DIRECTION:
                 place[0], place[1] = pan + v_pan, tilt + v_tilt
-        if learns and robot.memory:
-            c[5] = _keep(code, place[0], place[1], robot, state, c)
-            for i in range(m if robot.memory_in_view else 0):  # MemoryModule.learn
+        if learns and memory is not None:  # MemoryModule.learn
+            c[5] = _keep(code, place[0], place[1], memory, c)
+            for i in range(m if memory.in_view else 0):
                 if i != seen:
                     v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
                                                         robot.gain_rad_per_px)
-                    c[5] = _keep(code, pan + v_pan, tilt + v_tilt, robot, state, c)
+                    c[5] = _keep(code, pan + v_pan, tilt + v_tilt, memory, c)
         elif learns:
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])

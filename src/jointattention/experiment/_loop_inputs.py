@@ -16,7 +16,8 @@ from ..errors import ConfigError
 from ._compiled_loop import COLUMNS
 from .trial import END_FIRED, RECORD
 
-__all__ = ["LoopRobot", "LoopState", "LoopWorld", "placed", "trial_records"]
+__all__ = ["LoopDevelopment", "LoopMemory", "LoopRobot", "LoopState", "LoopWorld", "placed",
+           "trial_records"]
 
 
 class LoopWorld(NamedTuple):
@@ -60,22 +61,7 @@ class LoopRobot(NamedTuple):
     min_std: float
     learning_rate: float
     momentum: float
-    memory: bool  # the episodic learner (agent.memory) instead of back-propagation
-    projection: np.ndarray  # the memory's face code
-    memory_lo_rad: np.ndarray
-    memory_cell_rad: float
-    memory_k: int
-    memory_radius_rad: float
-    memory_in_view: bool  # keep every object in view, not only the attended one
     caregiver_judges: bool  # the teacher: learn only when the caregiver approves
-    caregiver_adapts: bool  # the developmental model: her criterion narrows (caregiver_update)
-    criterion_level: float
-    criterion_window_trials: float
-    criterion_shrink: float
-    blur_start_px: float  # the developmental model's visual development (0: none)
-    blur_sharp_steps: float
-    face_width_px: int
-    face_height_px: int
     learning: bool  # False: frozen, nothing learned and the learning time stands still
 
 
@@ -92,14 +78,44 @@ class LoopState(NamedTuple):
     vb2: np.ndarray
     mean: np.ndarray
     m2: np.ndarray
-    codes: np.ndarray  # the memory's kept trials (stand-ins for back-propagation)
-    counts: np.ndarray
-    links: np.ndarray  # the memory's lists (agent/_recall.py)
-    aims: np.ndarray
-    base: np.ndarray
     counters: np.ndarray  # learning time, faces seen, updates, records, trials kept, codes
     agreement: np.ndarray  # (1,): the performance gate's measure
     caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving
+
+
+class LoopMemory(NamedTuple):
+    """The episodic memory (agent.memory), its options and kept trials (changed in place).
+
+    The loop takes None instead for a learner without one: numba then prunes the memory's
+    branches, and compiles none of its kernels for the network learners.
+    """
+
+    projection: np.ndarray  # the face code
+    lo_rad: np.ndarray
+    cell_rad: float
+    k: int
+    radius_rad: float
+    in_view: bool  # keep every object in view, not only the attended one
+    codes: np.ndarray  # the kept trials (agent/_recall.py)
+    counts: np.ndarray
+    links: np.ndarray
+    aims: np.ndarray
+    base: np.ndarray
+
+
+class LoopDevelopment(NamedTuple):
+    """The developmental model's caregiver, whose criterion narrows, and its blurred face.
+
+    None for the other models, as :class:`LoopMemory`.
+    """
+
+    criterion_level: float  # models.developmental.caregiver_update's
+    criterion_window_trials: float
+    criterion_shrink: float
+    blur_start_px: float  # the visual development (0: none)
+    blur_sharp_steps: float
+    face_width_px: int
+    face_height_px: int
 
 
 def placed(code: int, world: LoopWorld) -> int:

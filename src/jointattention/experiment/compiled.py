@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.memory import no_links
 from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
@@ -31,7 +30,15 @@ from ..world.kinematics import HeadKinematics
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
 from ._compiled_loop import COLUMNS, run_trials
-from ._loop_inputs import LoopRobot, LoopState, LoopWorld, placed, trial_records
+from ._loop_inputs import (
+    LoopDevelopment,
+    LoopMemory,
+    LoopRobot,
+    LoopState,
+    LoopWorld,
+    placed,
+    trial_records,
+)
 from .compiled_rl import RLCell
 
 __all__ = ["CompiledCell", "compiled_cell", "pack_world", "unsupported"]
@@ -67,15 +74,13 @@ def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_ob
                   ds.face.reshape(len(ds), -1).astype(float), bool(shuffle_faces))
 
 
-def _memory_inputs(memory, n_pix: int) -> tuple:
-    """The episodic memory as LoopRobot takes it (stand-ins if none).
-
-    Whether there is one, its face code, its grid, neighbours, radius and what it keeps.
-    """
+def _loop_memory(memory) -> LoopMemory | None:
+    """The episodic memory as the loop takes it (None if the learner has none)."""
     if memory is None:
-        return False, np.zeros((0, n_pix)), np.zeros(2), 1.0, 1, 0.0, False
-    return (True, memory.projection, memory.lo_rad, float(memory.cell_rad),
-            int(memory.options.k_nearest), memory.radius_rad, memory.options.keep == "in_view")
+        return None
+    return LoopMemory(memory.projection, memory.lo_rad, float(memory.cell_rad),
+                      int(memory.options.k_nearest), float(memory.radius_rad),
+                      memory.options.keep == "in_view", *memory.kept_arrays()[:5])
 
 
 class CompiledCell:
@@ -101,6 +106,7 @@ class CompiledCell:
         self._trials, self._shuffle = trials, shuffle
         opts, shared = agent.options, agent.mechanisms
         memory = getattr(agent.module, "memory", None)  # the episodic module's
+        caregiver = opts.caregiver_inputs(agent.body.face_size_px)
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),
             float(shared.d_th_px(world.width_px)), float(agent.step_rad), int(shared.max_steps),
@@ -110,19 +116,15 @@ class CompiledCell:
             int(opts.n_passes),
             agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
             float(opts.learning_rate), float(opts.momentum),
-            *_memory_inputs(memory, world.faces.shape[1]),
-            *opts.caregiver_inputs(agent.body.face_size_px), bool(agent.learning))
+            caregiver[0], bool(agent.learning))
+        self._development = LoopDevelopment(*caregiver[2:]) if caregiver[1] else None
         learner, faces = agent.learner, agent.faces
-        if memory is None:  # stand-ins of the memory's arrays and counters
-            kept = (np.zeros((1, 1)), np.zeros(1, np.int64), no_links(1), np.zeros((1, 2)),
-                    np.zeros((1, 1)), 0, 0)
-        else:
-            kept = memory.kept_arrays()
+        self._memory = _loop_memory(memory)
+        kept = (0, 0) if memory is None else memory.kept_arrays()[5:]
         self._state = LoopState(
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
-            *faces.statistics(world.faces.shape[1]), *kept[:5],
-            np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0,
-                      *kept[5:]]),
+            *faces.statistics(world.faces.shape[1]),
+            np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0, *kept]),
             np.array([agent.agreement_]),
             np.array([getattr(agent, "criterion_rad_", 0.0),
                       getattr(agent, "approved_rate_", 0.0)]))
@@ -131,8 +133,9 @@ class CompiledCell:
     def run_until(self, learning_time_steps: int) -> None:
         """Learn trial after trial until the learning time reaches ``learning_time_steps``."""
         placed(run_trials(learning_time_steps, self._records.shape[1], self._world, self._robot,
-                          self._state, self._trials, self._shuffle, self.agent.gate_rng,
-                          self.agent.move_rng, self._records), self._world)
+                          self._state, self._memory, self._development, self._trials,
+                          self._shuffle, self.agent.gate_rng, self.agent.move_rng,
+                          self._records), self._world)
         c = self._state.counters
         self.agent.learning_time_steps = int(c[0])
         self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
