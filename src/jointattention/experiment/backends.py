@@ -52,6 +52,16 @@ def _run(run: CellFunction, job: CellJob) -> tuple[CellJob, dict[str, np.ndarray
     return job, run(job.config, job.condition, job.seed_index)
 
 
+def _run_saved(run: CellFunction, job: CellJob) -> tuple[CellJob, None]:
+    """Run a cell and save it in the process that ran it (local processes share the folder).
+
+    Compressing a cell costs about as much as a short cell's learning: done by the parent, it
+    would take a core from the workers.
+    """
+    save_cell(job.path, run(job.config, job.condition, job.seed_index))
+    return job, None
+
+
 def _end_with_parent(parent_pid: int) -> None:
     """In a worker: end when the parent process ends, however it ends; leave signals to it."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the whole group: the parent
@@ -101,13 +111,13 @@ def _signals_noted() -> Iterator[list[int]]:
 def _local(run: CellFunction, jobs: Sequence[CellJob], workers: int) -> Iterator[tuple]:
     workers = min(workers, len(jobs))  # no idle processes
     if workers <= 1:
-        yield from (_run(run, j) for j in jobs)
+        yield from (_run_saved(run, j) for j in jobs)
         return
     pool = ProcessPoolExecutor(max_workers=workers, initializer=_end_with_parent,
                                initargs=(os.getpid(),))
     try:
         with _signals_noted() as noted:
-            pending = {pool.submit(_run, run, j) for j in jobs}
+            pending = {pool.submit(_run_saved, run, j) for j in jobs}
             while pending and not noted:
                 done, pending = wait(pending, timeout=0.1, return_when=FIRST_COMPLETED)
                 for f in done:
@@ -210,7 +220,8 @@ def run_jobs(run: CellFunction, jobs: Sequence[CellJob], *, workers: int = 1,
                 else _ray(run, todo, workers, address))
     with closing(finished):  # an interrupt stops the backend's waiting cells at once
         for job, records in finished:
-            save_cell(job.path, records)
+            if records is not None:  # Ray's: its workers may not share the run folder
+                save_cell(job.path, records)
             if progress is not None:
                 progress(label(job))
     return len(todo)
