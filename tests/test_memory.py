@@ -193,3 +193,18 @@ def test_the_counted_votes_of_a_face_seen_often_are_the_scan_over_every_trial(n,
         ref_aim, ref_support = _recall_of_every_trial(memory, memory.code(face))
         assert support == pytest.approx(ref_support, abs=1e-12)
         assert aim is None if support < 0 else np.allclose(aim, ref_aim, rtol=0, atol=1e-12)
+
+
+def test_the_memory_s_commands_for_repeated_faces_are_each_face_s_own():
+    """A face repeated at many head angles (recalled once) commands as each alone would."""
+    agent = BootstrapOptions(learner="memory").build(AgentConfig(), BODY,
+                                                     np.random.default_rng(2))
+    rng = np.random.default_rng(3)
+    faces = rng.uniform(0, 255, (6, 12))
+    agent.module.memory.partial_fit(np.repeat(faces, 5, axis=0), rng.uniform(-0.5, 0.5, (30, 2)))
+    windows = faces[[0, 0, 0, 1, 1, 2, 0, 0]].reshape(-1, 3, 4)
+    thetas = rng.uniform(-0.5, 0.5, (8, 2))
+    together = agent.lm_commands(windows, thetas)
+    alone = np.array([agent.lm_commands(w[None], t[None])[0]
+                      for w, t in zip(windows, thetas, strict=True)])
+    assert np.array_equal(together, alone) and np.abs(together).sum() > 0

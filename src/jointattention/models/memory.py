@@ -28,13 +28,19 @@ def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, 
                          out) -> None:
     """One step toward the place recalled for each face window (K, pixels), into ``out``.
 
-    From each head angle ``thetas`` (K, 2); no step for a face with no place recalled.
+    From each head angle ``thetas`` (K, 2); no step for a face with no place recalled. A face
+    whose code is the one before's (e.g. a blank face at many head angles) is not recalled
+    again: the recall depends on the code alone.
     """
-    code, aim = np.empty(len(projection)), np.empty(2)
+    code, last, aim = np.empty(len(projection)), np.empty(len(projection)), np.empty(2)
+    support = -1.0
     for r in range(len(faces)):
         face_code_into(faces[r], projection, code)
-        if memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_rad,
-                         cell_rad, k_nearest, radius_rad, aim) < 0:
+        if r == 0 or not np.array_equal(code, last):
+            support = memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes,
+                                    lo_rad, cell_rad, k_nearest, radius_rad, aim)
+            last[:] = code
+        if support < 0:
             out[r, 0], out[r, 1] = 0.0, 0.0
         else:
             out[r, 0], out[r, 1] = unit_step(aim[0] - thetas[r, 0], aim[1] - thetas[r, 1],
