@@ -59,6 +59,17 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
         "criterion_shrink": 0.9, "blur_start_px": 3.0, "blur_sharp_steps": 2000.0}),
     ConditionConfig(name="developmental-shuffled", n_objects=3, shuffle_faces=True, model={
         "kind": "developmental", "criterion_level": 0.2, "blur_start_px": 0.5}),
+    ConditionConfig(name="population", n_objects=5, model={
+        "learner": "population", "vf_fallback": "sweep", "population": {"n_hidden": 16}}),
+    ConditionConfig(name="population-attended-standardised", n_objects=10, model={
+        "learner": "population", "population": {
+            "n_hidden": 8, "keep": "attended", "standardise": True, "replay": 3,
+            "replay_capacity": 30, "readout": "ratio", "features": "hog"}}),
+    ConditionConfig(name="population-performance", n_objects=3, shuffle_faces=True, model={
+        "learner": "population", "gate_per": "trial", "learning_target": "final_direction",
+        "population": {"n_hidden": 8, "average_rate": 0.0, "readout": "mode",
+                       "features": "pixels"},
+        "gate": {"kind": "performance", "window_trials": 20.0, "full_agreement": 0.2}}),
     ConditionConfig(name="rl", n_objects=3, model={"kind": "rl"}),
     ConditionConfig(name="rl-shuffled", n_objects=5, shuffle_faces=True, model={
         "kind": "rl", "n_directions": 8, "temperature": 0.5, "gamma": 0.5}),

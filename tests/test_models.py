@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -237,17 +239,20 @@ def test_claim_horizontal_before_vertical(factor, holds):
 
 
 def test_engine_auto_compiles_what_it_can():
-    """Engine "auto" compiles the bootstrap family and RL, not the population learner."""
+    """Engine "auto" compiles every shipped model in the fast world, and none in images."""
     from jointattention.experiment.cells import engine_of
 
     population = {"learner": "population", "vf_fallback": "sweep"}
-    config = load_config({"experiment": {"engine": "auto", "conditions": [
-        {"name": "d", "model": {"kind": "developmental"}}, {"name": "r", "model": {"kind": "rl"}},
-        {"name": "p", "model": population}]}})
-    assert [engine_of(config, c) for c in config.experiment.conditions] == [
-        "compiled", "compiled", "python"]
-    with pytest.raises(ConfigError, match="does not run learner 'population'") as error:
-        load_config({"experiment": {"conditions": [{"name": "p", "model": population}]}})
+    conditions = [{"name": "d", "model": {"kind": "developmental"}},
+                  {"name": "r", "model": {"kind": "rl"}}, {"name": "p", "model": population}]
+    fast = load_config({"experiment": {"engine": "auto", "conditions": conditions}})
+    assert {engine_of(fast, c) for c in fast.experiment.conditions} == {"compiled"}
+    rendered = load_config({"experiment": {"engine": "auto", "perception": "rendered",
+                                           "conditions": conditions}})
+    assert {engine_of(rendered, c) for c in rendered.experiment.conditions} == {"python"}
+    with pytest.raises(ConfigError, match="perception = 'rendered'") as error:
+        load_config({"experiment": {"engine": "compiled", "perception": "rendered",
+                                    "conditions": conditions}})
     assert "\n" not in str(error.value)
 
 
@@ -336,7 +341,15 @@ def test_only_classes_that_say_so_run_compiled():
     class Changed(BootstrapOptions):
         """A bootstrap model with something the compiled loop was not written for."""
 
+    @dataclass(frozen=True)
+    class Partly(BootstrapOptions):
+        """A bootstrap model whose compiled loop runs every learner but one."""
+
+        compiled: ClassVar[bool] = True
+        python_only: ClassVar[dict] = {"learner": ("population",)}
+
     assert BootstrapOptions().compiled_refusal() is None
+    assert BootstrapOptions(learner="population").compiled_refusal() is None
     assert "does not run model kind" in Changed().compiled_refusal()
-    assert "does not run learner 'population'" in BootstrapOptions(
-        learner="population").compiled_refusal()
+    assert "does not run learner 'population'" in Partly(learner="population").compiled_refusal()
+    assert Partly().compiled_refusal() is None

@@ -192,12 +192,13 @@ def test_batched_commands_are_the_trial_s_readout(readout, standardise):
     rng = np.random.default_rng(3)
     for face, theta in zip(faces[:20], ds.theta_face_rad[:20], strict=True):
         module.begin(face, theta)  # fits the features' statistics with ``standardise``
-        module._keep(rng.uniform(-np.pi, np.pi, 3))
-        module._replay()
-        module.population.average()
+        module.learn_places(theta + rng.uniform(-0.3, 0.3, (3, 2)))
+    assert module.n_kept_ == 20 and module.feature_stats.n_seen_ == 20 * standardise
     out = module.commands(faces, ds.theta_face_rad[:40])
+    agent.learning = False  # a trial's start, without fitting the statistics
     for face, theta, o in zip(faces, ds.theta_face_rad[:40], out, strict=True):
-        psi, _ = module.population.direction(module._features(face, theta))
+        module.begin(face, theta)
+        psi = module.direction_rad_
         assert np.array_equal(o, agent.step_rad * np.array([math.cos(psi), math.sin(psi)]))
 
 
@@ -214,15 +215,16 @@ def test_the_ratio_readout_is_the_difference_of_the_output_units():
 
 def test_a_replayed_trial_teaches_as_teaching_it_again():
     """The replay kernel's update equals teaching the kept trial's input and directions."""
-    a, b = _agent(n_hidden=8, replay=1), _agent(n_hidden=8, replay=1)
+    a, b = (_agent(n_hidden=8, replay=r, average_rate=0.0) for r in (1, 0))
     ds = default_datasets()
-    face = ds.face[5].reshape(-1).astype(float)
+    face, theta = ds.face[5].reshape(-1).astype(float), ds.theta_face_rad[5]
+    places = theta + np.array([[0.1, 0.05], [-0.2, 0.3]])
     for agent in (a, b):
-        agent.module.begin(face, ds.theta_face_rad[5])
-        agent.module._keep(np.array([0.3, -2.0]))
-    a.module._replay()  # one kept trial: the draw is that trial
-    x = b.module._features(face, ds.theta_face_rad[5])
-    b.module.population.teach(x, [0.3, -2.0])
+        agent.module.begin(face, theta)
+        agent.module.learn_places(places)  # b: taught once; a: once, then replayed (the only)
+    d = places - theta
+    b.module.population.teach(b.module._x, [math.atan2(y, x) for x, y in d])
     for name in ("w1_", "b1_", "w2_", "b2_", "hidden_mean_", "n_taught_"):
         assert np.array_equal(getattr(a.module.population, name),
                               getattr(b.module.population, name)), name
+    assert a.module.population.n_taught_ == 4

@@ -107,8 +107,8 @@ class ExperimentConfig(Section):
         "rendered (each step rendered with MuJoCo and detected with OpenCV; about 30x slower)",
         choices=("fast", "rendered"))
     engine: str = param(
-        "compiled", "how fast-perception cells run: compiled (whole cells in compiled code; the "
-        "bootstrap, teacher and developmental models), python (step by step through the Agent "
+        "compiled", "how fast-perception cells run: compiled (whole cells in compiled code; "
+        "every shipped model), python (step by step through the Agent "
         "and Scene seams: any model, rendered perception, step observers), or auto (each "
         "condition compiled if its model allows, else python); all give the same records",
         choices=("compiled", "python", "auto"))

@@ -18,8 +18,10 @@ from ..agent.gates import CONSTANT, PERFORMANCE, agreement_update, performance_r
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
+from ..models._population_kernels import population_begin, population_learn
 from ..models.bootstrap import LEARNING_TARGETS
 from ..models.developmental import blur_into, blur_px, caregiver_update
+from ..models.population import PopulationModule, line_step
 from ..world.kinematics import separation_rad
 from ._loop_steps import draw_trial, look, look_arrays
 from .trial import END_FIRED, RUNNING, move_head
@@ -32,6 +34,7 @@ COLUMNS = ("learning_time", "n_steps", "n_lm_steps", "n_random_steps", "attended
            "end")
 _OBJECT_DIRECTION = LEARNING_TARGETS.index("object_direction")
 _EXECUTED_STEP = LEARNING_TARGETS.index("executed_step")
+_MAX_PLACES = PopulationModule.MAX_PLACES
 
 
 @jit
@@ -45,16 +48,20 @@ def _gate_rate(robot, t, agreement):
 
 
 @jit
-def _lm_step(robot, state, face_acc, pan, tilt, memory, recalled, aim, acc, scaled, hid, out):
+def _lm_step(robot, state, face_acc, pan, tilt, memory, recalled, aim, line, acc, scaled, hid,
+             out):
     """The learning module's command at a head angle (no step if the memory recalled nothing).
 
     As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`);
-    ``memory`` is whether the learner is the episodic memory.
+    ``memory`` is whether the learner is the episodic memory; ``line`` is whether it is the
+    population code, the direction it read out and the trial's start.
     """
     if memory:
         if not recalled:
             return 0.0, 0.0
         return unit_step(aim[0] - pan, aim[1] - tilt, robot.step_rad)
+    if line[0]:
+        return line_step(line[2], line[3], line[1], pan, tilt, robot.step_rad)
     for i in range(len(acc)):  # element by element: quicker for numba to compile
         acc[i] = face_acc[i]
     scale_angle_into(pan, tilt, robot.theta_mid_rad, robot.theta_half_rad, scaled, 0)
@@ -73,14 +80,17 @@ def _keep(code, pan, tilt, memory, c) -> int:
 
 
 @jit
-def run_trials(until_steps, max_trials, world, robot, state, memory, development, trials_rng,
-               shuffle_rng, gate_rng, move_rng, records) -> int:
+def run_trials(until_steps, max_trials, world, robot, state, memory, development, population,
+               trials_rng, shuffle_rng, gate_rng, move_rng, module_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
 
     ``memory``: the episodic memory (:class:`~._loop_inputs.LoopMemory`), or None for the
     learners that back-propagate (its branches are then pruned at compile time: its kernels
     are compiled only for a memory learner). ``development``: the developmental model's
     caregiver and blur (:class:`~._loop_inputs.LoopDevelopment`), or None, likewise.
+    ``population``: the population code's arrays
+    (:class:`~jointattention.models._population_kernels.PopulationArrays`), or None; its
+    replay draws from ``module_rng``.
 
     A frozen robot (``robot.learning`` False) learns nothing and its learning time stands
     still: it runs ``max_trials`` trials. Each trial is :func:`~.cells.random_scene`, a
@@ -99,7 +109,10 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     if memory is not None:
         n_code = len(memory.projection)
     scaled, code, sweep = np.empty(2), np.empty(n_code), (0.0, 0.0)
-    has_memory = n_code > 0
+    has_memory, on_line = n_code > 0, False
+    if population is not None:
+        on_line = True
+    places = np.empty((_MAX_PLACES, 2))  # the population code's places found
     aim, place = np.empty(2), np.empty(2)  # the place recalled, the place found
     thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
     y = np.empty((robot.max_steps, 2))
@@ -126,6 +139,10 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             recalled = memory_recall(code, memory.codes, memory.counts, memory.links,
                                      memory.aims, memory.base, c[4], c[5], memory.lo_rad,
                                      memory.cell_rad, memory.k, memory.radius_rad, aim) >= 0
+        psi = 0.0
+        if population is not None:  # PopulationModule.begin
+            psi = population_begin(population, face, world.theta_face_rad[k, 0],
+                                   world.theta_face_rad[k, 1], robot.learning)
         if robot.learning:
             c[1] += 1
             welford_update(face, state.mean, state.m2, c[1])
@@ -142,6 +159,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         # the trial (SceneTrial, run_trial)
         pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
         pan_start, tilt_start = pan, tilt
+        line = (on_line, psi, pan_start, tilt_start)
         n_steps, n_lm, n_random, end, attended, seen = 0, 0, 0, -1, -1, -1
         last_module = -1
         limit_hit = False
@@ -168,7 +186,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                 d_pan, d_tilt = random_step(move_rng, robot.step_rad)
             elif module == _LM:
                 d_pan, d_tilt = _lm_step(robot, state, face_acc, pan, tilt, has_memory, recalled,
-                                         aim, acc, scaled, hid, out)
+                                         aim, line, acc, scaled, hid, out)
             elif robot.vf_fallback_sweep:
                 d_pan, d_tilt = sweep
             else:
@@ -203,7 +221,8 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                                                 robot.gain_rad_per_px)
             if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
                 u_pan, u_tilt = _lm_step(robot, state, face_acc, pan_start, tilt_start,
-                                         has_memory, recalled, aim, acc, scaled, hid, out)
+                                         has_memory, recalled, aim, line, acc, scaled, hid,
+                                         out)
                 state.agreement[0] = agreement_update(
                     state.agreement[0], u_pan, u_tilt, pan + v_pan - pan_start,
                     tilt + v_tilt - tilt_start, robot.gate_a, robot.gate_window)
@@ -217,6 +236,17 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                     v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
                                                         robot.gain_rad_per_px)
                     c[5] = _keep(code, pan + v_pan, tilt + v_tilt, memory, c)
+        elif learns and population is not None:  # PopulationModule.learn
+            places[0, 0], places[0, 1] = place[0], place[1]
+            n_places = 1
+            for i in range(m if population.in_view else 0):
+                if i != seen and n_places < _MAX_PLACES:
+                    v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
+                                                        robot.gain_rad_per_px)
+                    places[n_places, 0], places[n_places, 1] = pan + v_pan, tilt + v_tilt
+                    n_places += 1
+            population_learn(population, places[:n_places], face, pan_start, tilt_start,
+                             module_rng)
         elif learns:
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])

@@ -24,6 +24,7 @@ from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
 from ..models.bootstrap import LEARNING_TARGETS, BootstrapAgent
+from ..models.population import PopulationModule
 from ..models.registry import ModelOptions
 from ..models.rl import RLAgent
 from ..world.kinematics import HeadKinematics
@@ -120,6 +121,9 @@ class CompiledCell:
         self._development = LoopDevelopment(*caregiver[2:]) if caregiver[1] else None
         learner, faces = agent.learner, agent.faces
         self._memory = _loop_memory(memory)
+        self._population = (agent.module.arrays()
+                            if isinstance(agent.module, PopulationModule) else None)
+        self._module_rng = getattr(agent.module, "replay_rng", agent.move_rng)  # a stand-in
         kept = (0, 0) if memory is None else memory.kept_arrays()[5:]
         self._state = LoopState(
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
@@ -133,9 +137,9 @@ class CompiledCell:
     def run_until(self, learning_time_steps: int) -> None:
         """Learn trial after trial until the learning time reaches ``learning_time_steps``."""
         placed(run_trials(learning_time_steps, self._records.shape[1], self._world, self._robot,
-                          self._state, self._memory, self._development, self._trials,
-                          self._shuffle, self.agent.gate_rng, self.agent.move_rng,
-                          self._records), self._world)
+                          self._state, self._memory, self._development, self._population,
+                          self._trials, self._shuffle, self.agent.gate_rng,
+                          self.agent.move_rng, self._module_rng, self._records), self._world)
         c = self._state.counters
         self.agent.learning_time_steps = int(c[0])
         self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
@@ -143,6 +147,8 @@ class CompiledCell:
         if hasattr(self.agent, "criterion_rad_"):  # the caregiver's criterion adapts
             self.agent.criterion_rad_, self.agent.approved_rate_ = map(float,
                                                                        self._state.caregiver)
+        if self._population is not None:
+            self.agent.module.sync(self._population)
         if hasattr(self.agent.module, "memory"):
             self.agent.module.memory.n_stored_, self.agent.module.memory.n_codes_ = (
                 int(c[4]), int(c[5]))

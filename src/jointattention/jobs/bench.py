@@ -129,8 +129,8 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     learning module) in both engines, and its first ``rendered_steps`` steps in rendered mode
     (MuJoCo render + OpenCV detection each step); the beyond preset's 5-object memory cell at
     the paper's scale (its recall grows with the distinct faces kept); the models preset's
-    5-object reinforcement learner (compiled) for 1e5 steps; the population learner (python
-    engine) for 1e5 steps. Then one compiled step's time
+    5-object reinforcement learner (compiled) for 1e5 steps; the population learner for 1e5
+    steps compiled and 5x10^4 step by step. Then one compiled step's time
     against its bound: one forward and backward pass of the learning module alone, in compiled
     code.
     """
@@ -149,8 +149,10 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     models = load_config("models")
     rl = _cell_rate(models, next(c for c in models.experiment.conditions if c.name == "rl-n5"),
                     n_steps=100_000)
-    population = _cell_rate(config, dataclasses.replace(cond, model={
-        "learner": "population", "vf_fallback": "sweep"}), n_steps=100_000, engine="auto")
+    population_cell = dataclasses.replace(cond, model={"learner": "population",
+                                                       "vf_fallback": "sweep"})
+    population = _cell_rate(config, population_cell, n_steps=100_000)
+    population_python = _cell_rate(config, population_cell, n_steps=50_000, engine="python")
     step_us, bound_us = 1e6 / compiled, _update_us()
     return [("agent steps, compiled engine, learning (quick n5-sigmoid)", compiled, "steps/s"),
             ("agent steps, python engine, learning (same cell)", python, "steps/s"),
@@ -158,8 +160,12 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
             ("agent steps, compiled engine, memory learner (beyond memory-n5)", memory,
              "steps/s"),
             ("agent steps, compiled engine, RL learner (models rl-n5, 1e5 steps)", rl, "steps/s"),
-            ("agent steps, python engine, population learner (quick n5, 1e5 steps)", population,
-             "steps/s"),
+            ("agent steps, compiled engine, population learner (quick n5, 1e5 steps)",
+             population, "steps/s"),
+            ("agent steps, python engine, population learner (same cell, 5e4 steps)",
+             population_python, "steps/s"),
+            ("population learner: compiled / python engine", population / population_python,
+             "x"),
             ("compiled / python engine", compiled / python, "x"),
             ("compiled, paper's learner / memory learner (the recall's cost)", compiled / memory,
              "x"),

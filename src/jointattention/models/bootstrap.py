@@ -47,7 +47,6 @@ class BootstrapOptions(ModelOptions):
     readings: ClassVar[tuple[str, ...]] = ("gate_per", "vf_fallback", "learning_target",
                                            "learn_from", "n_passes", "learning_rate", "init_scale")
     compiled: ClassVar[bool] = True
-    python_only: ClassVar[dict[str, tuple]] = {"learner": ("population",)}
 
     n_hidden: int = param(7, "hidden units of the learning module (paper: 7)", lo=1, hi=1000)
     learning_rate: float = param(

@@ -18,85 +18,24 @@ trial: more updates from each trial the robot lived through.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
 
 import numpy as np
 
 from .._jit import jit
-from ..agent.face_features import face_features_into, n_features
-from ..agent.learner import FaceStandardiser, standardise
-from ..agent.moves import scale_angle_into, unit_step
-from ..agent.population import (
-    PopulationCode,
-    population_readout,
-    population_scores_into,
-    population_teach,
-)
+from ..agent.face_features import n_features
+from ..agent.learner import FaceStandardiser
+from ..agent.moves import unit_step
+from ..agent.population import READOUTS, PopulationCode
 from ..agent.protocol import Outcome
+from ._population_kernels import (
+    InputSpec,
+    PopulationArrays,
+    commands_into,
+    population_begin,
+    population_learn,
+)
 
-__all__ = ["InputSpec", "PopulationModule", "commands_into", "line_step", "module_input_into",
-           "replay_into"]
-
-
-class InputSpec(NamedTuple):
-    """How the module's input is made from a face window and a head angle (for the kernels)."""
-
-    height: int
-    width: int
-    cell_px: int
-    n_orientations: int
-    pixels: bool
-    hog: bool
-    min_std: float  # of the features' standardiser
-    theta_mid_rad: np.ndarray
-    theta_half_rad: np.ndarray
-
-
-@jit
-def module_input_into(face, pan, tilt, spec, mean, m2, n_seen, x, tmp) -> None:
-    """The module's input ``x``: the window's features, then the scaled head angle.
-
-    The features are standardised by ``mean``, ``m2`` of ``n_seen`` faces if ``n_seen`` > 0
-    (pass 0 to leave them as they are). ``tmp`` holds the features meanwhile.
-    """
-    n = len(x) - 2
-    face_features_into(face, spec.height, spec.width, spec.cell_px, spec.n_orientations,
-                       spec.pixels, spec.hog, x)
-    if n_seen > 0:
-        for i in range(n):
-            tmp[i] = x[i]
-        standardise(tmp[:n], mean, m2, n_seen, spec.min_std, x[:n])
-    scale_angle_into(pan, tilt, spec.theta_mid_rad, spec.theta_half_rad, x, n)
-
-
-@jit
-def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_mean,
-                  readout, step_rad, out) -> None:
-    """The first step from each face (K, pixels) at its head angle (K, 2): ``out`` (K, 2)."""
-    x, tmp = np.empty(len(w1[0])), np.empty(len(w1[0]))
-    h, p, z, score = np.empty(len(b1)), np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
-    for k in range(len(faces)):
-        module_input_into(faces[k], thetas[k, 0], thetas[k, 1], spec, mean, m2, n_seen, x, tmp)
-        population_scores_into(x, w1, b1, w2, b2, hidden_mean, readout, h, p, z, score)
-        psi, _ = population_readout(score)
-        out[k, 0], out[k, 1] = step_rad * math.cos(psi), step_rad * math.sin(psi)
-
-
-@jit
-def replay_into(drawn, faces, thetas, directions, counts, spec, mean, m2, n_seen, kappa, w1,
-                b1, w2, b2, learning_rate, hidden_mean, hidden_rate, h, p, grad_h,
-                taught) -> int:
-    """Teach again the kept trials ``drawn`` (replay memory rows); the places taught."""
-    x, tmp, face = np.empty(len(w1[0])), np.empty(len(w1[0])), np.empty(faces.shape[1])
-    n_taught = 0
-    for i in drawn:
-        for j in range(len(face)):
-            face[j] = faces[i, j]
-        module_input_into(face, thetas[i, 0], thetas[i, 1], spec, mean, m2, n_seen, x, tmp)
-        population_teach(x, directions[i, : counts[i]], kappa, w1, b1, w2, b2, learning_rate,
-                         hidden_mean, hidden_rate, h, p, grad_h, taught)
-        n_taught += counts[i]
-    return n_taught
+__all__ = ["PopulationModule", "line_step"]
 
 
 @jit
@@ -148,6 +87,8 @@ class PopulationModule:
                               np.asarray(host.theta_mid_rad, float),
                               np.asarray(host.theta_half_rad, float))
         self._no_stats = np.zeros(self.n_features)
+        n_in = self.n_features + 2
+        self._x, self._tmp, self._score = np.empty(n_in), np.empty(n_in), np.empty(o.n_bins)
         self.direction_rad_ = 0.0
         self.replay_faces_ = np.zeros((o.replay_capacity, h * w), np.uint8)
         self.replay_thetas_ = np.zeros((o.replay_capacity, 2))
@@ -193,38 +134,30 @@ class PopulationModule:
             f.m2_ = arrays["population_feature_m2"].astype(float)
             f.n_seen_ = int(arrays["population_feature_n_seen"])
 
-    def _stats(self) -> tuple:
-        """The features' standardiser as the kernels take it: mean, m2, faces seen.
+    def arrays(self) -> PopulationArrays:
+        """The module's state as the kernels take it (its own arrays; see ``sync``)."""
+        o, p, f = self.host.options.population, self.population, self.feature_stats
+        return PopulationArrays(
+            self.spec, p.kappa, float(o.learning_rate), float(o.hidden_rate),
+            float(o.average_rate), READOUTS.index(o.readout), bool(o.standardise),
+            o.keep == "in_view", int(o.replay), p.w1_, p.b1_, p.w2_, p.b2_, *p.averaged_,
+            *p._readout_weights(), p.hidden_mean_, *f.statistics(self.n_features),
+            self._no_stats, self.replay_faces_, self.replay_thetas_, self.replay_directions_,
+            self.replay_counts_, self._x, self._tmp, p._h, p._p, p._grad_h, p._taught, p._z,
+            self._score, np.array([self.n_kept_, p.n_taught_, f.n_seen_], np.int64))
 
-        0 faces seen (no standardising) without ``standardise`` or before the first face.
-        """
-        f = self.feature_stats
-        if not self.host.options.population.standardise or not f.n_seen_:
-            return self._no_stats, self._no_stats, 0
-        return f.mean_, f.m2_, f.n_seen_
-
-    def _features(self, window: np.ndarray, theta_rad: np.ndarray, fit: bool = False
-                  ) -> np.ndarray:
-        """The module's input: a checked window's features (H * W floats) and the head angle.
-
-        The head angle (2,) is scaled by the joint ranges. With ``standardise`` the face
-        features are standardised by their running statistics; ``fit`` adds this face's
-        features to those statistics first.
-        """
-        x, tmp = np.empty(self.n_features + 2), np.empty(self.n_features + 2)
-        pan, tilt = float(theta_rad[0]), float(theta_rad[1])
-        if fit and self.host.options.population.standardise:
-            module_input_into(window, pan, tilt, self.spec, self._no_stats, self._no_stats, 0,
-                              x, tmp)
-            self.feature_stats.partial_fit(x[: self.n_features])
-        module_input_into(window, pan, tilt, self.spec, *self._stats(), x, tmp)
-        return x
+    def sync(self, arrays: PopulationArrays) -> None:
+        """Take back the counters the kernels moved (trials kept, places taught, faces fitted)."""
+        self.n_kept_, self.population.n_taught_, self.feature_stats.n_seen_ = (
+            int(c) for c in arrays.counters)
 
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
         """Read out the direction for the caregiver's face (a checked flat window)."""
-        self._x = self._features(face, theta_rad, fit=self.host.learning)
         self._face, self._theta_start = face, theta_rad
-        self.direction_rad_, _ = self.population.direction(self._x)
+        a = self.arrays()
+        self.direction_rad_ = population_begin(a, face, float(theta_rad[0]),
+                                               float(theta_rad[1]), self.host.learning)
+        self.sync(a)
 
     def step(self, theta_rad) -> np.ndarray:
         """A step along the line from the face in the direction read out."""
@@ -246,13 +179,15 @@ class PopulationModule:
         if host.options.population.keep == "in_view":
             places += [host.place_of(outcome, i) for i in range(len(outcome.detections))
                        if i != outcome.seen]
-        d = np.array(places[: self.MAX_PLACES]) - self._theta_start
-        directions = np.arctan2(d[:, 1], d[:, 0])
-        self.population._teach(self._x, directions)
-        self._keep(directions)
-        self._replay()
-        self.population.average()
-        return len(directions)
+        return self.learn_places(np.array(places[: self.MAX_PLACES], dtype=float))
+
+    def learn_places(self, places_rad: np.ndarray) -> int:
+        """:meth:`learn` of the places found (n, 2), for the trial :meth:`begin` started."""
+        a = self.arrays()
+        n = population_learn(a, places_rad, self._face, float(self._theta_start[0]),
+                             float(self._theta_start[1]), self.replay_rng)
+        self.sync(a)
+        return n
 
     def command(self, face: np.ndarray, theta_rad: np.ndarray) -> np.ndarray:
         """The first step from the face, for a checked flat face window and the head angle."""
@@ -260,28 +195,9 @@ class PopulationModule:
 
     def commands(self, faces: np.ndarray, thetas: np.ndarray) -> np.ndarray:
         """:meth:`command` for K checked flat face windows and head angles, (K, 2)."""
-        out = np.empty((len(faces), 2))
-        p = self.population
+        out, a = np.empty((len(faces), 2)), self.arrays()
         commands_into(np.ascontiguousarray(faces, float), np.ascontiguousarray(thetas, float),
-                      self.spec, *self._stats(), *p._readout_weights(), p.hidden_mean_,
-                      p.readout_code, float(self.host.step_rad), out)
+                      self.spec, a.feature_mean, a.feature_m2, a.counters[2] * a.standardise,
+                      a.readout_w1, a.readout_b1, a.readout_w2, a.readout_b2, a.hidden_mean,
+                      a.readout, float(self.host.step_rad), out)
         return out
-
-    def _keep(self, directions: np.ndarray) -> None:
-        """Keep the trial in the replay memory, forgetting the oldest when it is full."""
-        slot = self.n_kept_ % len(self.replay_counts_)
-        self.replay_faces_[slot] = np.clip(np.rint(self._face), 0, 255).ravel()
-        self.replay_thetas_[slot] = self._theta_start
-        self.replay_directions_[slot, : len(directions)] = directions
-        self.replay_counts_[slot] = len(directions)
-        self.n_kept_ += 1
-
-    def _replay(self) -> None:
-        """Teach ``replay`` trials drawn at random from the replay memory."""
-        n = min(self.n_kept_, len(self.replay_counts_))
-        drawn = self.replay_rng.integers(n, size=self.host.options.population.replay)
-        p = self.population
-        # the memory holds checked windows and angles: no door to pass again
-        p.n_taught_ += replay_into(drawn, self.replay_faces_, self.replay_thetas_,
-                                   self.replay_directions_, self.replay_counts_, self.spec,
-                                   *self._stats(), p.kappa, *p.teach_arrays())

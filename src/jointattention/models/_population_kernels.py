@@ -1,0 +1,192 @@
+"""The population module's compiled kernels: its input, commands, replay, trial start and end.
+
+:class:`~.population.PopulationModule` (the step-by-step agent) and the compiled engine's
+loop call the same kernels on the same arrays (:class:`PopulationArrays`), so both engines
+learn the same bits.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from .._jit import jit
+from ..agent.face_features import face_features_into
+from ..agent.learner import standardise, welford_update
+from ..agent.moves import scale_angle_into
+from ..agent.population import (
+    average_into,
+    population_readout,
+    population_scores_into,
+    population_teach,
+)
+
+__all__ = ["InputSpec", "PopulationArrays", "commands_into", "module_input_into",
+           "population_begin", "population_learn", "replay_into"]
+
+
+class InputSpec(NamedTuple):
+    """How the module's input is made from a face window and a head angle (for the kernels)."""
+
+    height: int
+    width: int
+    cell_px: int
+    n_orientations: int
+    pixels: bool
+    hog: bool
+    min_std: float  # of the features' standardiser
+    theta_mid_rad: np.ndarray
+    theta_half_rad: np.ndarray
+
+
+@jit
+def module_input_into(face, pan, tilt, spec, mean, m2, n_seen, x, tmp) -> None:
+    """The module's input ``x``: the window's features, then the scaled head angle.
+
+    The features are standardised by ``mean``, ``m2`` of ``n_seen`` faces if ``n_seen`` > 0
+    (pass 0 to leave them as they are). ``tmp`` holds the features meanwhile.
+    """
+    n = len(x) - 2
+    face_features_into(face, spec.height, spec.width, spec.cell_px, spec.n_orientations,
+                       spec.pixels, spec.hog, x)
+    if n_seen > 0:
+        for i in range(n):
+            tmp[i] = x[i]
+        standardise(tmp[:n], mean, m2, n_seen, spec.min_std, x[:n])
+    scale_angle_into(pan, tilt, spec.theta_mid_rad, spec.theta_half_rad, x, n)
+
+
+@jit
+def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_mean,
+                  readout, step_rad, out) -> None:
+    """The first step from each face (K, pixels) at its head angle (K, 2): ``out`` (K, 2)."""
+    x, tmp = np.empty(len(w1[0])), np.empty(len(w1[0]))
+    h, p, z, score = np.empty(len(b1)), np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
+    for k in range(len(faces)):
+        module_input_into(faces[k], thetas[k, 0], thetas[k, 1], spec, mean, m2, n_seen, x, tmp)
+        population_scores_into(x, w1, b1, w2, b2, hidden_mean, readout, h, p, z, score)
+        psi, _ = population_readout(score)
+        out[k, 0], out[k, 1] = step_rad * math.cos(psi), step_rad * math.sin(psi)
+
+
+@jit
+def replay_into(drawn, faces, thetas, directions, counts, spec, mean, m2, n_seen, kappa, w1,
+                b1, w2, b2, learning_rate, hidden_mean, hidden_rate, h, p, grad_h,
+                taught) -> int:
+    """Teach again the kept trials ``drawn`` (replay memory rows); the places taught."""
+    x, tmp, face = np.empty(len(w1[0])), np.empty(len(w1[0])), np.empty(faces.shape[1])
+    n_taught = 0
+    for i in drawn:
+        for j in range(len(face)):
+            face[j] = faces[i, j]
+        module_input_into(face, thetas[i, 0], thetas[i, 1], spec, mean, m2, n_seen, x, tmp)
+        population_teach(x, directions[i, : counts[i]], kappa, w1, b1, w2, b2, learning_rate,
+                         hidden_mean, hidden_rate, h, p, grad_h, taught)
+        n_taught += counts[i]
+    return n_taught
+
+
+class PopulationArrays(NamedTuple):
+    """The module's options, learned arrays, replay memory and scratch, as the kernels take them.
+
+    The arrays are the module's own (changed in place); ``counters`` are its trials kept,
+    places taught and faces whose features were standardised (see
+    :meth:`~.population.PopulationModule.arrays`).
+    """
+
+    spec: InputSpec
+    kappa: float
+    learning_rate: float
+    hidden_rate: float
+    average_rate: float
+    readout: int
+    standardise: bool
+    in_view: bool  # keep every object in view, not only the attended one
+    replay: int
+    w1: np.ndarray
+    b1: np.ndarray
+    w2: np.ndarray
+    b2: np.ndarray
+    averaged_w1: np.ndarray
+    averaged_b1: np.ndarray
+    averaged_w2: np.ndarray
+    averaged_b2: np.ndarray
+    readout_w1: np.ndarray  # the averages, or the weights themselves (average_rate 0)
+    readout_b1: np.ndarray
+    readout_w2: np.ndarray
+    readout_b2: np.ndarray
+    hidden_mean: np.ndarray
+    feature_mean: np.ndarray
+    feature_m2: np.ndarray
+    no_stats: np.ndarray  # zeros: the features as they are
+    replay_faces: np.ndarray
+    replay_thetas: np.ndarray
+    replay_directions: np.ndarray
+    replay_counts: np.ndarray
+    x: np.ndarray  # the trial's input, from its start to its end
+    tmp: np.ndarray
+    h: np.ndarray
+    p: np.ndarray
+    grad_h: np.ndarray
+    taught: np.ndarray
+    z: np.ndarray
+    score: np.ndarray
+    counters: np.ndarray  # trials kept, places taught, faces standardised by
+
+
+@jit
+def population_begin(a, face, pan, tilt, fit) -> float:
+    """A trial's start (``PopulationModule.begin``): its input ``a.x``; the direction read out.
+
+    With ``standardise``, ``fit`` adds this face's features to their running statistics
+    first.
+    """
+    n = len(a.x) - 2
+    if fit and a.standardise:
+        module_input_into(face, pan, tilt, a.spec, a.no_stats, a.no_stats, 0, a.x, a.tmp)
+        a.counters[2] += 1
+        welford_update(a.x[:n], a.feature_mean, a.feature_m2, a.counters[2])
+    n_seen = a.counters[2] if a.standardise else 0
+    module_input_into(face, pan, tilt, a.spec, a.feature_mean, a.feature_m2, n_seen, a.x, a.tmp)
+    population_scores_into(a.x, a.readout_w1, a.readout_b1, a.readout_w2, a.readout_b2,
+                           a.hidden_mean, a.readout, a.h, a.p, a.z, a.score)
+    psi, _ = population_readout(a.score)
+    return psi
+
+
+@jit
+def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
+    """A trial's end (``PopulationModule.learn``): teach the directions of ``places`` (n, 2).
+
+    Their directions from the trial's start are taught for its input ``a.x``; the trial is
+    kept in the replay memory (the oldest forgotten when it is full), ``a.replay`` kept
+    trials drawn from ``replay_rng`` are taught again, and the running averages move once.
+    Returns the places of this trial.
+    """
+    n = len(places)
+    directions = np.empty(n)
+    for i in range(n):
+        directions[i] = math.atan2(places[i, 1] - start_tilt, places[i, 0] - start_pan)
+    population_teach(a.x, directions, a.kappa, a.w1, a.b1, a.w2, a.b2, a.learning_rate,
+                     a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught)
+    slot = a.counters[0] % len(a.replay_counts)
+    for j in range(len(face)):
+        a.replay_faces[slot, j] = np.uint8(min(max(np.rint(face[j]), 0.0), 255.0))
+    a.replay_thetas[slot, 0], a.replay_thetas[slot, 1] = start_pan, start_tilt
+    for i in range(n):
+        a.replay_directions[slot, i] = directions[i]
+    a.replay_counts[slot] = n
+    a.counters[0] += 1
+    drawn = replay_rng.integers(0, min(a.counters[0], len(a.replay_counts)), size=a.replay)
+    n_seen = a.counters[2] if a.standardise else 0
+    a.counters[1] += n + replay_into(
+        drawn, a.replay_faces, a.replay_thetas, a.replay_directions, a.replay_counts, a.spec,
+        a.feature_mean, a.feature_m2, n_seen, a.kappa, a.w1, a.b1, a.w2, a.b2,
+        a.learning_rate, a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught)
+    average_into(a.averaged_w1.reshape(-1), a.w1.reshape(-1), a.average_rate)
+    average_into(a.averaged_b1, a.b1, a.average_rate)
+    average_into(a.averaged_w2.reshape(-1), a.w2.reshape(-1), a.average_rate)
+    average_into(a.averaged_b2, a.b2, a.average_rate)
+    return n
