@@ -152,3 +152,18 @@ def test_the_probe_s_angle_errors_are_angle_deg_row_by_row():
     out[:5] = ds.command_rad[:5] * 2.0  # parallel: the clip
     rows = np.array([angle_deg(o, c) for o, c in zip(out, ds.command_rad, strict=True)])
     assert np.array_equal(_angle_errors_of(out, ds), rows)
+
+
+def test_the_probe_measures_a_fixed_draw_of_many_data_sets():
+    """Beyond probe_datasets, the probe takes the same draw each time, in order; else all."""
+    from jointattention.datasets import default_datasets
+    from jointattention.experiment.probes import probe_sets
+
+    ds = default_datasets()
+    assert probe_sets(ds, 125, 0) is ds and probe_sets(ds, 0, 0) is ds
+    a, b, other = probe_sets(ds, 40, 0), probe_sets(ds, 40, 0), probe_sets(ds, 40, 1)
+    assert len(a) == 40 and np.array_equal(a.face, b.face)
+    assert not np.array_equal(a.face, other.face)
+    rows = [int(np.flatnonzero((ds.theta_face_rad == t).all(axis=1))[0])
+            for t in a.theta_face_rad]
+    assert rows == sorted(rows) and np.array_equal(ds.command_rad[rows], a.command_rad)

@@ -23,7 +23,7 @@ from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
 from .compiled import compiled_cell, pack_world, unsupported
 from .oracle import OracleAgent
-from .probes import lm_errors_deg
+from .probes import lm_errors_deg, probe_sets
 from .recorded import training_file
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
@@ -125,8 +125,10 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     """Learn for ``experiment.n_steps`` steps; one record per trial (``trial.RECORD``).
 
     The cell also holds ``lm_error_deg``, one value per learning-time bin: the learning
-    module's median angle error over the data sets' faces at the first trial end past the
-    bin (:func:`~.probes.median_error_deg`; NaN for a model without one), and its horizontal
+    module's median angle error over the data sets' faces (at most
+    ``experiment.probe_datasets`` of them: :func:`~.probes.probe_sets`) at the first trial
+    end past the bin (:func:`~.probes.median_error_deg`; NaN for a model without one), and
+    its horizontal
     and vertical parts, ``lm_pan_error_deg`` and ``lm_tilt_error_deg``
     (:func:`~.probes.axis_errors_deg`), and ``lm_bias``, how alike its directions are over the
     faces (:func:`~.probes.bias_of`); all four from one pass, :func:`~.probes.lm_errors_deg`.
@@ -147,13 +149,14 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     errors = np.full(len(bin_ends), np.nan)
     axes = np.full((3, len(bin_ends)), np.nan)  # horizontal and vertical parts, bias
     measured = 0  # bins whose error is measured
+    probed = probe_sets(ds, exp.probe_datasets, config.seed)
 
     def reached(t: int) -> None:
         nonlocal measured
         while pending and t >= pending[0]:
             on_checkpoint(pending.pop(0), agent)
         while measured < len(bin_ends) and t >= bin_ends[measured]:
-            errors[measured], *axes[:, measured] = lm_errors_deg(agent, ds)
+            errors[measured], *axes[:, measured] = lm_errors_deg(agent, probed)
             measured += 1
 
     if engine_of(config, condition) == "compiled":

@@ -10,10 +10,26 @@ from __future__ import annotations
 import numpy as np
 
 from ..datasets import CaregiverDatasets
+from ..rng import stream
 from ..world.kinematics import angle_rad
 
 __all__ = ["angle_deg", "angle_errors", "axis_errors_deg", "bias_of", "lm_errors_deg",
-           "median_error_deg"]
+           "median_error_deg", "probe_sets"]
+
+
+def probe_sets(ds: CaregiverDatasets, limit: int, seed: int) -> CaregiverDatasets:
+    """The data sets the per-bin probe measures: all, or ``limit`` of them if there are more.
+
+    Drawn once from ``seed``'s ``probe`` stream (the same for every cell of a run), in their
+    order; 0: all. A run of 16,000 data sets probed 50 times measured the module on 800,000
+    faces a cell; a median over 2,000 of them moves by a fraction of a degree.
+    """
+    if not limit or len(ds) <= limit:
+        return ds
+    keep = np.sort(stream(seed, "probe").choice(len(ds), limit, replace=False))
+    return CaregiverDatasets(ds.face[keep], ds.theta_face_rad[keep], ds.command_rad[keep],
+                             None if ds.target_m is None else ds.target_m[keep], ds.meta,
+                             None if ds.caregiver is None else ds.caregiver[keep])
 
 
 def angle_deg(a, b) -> np.ndarray:
