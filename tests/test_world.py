@@ -155,3 +155,16 @@ def test_the_compiled_permutation_draws_as_numpy(seed, n):
     a, b = np.random.default_rng(seed), np.random.default_rng(seed)
     assert np.array_equal(permutation(a, n), b.permutation(n))
     assert a.random() == b.random()
+
+
+@given(seed=st.integers(0, 2**32 - 1),
+       ns=st.lists(st.one_of(st.integers(1, 200), st.integers(1, 2**40)), min_size=1,
+                   max_size=20))
+@settings(max_examples=80, deadline=None)
+def test_the_compiled_index_draw_draws_as_numpy(seed, ns):
+    """world.fast.draw_index gives numpy's rng.integers(n), draw after draw, 32 and 64 bits."""
+    from jointattention.world.fast import draw_index
+
+    a, b = np.random.default_rng(seed), np.random.default_rng(seed)
+    assert [draw_index(a, n) for n in ns] == [int(b.integers(n)) for n in ns]
+    assert a.random() == b.random()

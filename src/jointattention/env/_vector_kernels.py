@@ -12,7 +12,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.attention import attended_index
 from ..experiment.trial import RUNNING, end_after_look, move_head
-from ..world.fast import detect_into, draw_objects
+from ..world.fast import detect_into, draw_index, draw_objects
 from ..world.kinematics import rotation_matrix
 from ._looks import _rows_into
 
@@ -32,7 +32,7 @@ def start_all(rngs, which, targets_m, faces_m, face_radius_m, region, offset_m, 
     for j in range(len(which)):
         i = which[j]
         rng = rngs[i]
-        k = rng.integers(0, len(targets_m))
+        k = draw_index(rng, len(targets_m))
         t = draw_objects(rng, targets_m[k], faces_m[k], face_radius_m, region, offset_m,
                          limits_rad, pos[i], radius[i], edge[i])
         if t < 0:

@@ -11,7 +11,7 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.attention import attended_index
-from ..world.fast import detect_into, draw_objects
+from ..world.fast import detect_into, draw_index, draw_objects
 from ..world.kinematics import rotation_matrix
 from .trial import END_FIRED, end_after_look
 
@@ -35,12 +35,12 @@ def draw_trial(world, trials_rng, shuffle_rng, obj_pos, obj_rad, edge) -> tuple[
     The objects go into ``obj_pos``, ``obj_rad`` and ``edge``. The target is -1 if they
     could not be placed (then no face is drawn).
     """
-    k = trials_rng.integers(0, len(world.faces))
+    k = draw_index(trials_rng, len(world.faces))
     target = draw_objects(trials_rng, world.target_m[k], world.face_m[k], world.face_radius_m,
                           world.region, world.offset_m, world.limits_rad, obj_pos, obj_rad, edge)
     if target < 0:
         return k, target, k
-    return k, target, shuffle_rng.integers(0, len(world.faces)) if world.shuffle_faces else k
+    return k, target, draw_index(shuffle_rng, len(world.faces)) if world.shuffle_faces else k
 
 
 @jit

@@ -10,7 +10,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba.np.random.random_methods import random_interval  # numpy's draw, in numba
+from numba.np.random.generator_core import next_uint32
+from numba.np.random.random_methods import (  # numpy's draws, in numba
+    bounded_lemire_uint64,
+    buffered_bounded_lemire_uint32,
+    random_interval,
+)
 
 from .._arrays import floats
 from .._jit import jit
@@ -21,7 +26,24 @@ from .mjcf import HEAD_RADII_M
 from .options import WorldConfig
 from .placement import place_into, region_of
 
-__all__ = ["FastScene", "detect_into", "draw_objects", "permutation"]
+__all__ = ["FastScene", "detect_into", "draw_index", "draw_objects", "permutation"]
+
+
+@jit
+def draw_index(rng, n: int) -> int:
+    """``rng.integers(n)`` for ``n`` >= 1, the same draws (numpy's), quicker to compile.
+
+    numba's own ``integers`` checks its arguments with formatted messages: about 0.5 s of the
+    first run's compile. This is what it runs for one draw below ``n``.
+    """
+    top = np.uint64(n - 1)
+    if top == 0:
+        return 0
+    if top < 0xFFFFFFFF:
+        return np.int64(buffered_bounded_lemire_uint32(rng.bit_generator, top))
+    if top == 0xFFFFFFFF:
+        return np.int64(next_uint32(rng.bit_generator))
+    return np.int64(bounded_lemire_uint64(rng.bit_generator, top))
 
 
 @jit
