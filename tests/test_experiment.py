@@ -167,3 +167,28 @@ def test_the_probe_measures_a_fixed_draw_of_many_data_sets():
     rows = [int(np.flatnonzero((ds.theta_face_rad == t).all(axis=1))[0])
             for t in a.theta_face_rad]
     assert rows == sorted(rows) and np.array_equal(ds.command_rad[rows], a.command_rad)
+
+
+@pytest.mark.parametrize("n_objects", [1, 5, 10])
+def test_the_compiled_oracle_wins_the_step_by_step_oracle_s_trials(n_objects):
+    """The ceiling's compiled loop ends on the target exactly when OracleAgent's trials do."""
+    from jointattention.datasets import default_datasets
+    from jointattention.experiment.cells import evaluator, oracle_wins, random_scene
+    from jointattention.experiment.oracle import OracleAgent
+    from jointattention.experiment.trial import SceneTrial, run_trial
+    from jointattention.rng import stream
+    from jointattention.world.kinematics import HeadKinematics
+
+    config, ds = Config(), default_datasets()
+    kin, step = HeadKinematics.from_config(config.world), np.deg2rad(config.agent.lm_step_deg)
+    rng, wins = stream(3, "ceiling", n_objects), 0
+    for _ in range(300):
+        k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
+        trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                           max_steps=config.agent.max_steps, evaluate=evaluator(config))
+        wins += run_trial(trial, OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step),
+                          ds.face[k]).success
+    compiled = stream(3, "ceiling", n_objects)
+    assert oracle_wins(ds, config, n_objects, 300, compiled) == wins
+    assert compiled.random() == rng.random()  # the same draws, to the last
+    assert 0 < wins <= 300

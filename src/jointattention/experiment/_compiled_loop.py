@@ -3,9 +3,9 @@
 :mod:`.compiled` packs the inputs (:mod:`._loop_inputs`) and drives the loop; this module is
 the loop itself. Each step calls the kernels the step-by-step path calls
 (:mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
-:mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner` or
-:mod:`~jointattention.agent.memory`, :mod:`~jointattention.models.bootstrap`), in the order of
-its random draws.
+:mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner`,
+:mod:`~jointattention.agent.memory` or :mod:`~jointattention.models._population_kernels`,
+:mod:`~jointattention.models.bootstrap`), in the order of its random draws.
 """
 
 from __future__ import annotations
@@ -105,9 +105,12 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     centre, seen_area, seen_edge, motion = arrays[3], arrays[4], arrays[5], np.zeros(n)
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, x_full = np.empty(n_hidden), np.empty(2), np.empty(n_pix + 2)
-    n_code = 0
+    n_code = n_cached = 0
     if memory is not None:
         n_code = len(memory.projection)
+        if not robot.learning:  # a frozen memory recalls a face alike each time: once a face
+            n_cached = len(world.faces)
+    cached, cached_aim = np.zeros(n_cached, np.int8), np.empty((n_cached, 2))
     scaled, code, sweep = np.empty(2), np.empty(n_code), (0.0, 0.0)
     has_memory, on_line = n_code > 0, False
     if population is not None:
@@ -134,11 +137,17 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             face = seen_face
         # the agent begins (BootstrapAgent.begin_trial, MemoryModule.begin)
         recalled = False
-        if memory is not None:
+        if memory is not None and n_cached and cached[shown]:
+            recalled = cached[shown] == 1
+            aim[0], aim[1] = cached_aim[shown, 0], cached_aim[shown, 1]
+        elif memory is not None:
             face_code_into(face, memory.projection, code)
             recalled = memory_recall(code, memory.codes, memory.counts, memory.links,
                                      memory.aims, memory.base, c[4], c[5], memory.lo_rad,
                                      memory.cell_rad, memory.k, memory.radius_rad, aim) >= 0
+            if n_cached:
+                cached[shown] = 1 if recalled else 2
+                cached_aim[shown, 0], cached_aim[shown, 1] = aim[0], aim[1]
         psi = 0.0
         if population is not None:  # PopulationModule.begin
             psi = population_begin(population, face, world.theta_face_rad[k, 0],

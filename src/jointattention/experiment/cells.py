@@ -21,14 +21,16 @@ from ..datasets import CaregiverDatasets, default_datasets, load, shipped_file
 from ..rng import stream
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
+from ._loop_inputs import placed
 from .compiled import compiled_cell, pack_world, unsupported
-from .oracle import OracleAgent
+from .oracle import oracle_trials
 from .probes import lm_errors_deg, probe_sets
 from .recorded import training_file
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
 __all__ = ["body_of", "datasets_file", "datasets_of", "engine_of", "evaluator", "make_agent",
-           "measure_ceiling", "random_scene", "run_cell", "trial_geometries", "trial_geometry"]
+           "measure_ceiling", "oracle_wins", "random_scene", "run_cell", "trial_geometries",
+           "trial_geometry"]
 
 _CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learning steps)
 
@@ -232,16 +234,23 @@ def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None)
     check_int("n_objects", n_objects, 1, 20)
     if n_trials is not None:
         check_int("n_trials", n_trials, 1, 10**7)
-    ds = datasets_of(config)
-    kin = HeadKinematics.from_config(config.world)
-    rng = stream(config.seed, "ceiling", n_objects)
     n_trials = config.experiment.n_ceiling_trials if n_trials is None else n_trials
-    evaluate, step = evaluator(config), np.deg2rad(config.agent.lm_step_deg)
-    wins = 0
-    for _ in range(n_trials):
-        k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
-        oracle = OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step)
-        trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
-                           max_steps=config.agent.max_steps, evaluate=evaluate)
-        wins += run_trial(trial, oracle, ds.face[k]).success
-    return wins / n_trials
+    return oracle_wins(datasets_of(config), config, n_objects, n_trials,
+                       stream(config.seed, "ceiling", n_objects)) / n_trials
+
+
+def oracle_wins(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials: int,
+                rng: np.random.Generator) -> int:
+    """How many of ``n_trials`` trials on ``ds`` the oracle gaze-line follower ends on the target.
+
+    :class:`~.oracle.OracleAgent`'s trials (:func:`random_scene` from ``rng``), in one compiled
+    loop (:func:`~.oracle.oracle_trials`).
+    """
+    kin = HeadKinematics.from_config(config.world)
+    world = pack_world(config.world, ds,
+                       *trial_geometries(ds, kin, config.world.caregiver.distance_m), n_objects,
+                       False)
+    return placed(oracle_trials(world, ds.theta_face_rad + ds.command_rad, rng,
+                                float(np.deg2rad(config.agent.lm_step_deg)),
+                                float(config.agent.d_th_px(kin.width_px)),
+                                int(config.agent.max_steps), n_trials), world)

@@ -11,9 +11,9 @@ order, so both give byte-identical cells (``tests/test_compiled.py``).
 
 It learns in place the arrays of a :class:`~jointattention.models.bootstrap.BootstrapAgent`,
 so the learned agent is the same object either way. It runs the bootstrap model (every gate,
-reading, the network and the memory), the teacher and the developmental model, and the
-reinforcement learner through :mod:`.compiled_rl` (:func:`compiled_cell` picks the loop);
-anything else is refused (:func:`unsupported`).
+reading, the network, the memory and the population code), the teacher and the
+developmental model, and the reinforcement learner through :mod:`.compiled_rl`
+(:func:`compiled_cell` picks the loop); anything else is refused (:func:`unsupported`).
 """
 
 from __future__ import annotations

@@ -22,9 +22,8 @@ from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
 from ..rng import stream
 from ..world.kinematics import HeadKinematics
-from .cells import evaluator, random_scene, trial_geometries
+from .cells import evaluator, oracle_wins, random_scene, trial_geometries
 from .compiled import compiled_cell, pack_world, unsupported
-from .oracle import OracleAgent
 from .probes import angle_errors
 from .trial import SceneTrial, run_trial
 
@@ -111,16 +110,8 @@ def frozen_success(agent, ds: CaregiverDatasets, config: Config, n_objects: int,
 def oracle_success(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials: int,
                    seed: int) -> float:
     """The oracle gaze-line follower's share of ``n_trials`` trials on ``ds`` (its ceiling)."""
-    rng = stream(seed, "evaluate-ceiling", n_objects)
-    kin = HeadKinematics.from_config(config.world)
-    evaluate, step, wins = evaluator(config), np.deg2rad(config.agent.lm_step_deg), 0
-    for _ in range(n_trials):
-        k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
-        oracle = OracleAgent(ds.theta_face_rad[k] + ds.command_rad[k], step)
-        trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
-                           max_steps=config.agent.max_steps, evaluate=evaluate)
-        wins += run_trial(trial, oracle, ds.face[k]).success
-    return wins / n_trials
+    return oracle_wins(ds, config, n_objects, n_trials,
+                       stream(seed, "evaluate-ceiling", n_objects)) / n_trials
 
 
 def _errors(agent, ds: CaregiverDatasets) -> tuple[float, float, float]:

@@ -7,11 +7,16 @@ enters the evaluator's circle. A distractor lying nearer along the gaze line def
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from .._jit import jit
 from ..agent.protocol import LM, Outcome
+from ._loop_steps import draw_trial, look, look_arrays
+from .trial import RUNNING, move_head
 
-__all__ = ["OracleAgent"]
+__all__ = ["OracleAgent", "oracle_step", "oracle_trials"]
 
 
 class OracleAgent:
@@ -27,10 +32,49 @@ class OracleAgent:
 
     def act(self, det, theta_rad):
         """One step along the line to the target (shorter at the end)."""
-        diff = self.theta_target - np.asarray(theta_rad)
-        dist = float(np.hypot(*diff))
         self.learning_time_steps += 1
-        return diff * min(1.0, self.step_rad / max(dist, 1e-12)), LM
+        return np.array(oracle_step(self.theta_target[0], self.theta_target[1],
+                                    float(theta_rad[0]), float(theta_rad[1]),
+                                    float(self.step_rad))), LM
 
     def end_trial(self, outcome: Outcome) -> None:
         """Nothing to learn."""
+
+
+@jit
+def oracle_step(target_pan, target_tilt, pan, tilt, step_rad) -> tuple[float, float]:
+    """One step from the head angle along the line to the target's (shorter at the end)."""
+    d_pan, d_tilt = target_pan - pan, target_tilt - tilt
+    f = min(1.0, step_rad / max(math.hypot(d_pan, d_tilt), 1e-12))
+    return d_pan * f, d_tilt * f
+
+
+@jit
+def oracle_trials(world, theta_target_rad, rng, step_rad, d_th_px, max_steps, n_trials) -> int:
+    """How many of ``n_trials`` trials the oracle ends on the target (-1: objects not placed).
+
+    The compiled engine's trials (:mod:`._compiled_loop`: the same draws as
+    :func:`~.cells.random_scene` and :class:`~.trial.SceneTrial`) with :class:`OracleAgent`'s
+    step toward ``theta_target_rad`` (K, 2), the target's head angle of each data set.
+    """
+    n = world.n_objects
+    obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
+    arrays, lim, wins = look_arrays(n), world.limits_rad, 0
+    for _ in range(n_trials):
+        k, target, _ = draw_trial(world, rng, rng, obj_pos, obj_rad, edge)
+        if target < 0:
+            return -1
+        pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
+        n_steps, limit_hit = 0, False
+        while True:
+            _, _, end, attended = look(world, obj_pos, obj_rad, edge, pan, tilt, d_th_px,
+                                       limit_hit, n_steps, max_steps, arrays)
+            if end != RUNNING:
+                break
+            d_pan, d_tilt = oracle_step(theta_target_rad[k, 0], theta_target_rad[k, 1], pan,
+                                        tilt, step_rad)
+            pan, tilt, limit_hit = move_head(pan, tilt, d_pan, d_tilt, lim[0], lim[1], lim[2],
+                                             lim[3])
+            n_steps += 1
+        wins += attended == target
+    return wins
