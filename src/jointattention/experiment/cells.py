@@ -28,9 +28,9 @@ from .probes import lm_errors_deg, probe_sets
 from .recorded import training_file
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
-__all__ = ["body_of", "datasets_file", "datasets_of", "engine_of", "evaluator", "make_agent",
-           "measure_ceiling", "oracle_wins", "random_scene", "run_cell", "trial_geometries",
-           "trial_geometry"]
+__all__ = ["body_of", "datasets_file", "datasets_of", "engine_of", "evaluator", "fast_world",
+           "make_agent", "measure_ceiling", "oracle_wins", "random_scene", "run_cell",
+           "trial_geometries", "trial_geometry"]
 
 _CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learning steps)
 
@@ -239,6 +239,26 @@ def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None)
                        stream(config.seed, "ceiling", n_objects)) / n_trials
 
 
+_PACKED: dict = {}  # fast_world's: {(id of the data sets, count, world): (them, the packing)}
+
+
+def fast_world(config: Config, ds: CaregiverDatasets, n_objects: int):
+    """``ds`` and the world as the compiled loops take them, for trials without shuffled faces.
+
+    Packed once per process for each data sets object (a held-out set is measured at every
+    checkpoint of every cell); the cache holds the data sets, so their id stays theirs, and
+    the last 8 packings.
+    """
+    key = (id(ds), n_objects, config.world)
+    if key not in _PACKED:
+        if len(_PACKED) >= 8:
+            del _PACKED[next(iter(_PACKED))]
+        kin = HeadKinematics.from_config(config.world)
+        _PACKED[key] = ds, pack_world(config.world, ds, *trial_geometries(
+            ds, kin, config.world.caregiver.distance_m), n_objects, False)
+    return _PACKED[key][1]
+
+
 def oracle_wins(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials: int,
                 rng: np.random.Generator) -> int:
     """How many of ``n_trials`` trials on ``ds`` the oracle gaze-line follower ends on the target.
@@ -246,10 +266,7 @@ def oracle_wins(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials:
     :class:`~.oracle.OracleAgent`'s trials (:func:`random_scene` from ``rng``), in one compiled
     loop (:func:`~.oracle.oracle_trials`).
     """
-    kin = HeadKinematics.from_config(config.world)
-    world = pack_world(config.world, ds,
-                       *trial_geometries(ds, kin, config.world.caregiver.distance_m), n_objects,
-                       False)
+    kin, world = HeadKinematics.from_config(config.world), fast_world(config, ds, n_objects)
     return placed(oracle_trials(world, ds.theta_face_rad + ds.command_rad, rng,
                                 float(np.deg2rad(config.agent.lm_step_deg)),
                                 float(config.agent.d_th_px(kin.width_px)),

@@ -22,8 +22,8 @@ from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
 from ..rng import stream
 from ..world.kinematics import HeadKinematics
-from .cells import evaluator, oracle_wins, random_scene, trial_geometries
-from .compiled import compiled_cell, pack_world, unsupported
+from .cells import evaluator, fast_world, oracle_wins, random_scene
+from .compiled import compiled_cell, unsupported
 from .probes import angle_errors
 from .trial import SceneTrial, run_trial
 
@@ -92,10 +92,8 @@ def frozen_success(agent, ds: CaregiverDatasets, config: Config, n_objects: int,
     kin = HeadKinematics.from_config(config.world)
     options = getattr(frozen, "options", None)
     if options is not None and unsupported(options) is None:
-        world = pack_world(config.world, ds,
-                           *trial_geometries(ds, kin, config.world.caregiver.distance_m),
-                           n_objects, False)
-        cell = compiled_cell(frozen, world, rng, stream(seed, "evaluate-shuffle"), n_trials)
+        cell = compiled_cell(frozen, fast_world(config, ds, n_objects), rng,
+                             stream(seed, "evaluate-shuffle"), n_trials)
         cell.run_until(0)
         return float(np.mean(cell.records()["success"]))
     evaluate, wins = evaluator(config), 0
