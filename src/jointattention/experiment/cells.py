@@ -130,10 +130,10 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     module's median angle error over the data sets' faces (at most
     ``experiment.probe_datasets`` of them: :func:`~.probes.probe_sets`) at the first trial
     end past the bin (:func:`~.probes.median_error_deg`; NaN for a model without one), and
-    its horizontal
-    and vertical parts, ``lm_pan_error_deg`` and ``lm_tilt_error_deg``
-    (:func:`~.probes.axis_errors_deg`), and ``lm_bias``, how alike its directions are over the
-    faces (:func:`~.probes.bias_of`); all four from one pass, :func:`~.probes.lm_errors_deg`.
+    its horizontal and vertical parts, ``lm_pan_error_deg`` and ``lm_tilt_error_deg``
+    (:func:`~.probes.axis_errors_deg`), and ``lm_bias``, how alike its directions are over
+    the faces (:func:`~.probes.bias_of`); all four from one pass,
+    :func:`~.probes.lm_errors_deg`.
     ``progress`` gets the learning time now and then; ``on_checkpoint(t, agent)`` is called
     at the first trial end at or past each learning time ``t`` of ``checkpoints``; ``observer``
     sees each step (see :func:`~jointattention.experiment.trial.run_trial`; the python engine
