@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import example, given
 from hypothesis import strategies as st
 
 from jointattention.agent.gates import PerformanceGate, agreement_update, performance_rate
@@ -151,7 +151,18 @@ def _recall_of_every_trial(memory, code):
     cells = np.minimum(np.maximum(cells, 0), np.array(memory.base_.shape) - 1)
     excess = votes - weight.sum() * memory.base_[cells[:, 0], cells[:, 1]] / n
     best = int(np.argmax(excess))
-    return (weight * close[best]) @ aims[near] / (weight @ close[best]), excess[best] / weight.sum()
+    # places whose votes tie the best's but for rounding: the compiled votes (counts of equal
+    # weights) may round the other way and pick one of them
+    tied = np.flatnonzero(excess >= excess[best] - 1e-12)
+    aims_of = [(weight * close[b]) @ aims[near] / (weight @ close[b]) for b in tied]
+    return aims_of, excess[best] / weight.sum()
+
+
+def _is_recalled(aim, support, ref_aims) -> bool:
+    """The recall gave nothing (no support), or the place around one of the best places."""
+    if support < 0:
+        return aim is None
+    return any(np.allclose(aim, ref, rtol=0, atol=1e-12) for ref in ref_aims)
 
 
 @given(faces=st.lists(st.integers(0, 5), min_size=1, max_size=80),
@@ -176,10 +187,11 @@ def test_recall_over_distinct_codes_is_the_recall_over_every_trial(faces, capaci
         aim, support = memory.recall(memory.code(query))
         ref_aim, ref_support = _recall_of_every_trial(memory, memory.code(query))
         assert support == pytest.approx(ref_support, abs=1e-12)
-        assert aim is None if support < 0 else np.allclose(aim, ref_aim, rtol=0, atol=1e-12)
+        assert _is_recalled(aim, support, ref_aim)
 
 
 @given(n=st.integers(32, 400), spread=st.floats(0.001, 1.0), seed=st.integers(0, 2**16))
+@example(n=32, spread=0.046875, seed=32)  # two places tie but for rounding (CI found it)
 def test_the_counted_votes_of_a_face_seen_often_are_the_scan_over_every_trial(n, spread, seed):
     """One face's trials (equal weights) are counted by strips of pan: the recall of a scan."""
     rng = np.random.default_rng(seed)
@@ -192,7 +204,7 @@ def test_the_counted_votes_of_a_face_seen_often_are_the_scan_over_every_trial(n,
         aim, support = memory.recall(memory.code(face))
         ref_aim, ref_support = _recall_of_every_trial(memory, memory.code(face))
         assert support == pytest.approx(ref_support, abs=1e-12)
-        assert aim is None if support < 0 else np.allclose(aim, ref_aim, rtol=0, atol=1e-12)
+        assert _is_recalled(aim, support, ref_aim)
 
 
 def test_the_memory_s_commands_for_repeated_faces_are_each_face_s_own():
