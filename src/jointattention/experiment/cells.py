@@ -266,8 +266,8 @@ def oracle_wins(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials:
     :class:`~.oracle.OracleAgent`'s trials (:func:`random_scene` from ``rng``), in one compiled
     loop (:func:`~.oracle.oracle_trials`).
     """
-    kin, world = HeadKinematics.from_config(config.world), fast_world(config, ds, n_objects)
+    world = fast_world(config, ds, n_objects)
     return placed(oracle_trials(world, ds.theta_face_rad + ds.command_rad, rng,
                                 float(np.deg2rad(config.agent.lm_step_deg)),
-                                float(config.agent.d_th_px(kin.width_px)),
+                                float(config.agent.d_th_px(world.width_px)),
                                 int(config.agent.max_steps), n_trials), world)

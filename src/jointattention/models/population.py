@@ -25,7 +25,7 @@ from .._jit import jit
 from ..agent.face_features import n_features
 from ..agent.learner import FaceStandardiser
 from ..agent.moves import unit_step
-from ..agent.population import READOUTS, PopulationCode
+from ..agent.population import PopulationCode
 from ..agent.protocol import Outcome
 from ._population_kernels import (
     InputSpec,
@@ -81,6 +81,7 @@ class PopulationModule:
                                      *self._parts)
         self.population = PopulationCode(self.n_features + 2, o, init_rng)
         self.feature_stats = FaceStandardiser(min_std=1e-3)  # with ``standardise``
+        self.feature_stats.statistics(self.n_features)  # its arrays, which the kernels fill
         w, h = body.face_size_px
         self.spec = InputSpec(h, w, o.cell_px, o.n_orientations, *self._parts,
                               float(self.feature_stats.min_std),
@@ -139,9 +140,9 @@ class PopulationModule:
         o, p, f = self.host.options.population, self.population, self.feature_stats
         return PopulationArrays(
             self.spec, p.kappa, float(o.learning_rate), float(o.hidden_rate),
-            float(o.average_rate), READOUTS.index(o.readout), bool(o.standardise),
+            float(o.average_rate), p.readout_code, bool(o.standardise),
             o.keep == "in_view", int(o.replay), p.w1_, p.b1_, p.w2_, p.b2_, *p.averaged_,
-            *p._readout_weights(), p.hidden_mean_, *f.statistics(self.n_features),
+            *p._readout_weights(), p.hidden_mean_, f.mean_, f.m2_,
             self._no_stats, self.replay_faces_, self.replay_thetas_, self.replay_directions_,
             self.replay_counts_, self._x, self._tmp, p._h, p._p, p._grad_h, p._taught, p._z,
             self._score, np.array([self.n_kept_, p.n_taught_, f.n_seen_], np.int64))
