@@ -19,7 +19,9 @@ from jointattention.agent.attention import attended_index, interest_argmax, visu
 from jointattention.agent.gates import SigmoidGate
 from jointattention.agent.learner import LearningModule
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
+from jointattention.experiment import evaluate as evaluate_module
 from jointattention.experiment.cells import datasets_of
+from jointattention.experiment.evaluate import frozen_success
 from jointattention.jobs.learned import snapshots
 from jointattention.models.bootstrap import BootstrapOptions
 from jointattention.world.kinematics import HeadKinematics
@@ -50,6 +52,11 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
     ConditionConfig(name="memory-performance", n_objects=5, model={
         "learner": "memory", "gate_per": "trial",
         "gate": {"kind": "performance", "window_trials": 20.0, "full_agreement": 0.2}}),
+    ConditionConfig(name="memory-evidence", n_objects=5, model={
+        "learner": "memory", "vf_fallback": "sweep", "gate": {"kind": "evidence"}}),
+    ConditionConfig(name="memory-evidence-trial", n_objects=3, model={
+        "learner": "memory", "gate_per": "trial",
+        "gate": {"kind": "evidence", "floor_trials": 0.5, "half_trials": 2.0}}),
     ConditionConfig(name="teacher", n_objects=5, model={"kind": "teacher"}),
     ConditionConfig(name="teacher-performance", n_objects=3, model={
         "kind": "teacher",
@@ -108,6 +115,18 @@ def test_compiled_agents_learn_the_same_weights_at_each_checkpoint():
         for a, b in zip(agent.learner._params(), other.learner._params(), strict=True):
             assert np.array_equal(a, b)
     assert snaps["compiled"][3000].learner.n_updates_ > 0
+
+
+def test_a_frozen_memory_under_the_evidence_gate_runs_the_same_trials_in_both_engines(
+        monkeypatch):
+    """Held-out trials of a frozen memory (recalls kept per face, compiled) = step by step."""
+    condition = next(c for c in READINGS if c.name == "memory-evidence")
+    agent = snapshots(CONFIG, condition.name, 0, [])[3000]
+    ds = datasets_of(CONFIG)
+    compiled = frozen_success(agent, ds, CONFIG, 5, 300, seed=3)
+    monkeypatch.setattr(evaluate_module, "unsupported", lambda options: "step by step")
+    assert frozen_success(agent, ds, CONFIG, 5, 300, seed=3) == compiled
+    assert 0 < compiled < 1
 
 
 def test_the_batched_learning_module_command_equals_the_single_one():

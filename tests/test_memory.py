@@ -9,7 +9,13 @@ import pytest
 from hypothesis import example, given
 from hypothesis import strategies as st
 
-from jointattention.agent.gates import PerformanceGate, agreement_update, performance_rate
+from jointattention.agent.gates import (
+    EvidenceGate,
+    PerformanceGate,
+    agreement_update,
+    evidence_rate,
+    performance_rate,
+)
 from jointattention.agent.memory import EpisodicMemory, MemoryOptions
 from jointattention.agent.protocol import Body
 from jointattention.config import AgentConfig
@@ -53,6 +59,7 @@ def test_recall_discounts_a_place_every_face_agrees_on():
     aim, support = memory.recall(memory.code(face))
     assert np.linalg.norm(aim - own) < 1e-9
     assert support == pytest.approx((3 - 8 * 3 / 68) / 8)  # the excess over the base rate
+    assert memory.recall_evidence(memory.code(face))[2] == pytest.approx(3 - 8 * 3 / 68)
 
 
 def test_a_full_memory_forgets_its_oldest_trial_and_its_base_rate():
@@ -91,6 +98,31 @@ def test_options_the_memory_cannot_run_are_refused_with_one_line():
         BootstrapOptions(learner="memory", learning_target="executed_step")
     with pytest.raises(ConfigError, match=r"full_agreement = 0\.1: expected more than"):
         PerformanceGate(agree_deg=20.0, full_agreement=0.1)
+    with pytest.raises(ConfigError, match=r"'evidence'.*expected learner = 'memory', not 'pop"):
+        BootstrapOptions(learner="population", gate=EvidenceGate())
+
+
+@given(st.floats(0, 1e4), st.floats(0, 1e4), st.floats(0, 100), st.floats(1e-3, 100))
+def test_the_evidence_rate_rises_from_the_floor_toward_one(a, b, floor, half):
+    """Rate 0 up to the floor, 1/2 at half beyond it, below 1, never falling as evidence grows."""
+    lo, hi = sorted((a, b))
+    assert 0 <= evidence_rate(lo, floor, half) <= evidence_rate(hi, floor, half) < 1
+    assert evidence_rate(floor, floor, half) == 0
+    assert evidence_rate(floor + half, floor, half) == pytest.approx(0.5)
+
+
+def test_the_evidence_gate_hands_a_face_found_often_to_the_memory():
+    """A face whose place five trials agree on is driven by the memory; a new face never is."""
+    agent = BootstrapOptions(learner="memory", gate=EvidenceGate()).build(
+        AgentConfig(), BODY, np.random.default_rng(0))
+    rng = np.random.default_rng(3)
+    known, new = rng.uniform(0, 255, (2, 3, 4))
+    agent.module.memory.partial_fit(np.tile(known.ravel(), (5, 1)), np.tile([0.3, 0.1], (5, 1)))
+    agent.module.memory.partial_fit(rng.uniform(0, 255, (20, 12)), _scatter(rng, 20))
+    agent.begin_trial(known, np.zeros(2))
+    assert agent.gate_rate() > 0.5
+    agent.begin_trial(new, np.zeros(2))
+    assert agent.gate_rate() == 0
 
 
 @given(st.floats(0, 1), st.floats(0, 1), st.floats(1, 89), st.floats(0.6, 1))

@@ -18,12 +18,12 @@ from .._fields import Registry, Section, param
 from .._jit import jit
 from ..errors import ConfigError
 
-__all__ = ["CONSTANT", "GATES", "PERFORMANCE", "SIGMOID", "ConstantGate", "Gate",
-           "PerformanceGate", "SigmoidGate", "agreement_update", "performance_rate",
-           "sigmoid_rate"]
+__all__ = ["CONSTANT", "EVIDENCE", "GATES", "PERFORMANCE", "SIGMOID", "ConstantGate",
+           "EvidenceGate", "Gate", "PerformanceGate", "SigmoidGate", "agreement_update",
+           "evidence_rate", "performance_rate", "sigmoid_rate"]
 
 # The compiled loop's code of each gate it runs (jointattention.experiment._compiled_loop)
-SIGMOID, CONSTANT, PERFORMANCE = 0, 1, 2
+SIGMOID, CONSTANT, PERFORMANCE, EVIDENCE = 0, 1, 2, 3
 
 
 @jit
@@ -45,11 +45,14 @@ class Gate(Section):
             and it must beat the others at 5 objects) or None (no claim of the paper).
         measured: whether its rate follows a measure the agent keeps (:meth:`rate_of`,
             :meth:`update`) rather than the learning time.
+        per_face: whether its rate follows the learning module's evidence for the face in
+            view (:meth:`rate_of`); only the episodic memory measures it.
     """
 
     compiled: ClassVar[bool] = False
     claims_role: ClassVar[str | None] = None
     measured: ClassVar[bool] = False
+    per_face: ClassVar[bool] = False
 
     def rate_at(self, learning_time_steps):
         """The rate (0 to 1) at learning time(s) ``learning_time_steps``."""
@@ -188,5 +191,49 @@ class PerformanceGate(Gate):
                 float(self.window_trials))
 
 
+@jit
+def evidence_rate(evidence_trials: float, floor_trials: float, half_trials: float) -> float:
+    """The evidence gate's rate: 0 up to the floor, then e / (e + half) of the evidence e beyond."""
+    e = evidence_trials - floor_trials
+    return e / (e + half_trials) if e > 0 else 0.0
+
+
+@dataclass(frozen=True)
+class EvidenceGate(Gate):
+    """Beyond the paper: the rate follows the learning module's evidence for the face in view.
+
+    At each trial's start the episodic memory recalls a place for the caregiver's face, with
+    its evidence: how many kept trials agree on it beyond chance
+    (:func:`~jointattention.agent.memory.memory_recall`). The module drives the steps of faces
+    it has found often and leaves the others to visual attention, so control passes face by
+    face as soon as each is known. The rate nears 1 only as the evidence grows
+    (:func:`evidence_rate`): visual attention keeps some steps, and a face whose place is wrong
+    (its evidence stops growing) goes on being explored. Needs ``learner = "memory"``.
+    """
+
+    compiled: ClassVar[bool] = True
+    per_face: ClassVar[bool] = True
+
+    floor_trials: float = param(
+        1.0, "evidence (kept trials agreeing on the recalled place beyond chance) up to which "
+        "visual attention drives every step", lo=0, hi=1e6)
+    half_trials: float = param(
+        0.5, "evidence beyond the floor at which the module drives half the steps",
+        lo=1e-3, hi=1e6)
+
+    def rate_at(self, learning_time_steps):
+        """NaN: the rate is not a function of learning time."""
+        return np.full(np.shape(learning_time_steps), np.nan)
+
+    def rate_of(self, evidence_trials: float) -> float:
+        """The rate for a face whose recalled place has this evidence (:func:`evidence_rate`)."""
+        return evidence_rate(float(evidence_trials), float(self.floor_trials),
+                             float(self.half_trials))
+
+    def compiled_inputs(self) -> tuple[int, float, float, float]:
+        """The code, the floor and the half-rate evidence."""
+        return EVIDENCE, float(self.floor_trials), float(self.half_trials), 1.0
+
+
 GATES = Registry("gate", {"sigmoid": SigmoidGate, "constant": ConstantGate,
-                          "performance": PerformanceGate})
+                          "performance": PerformanceGate, "evidence": EvidenceGate})

@@ -128,20 +128,22 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, ba
 
 @jit
 def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_rad,
-                  cell_rad, k_nearest, radius_rad, out) -> float:
-    """The place recalled for a face code, into ``out``; returns its support (-1: no memory).
+                  cell_rad, k_nearest, radius_rad, out) -> tuple[float, float]:
+    """The place recalled for a face code, into ``out``; returns its support and its evidence.
 
     The trials of the k nearest face codes (ties included) vote, each with the weight
     exp(-d^2 / d_k^2) of its face's distance d (d_k: the k-th nearest), so that the face's own
     trials outvote a similar face's. Each of their places counts the weight of the places
     within ``radius_rad`` of it, less what the base rate predicts for so much weight. The
-    winner's neighbours are averaged (weighted) into ``out``. The support is the winner's
-    excess over the base rate, as a fraction of the weight recalled (0: nothing beyond
-    chance; 1: all agree). Distances are measured once per distinct code (:func:`memory_store`).
+    winner's neighbours are averaged (weighted) into ``out``. Its excess over the base rate is
+    its evidence, in trials (the face's own trials weigh 1 each), and the support is the
+    evidence as a fraction of the weight recalled (0: nothing beyond chance; 1: all agree);
+    (-1, 0) with no memory. Distances are measured once per distinct code
+    (:func:`memory_store`).
     """
     n = min(n_stored, len(aims))
     if n == 0:
-        return -1.0
+        return -1.0, 0.0
     d2u = np.empty(n_codes)
     for u in range(n_codes):
         s = 0.0
@@ -172,7 +174,7 @@ def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_
             s1 += weight[b] * aims[near[b], 1]
             kept += weight[b]
     out[0], out[1] = s0 / kept, s1 / kept
-    return best / total
+    return best / total, best
 
 
 class EpisodicMemory:
@@ -232,10 +234,16 @@ class EpisodicMemory:
 
     def recall(self, code: np.ndarray) -> tuple[np.ndarray | None, float]:
         """The place recalled for a face code and its support; (None, -1) with no memory."""
+        aim, support, _ = self.recall_evidence(code)
+        return aim, support
+
+    def recall_evidence(self, code: np.ndarray) -> tuple[np.ndarray | None, float, float]:
+        """:meth:`recall`, and the place's evidence in trials (:func:`memory_recall`)."""
         code, out = floats("code", code, (len(self.projection),)), np.empty(2)
-        support = memory_recall(code, *self.kept_arrays(), self.lo_rad, self.cell_rad,
-                                self.options.k_nearest, self.radius_rad, out)
-        return (None if support < 0 else out), support
+        support, evidence = memory_recall(code, *self.kept_arrays(), self.lo_rad,
+                                          self.cell_rad, self.options.k_nearest,
+                                          self.radius_rad, out)
+        return (None if support < 0 else out), support, evidence
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> EpisodicMemory:
         """Keep each row's trial: face windows ``X`` (n, pixels), places ``Y`` (n, 2)."""

@@ -14,7 +14,15 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.attention import interest_argmax, visual_feedback_rad
-from ..agent.gates import CONSTANT, PERFORMANCE, agreement_update, performance_rate, sigmoid_rate
+from ..agent.gates import (
+    CONSTANT,
+    EVIDENCE,
+    PERFORMANCE,
+    agreement_update,
+    evidence_rate,
+    performance_rate,
+    sigmoid_rate,
+)
 from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
@@ -38,12 +46,17 @@ _MAX_PLACES = PopulationModule.MAX_PLACES
 
 
 @jit
-def _gate_rate(robot, t, agreement):
-    """The gate's rate of choosing the learning module at learning time ``t``."""
+def _gate_rate(robot, t, agreement, evidence):
+    """The gate's rate of choosing the learning module at learning time ``t``.
+
+    ``agreement``: the performance gate's measure; ``evidence``: the memory's for the face.
+    """
     if robot.gate_kind == CONSTANT:
         return robot.gate_a
     if robot.gate_kind == PERFORMANCE:
         return performance_rate(agreement, robot.gate_a, robot.gate_b)
+    if robot.gate_kind == EVIDENCE:
+        return evidence_rate(evidence, robot.gate_a, robot.gate_b)
     return sigmoid_rate(float(t), robot.gate_a, robot.gate_b)
 
 
@@ -110,7 +123,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         n_code = len(memory.projection)
         if not robot.learning:  # a frozen memory recalls a face alike each time: once a face
             n_cached = len(world.faces)
-    cached, cached_aim = np.zeros(n_cached, np.int8), np.empty((n_cached, 2))
+    cached, cached_aim = np.zeros(n_cached, np.int8), np.empty((n_cached, 3))  # aim, evidence
     scaled, code, sweep = np.empty(2), np.empty(n_code), (0.0, 0.0)
     has_memory, on_line = n_code > 0, False
     if population is not None:
@@ -136,18 +149,21 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                       seen_face)
             face = seen_face
         # the agent begins (BootstrapAgent.begin_trial, MemoryModule.begin)
-        recalled = False
+        recalled, evidence = False, 0.0
         if memory is not None and n_cached and cached[shown]:
             recalled = cached[shown] == 1
             aim[0], aim[1] = cached_aim[shown, 0], cached_aim[shown, 1]
+            evidence = cached_aim[shown, 2]
         elif memory is not None:
             face_code_into(face, memory.projection, code)
-            recalled = memory_recall(code, memory.codes, memory.counts, memory.links,
-                                     memory.aims, memory.base, c[4], c[5], memory.lo_rad,
-                                     memory.cell_rad, memory.k, memory.radius_rad, aim) >= 0
+            support, evidence = memory_recall(
+                code, memory.codes, memory.counts, memory.links, memory.aims, memory.base, c[4],
+                c[5], memory.lo_rad, memory.cell_rad, memory.k, memory.radius_rad, aim)
+            recalled = support >= 0
             if n_cached:
                 cached[shown] = 1 if recalled else 2
                 cached_aim[shown, 0], cached_aim[shown, 1] = aim[0], aim[1]
+                cached_aim[shown, 2] = evidence
         psi = 0.0
         if population is not None:  # PopulationModule.begin
             psi = population_begin(population, face, world.theta_face_rad[k, 0],
@@ -163,7 +179,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             sweep = random_step(move_rng, robot.step_rad)
         trial_module = -1
         if robot.gate_per_trial:
-            rate = _gate_rate(robot, c[0], state.agreement[0])
+            rate = _gate_rate(robot, c[0], state.agreement[0], evidence)
             trial_module = _LM if gate_rng.random() < rate else _VF
         # the trial (SceneTrial, run_trial)
         pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
@@ -181,7 +197,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             # the agent acts (BootstrapAgent.act)
             module = trial_module
             if module < 0:
-                rate = _gate_rate(robot, c[0], state.agreement[0])
+                rate = _gate_rate(robot, c[0], state.agreement[0], evidence)
                 module = _LM if gate_rng.random() < rate else _VF
             i = -1
             if module == _VF:

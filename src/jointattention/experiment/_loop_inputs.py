@@ -46,9 +46,10 @@ class LoopRobot(NamedTuple):
     d_th_px: float
     step_rad: float
     max_steps: int
-    gate_kind: int  # SIGMOID, CONSTANT or PERFORMANCE (agent/gates.py: Gate.compiled_inputs)
-    gate_a: float  # the constant rate, the sigmoid's midpoint, or the performance's agree_rad
-    gate_b: float  # the sigmoid's width, or the performance's full agreement
+    gate_kind: int  # SIGMOID, CONSTANT, PERFORMANCE or EVIDENCE (agent/gates.py)
+    gate_a: float  # the constant rate, the sigmoid's midpoint, the performance's agree_rad or
+    # the evidence's floor
+    gate_b: float  # the sigmoid's width, the performance's full agreement or the half evidence
     gate_window: float  # the performance's window (trials)
     gate_per_trial: bool
     vf_fallback_lm: bool

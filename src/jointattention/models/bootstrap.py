@@ -56,7 +56,8 @@ class BootstrapOptions(ModelOptions):
     init_scale: float = param(
         1.0, "scale of the initial weights (times 1/sqrt(fan-in))", lo=0, hi=100)
     gate: Gate = param(factory=SigmoidGate, registry=GATES,
-                       help="the gate: kind (sigmoid, constant) and its parameters")
+                       help="the gate: kind (sigmoid, constant, performance, evidence) and "
+                       "its parameters")
     gate_per: str = param(
         "step", "reading: the gate decides at every step, or once per trial",
         choices=("step", "trial"))
@@ -94,6 +95,9 @@ class BootstrapOptions(ModelOptions):
         if self.learner != "backprop" and self.n_passes != 1:
             raise ConfigError(f"n_passes = {self.n_passes}: passes are the network's; expected "
                               f"1 with learner = '{self.learner}'")
+        if self.gate.per_face and self.learner != "memory":
+            raise ConfigError(f"gate kind '{self.gate.label}' follows the episodic memory's "
+                              f"evidence; expected learner = 'memory', not '{self.learner}'")
 
     def caregiver_inputs(self, face_size_px) -> tuple:
         """The caregiver's part as the compiled loop takes it: she judges if she teaches.
@@ -168,8 +172,7 @@ class BootstrapAgent(NetworkState):
             n_in, options.n_hidden, 2, learning_rate=options.learning_rate,
             momentum=options.momentum, init_scale=options.init_scale, rng=init_rng)
         self.faces = FaceStandardiser()
-        self.learning_time_steps = 0
-        self.learning = True
+        self.learning_time_steps, self.learning = 0, True
         self.agreement_ = 0.0  # a measured gate's measure (Gate.measured)
         self._trial_module: str | None = None
         self._last_module: str | None = None
@@ -185,11 +188,12 @@ class BootstrapAgent(NetworkState):
     def gate_rate(self, learning_time_steps=None):
         """Rate of choosing the learning module at a learning time (default: now).
 
-        A performance gate's rate now follows the measured agreement, not the time.
+        A performance gate's rate now follows the measured agreement, and an evidence gate's
+        the memory's evidence for this trial's face, not the time.
         """
         gate = self.options.gate
-        if learning_time_steps is None and gate.measured:
-            return gate.rate_of(self.agreement_)
+        if learning_time_steps is None and (gate.measured or gate.per_face):
+            return gate.rate_of(self.module.evidence_ if gate.per_face else self.agreement_)
         t = self.learning_time_steps if learning_time_steps is None else learning_time_steps
         return gate.rate_at(t)
 

@@ -37,8 +37,8 @@ def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, 
     for r in range(len(faces)):
         face_code_into(faces[r], projection, code)
         if r == 0 or not np.array_equal(code, last):
-            support = memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes,
-                                    lo_rad, cell_rad, k_nearest, radius_rad, aim)
+            support, _ = memory_recall(code, codes, counts, links, aims, base, n_stored,
+                                       n_codes, lo_rad, cell_rad, k_nearest, radius_rad, aim)
             last[:] = code
         if support < 0:
             out[r, 0], out[r, 1] = 0.0, 0.0
@@ -62,6 +62,7 @@ class MemoryModule:
         memory: the memory.
         support_: the support of the place recalled for the current trial's face (-1 before
             anything is kept).
+        evidence_: that place's evidence, in trials (the evidence gate's measure).
     """
 
     def __init__(self, host, rng: np.random.Generator):
@@ -70,7 +71,7 @@ class MemoryModule:
         body = host.body
         self.memory = EpisodicMemory(body.face_size_px[0] * body.face_size_px[1],
                                      host.options.memory, body.joint_limits_rad, code_rng)
-        self.support_ = -1.0
+        self.support_, self.evidence_ = -1.0, 0.0
 
     def _toward(self, aim_rad, theta_rad) -> np.ndarray:
         """One step toward the recalled place; no step without one."""
@@ -82,7 +83,8 @@ class MemoryModule:
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
         """Recall the place for the caregiver's face."""
         self._face_code = self.memory.code(face)
-        self._aim_rad, self.support_ = self.memory.recall(self._face_code)
+        self._aim_rad, self.support_, self.evidence_ = self.memory.recall_evidence(
+            self._face_code)
 
     def step(self, theta_rad) -> np.ndarray:
         """A step toward the recalled place; a random step while nothing is kept."""
