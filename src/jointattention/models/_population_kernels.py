@@ -72,16 +72,23 @@ def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_
 
 
 @jit
-def replay_into(drawn, faces, thetas, directions, counts, spec, mean, m2, n_seen, kappa, w1,
-                b1, w2, b2, learning_rate, hidden_mean, hidden_rate, h, p, grad_h,
+def replay_into(drawn, features, thetas, directions, counts, spec, mean, m2, n_seen, kappa,
+                w1, b1, w2, b2, learning_rate, hidden_mean, hidden_rate, h, p, grad_h,
                 taught) -> int:
-    """Teach again the kept trials ``drawn`` (replay memory rows); the places taught."""
-    x, tmp, face = np.empty(len(w1[0])), np.empty(len(w1[0])), np.empty(faces.shape[1])
+    """Teach again the kept trials ``drawn`` (replay memory rows); the places taught.
+
+    Each row keeps its face's features as :func:`module_input_into` computes them before
+    standardising, so the input is the same as from the face, without computing them again.
+    """
+    x, n = np.empty(len(w1[0])), features.shape[1]
     n_taught = 0
     for i in drawn:
-        for j in range(len(face)):
-            face[j] = faces[i, j]
-        module_input_into(face, thetas[i, 0], thetas[i, 1], spec, mean, m2, n_seen, x, tmp)
+        if n_seen > 0:
+            standardise(features[i], mean, m2, n_seen, spec.min_std, x[:n])
+        else:
+            x[:n] = features[i]
+        scale_angle_into(thetas[i, 0], thetas[i, 1], spec.theta_mid_rad, spec.theta_half_rad,
+                         x, n)
         population_teach(x, directions[i, : counts[i]], kappa, w1, b1, w2, b2, learning_rate,
                          hidden_mean, hidden_rate, h, p, grad_h, taught)
         n_taught += counts[i]
@@ -121,7 +128,7 @@ class PopulationArrays(NamedTuple):
     feature_mean: np.ndarray
     feature_m2: np.ndarray
     no_stats: np.ndarray  # zeros: the features as they are
-    replay_faces: np.ndarray
+    replay_features: np.ndarray  # each kept face's features, not standardised
     replay_thetas: np.ndarray
     replay_directions: np.ndarray
     replay_counts: np.ndarray
@@ -171,9 +178,16 @@ def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
         directions[i] = math.atan2(places[i, 1] - start_tilt, places[i, 0] - start_pan)
     population_teach(a.x, directions, a.kappa, a.w1, a.b1, a.w2, a.b2, a.learning_rate,
                      a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught)
-    slot = a.counters[0] % len(a.replay_counts)
-    for j in range(len(face)):
-        a.replay_faces[slot, j] = np.uint8(min(max(np.rint(face[j]), 0.0), 255.0))
+    slot, kept, whole = a.counters[0] % len(a.replay_counts), np.empty(len(face)), True
+    for j in range(len(face)):  # kept as an image keeps it: whole grey levels, 0 to 255
+        kept[j] = float(np.uint8(min(max(np.rint(face[j]), 0.0), 255.0)))
+        whole = whole and kept[j] == face[j]
+    if whole and not a.standardise:  # the trial's input holds them already
+        a.replay_features[slot, :] = a.x[: len(a.x) - 2]
+    else:
+        face_features_into(kept, a.spec.height, a.spec.width, a.spec.cell_px,
+                           a.spec.n_orientations, a.spec.pixels, a.spec.hog,
+                           a.replay_features[slot])
     a.replay_thetas[slot, 0], a.replay_thetas[slot, 1] = start_pan, start_tilt
     for i in range(n):
         a.replay_directions[slot, i] = directions[i]
@@ -182,7 +196,7 @@ def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
     drawn = replay_rng.integers(0, min(a.counters[0], len(a.replay_counts)), size=a.replay)
     n_seen = a.counters[2] if a.standardise else 0
     a.counters[1] += n + replay_into(
-        drawn, a.replay_faces, a.replay_thetas, a.replay_directions, a.replay_counts, a.spec,
+        drawn, a.replay_features, a.replay_thetas, a.replay_directions, a.replay_counts, a.spec,
         a.feature_mean, a.feature_m2, n_seen, a.kappa, a.w1, a.b1, a.w2, a.b2,
         a.learning_rate, a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught)
     average_into(a.averaged_w1.reshape(-1), a.w1.reshape(-1), a.average_rate)

@@ -10,8 +10,8 @@ line if another module moved the head off it), as the oracle follows the true ga
 
 A trial the evaluator ends teaches the direction, from the face, of the attended object's
 place (and, with ``keep = "in_view"``, of every other object in the last image). The trial
-is also kept in a replay memory (the face window, the head angle at the face and the
-directions taught), from which ``replay`` trials drawn at random are taught again after each
+is also kept in a replay memory (the face window's features, the head angle at the face and
+the directions taught), from which ``replay`` trials drawn at random are taught again after each
 trial: more updates from each trial the robot lived through.
 """
 
@@ -64,8 +64,9 @@ class PopulationModule:
     Attributes:
         population: the learning module.
         direction_rad_: the direction read out for the current trial's face.
-        replay_faces_, replay_thetas_, replay_directions_, replay_counts_: the replay memory
-            (face windows, head angles at the face, directions taught, how many each).
+        replay_features_, replay_thetas_, replay_directions_, replay_counts_: the replay
+            memory (the features of each face window, kept in whole grey levels, not
+            standardised; head angles at the face; directions taught, how many each).
         n_kept_: trials kept in it so far (forgotten ones included).
     """
 
@@ -91,7 +92,7 @@ class PopulationModule:
         n_in = self.n_features + 2
         self._x, self._tmp, self._score = np.empty(n_in), np.empty(n_in), np.empty(o.n_bins)
         self.direction_rad_ = 0.0
-        self.replay_faces_ = np.zeros((o.replay_capacity, h * w), np.uint8)
+        self.replay_features_ = np.zeros((o.replay_capacity, self.n_features))
         self.replay_thetas_ = np.zeros((o.replay_capacity, 2))
         self.replay_directions_ = np.zeros((o.replay_capacity, self.MAX_PLACES))
         self.replay_counts_ = np.zeros(o.replay_capacity, np.int64)
@@ -143,7 +144,7 @@ class PopulationModule:
             float(o.average_rate), p.readout_code, bool(o.standardise),
             o.keep == "in_view", int(o.replay), p.w1_, p.b1_, p.w2_, p.b2_, *p.averaged_,
             *p._readout_weights(), p.hidden_mean_, f.mean_, f.m2_,
-            self._no_stats, self.replay_faces_, self.replay_thetas_, self.replay_directions_,
+            self._no_stats, self.replay_features_, self.replay_thetas_, self.replay_directions_,
             self.replay_counts_, self._x, self._tmp, p._h, p._p, p._grad_h, p._taught, p._z,
             self._score, np.array([self.n_kept_, p.n_taught_, f.n_seen_], np.int64))
 
