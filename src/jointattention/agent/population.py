@@ -88,7 +88,9 @@ class PopulationOptions(Section):
     replay: int = param(8, "updates on trials drawn from the replay memory after each trial "
                         "taught (0: none)", lo=0, hi=100)
     replay_capacity: int = param(20_000, "trials the replay memory keeps (the oldest is "
-                                 "forgotten)", lo=1, hi=10_000_000)
+                                 "forgotten); each keeps its face's features, 8.9 kB with "
+                                 "the default features (178 MB when full)", lo=1,
+                                 hi=10_000_000)
 
 
 class PopulationCode:
