@@ -9,7 +9,7 @@ import typing
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from jointattention.agent.gates import ConstantGate, PerformanceGate, SigmoidGate
+from jointattention.agent.gates import ConstantGate, EvidenceGate, PerformanceGate, SigmoidGate
 from jointattention.agent.memory import MemoryOptions
 from jointattention.config import ConditionConfig, Config, load_config, to_toml
 from jointattention.errors import ConfigError
@@ -30,7 +30,7 @@ def _field_names(*classes) -> list[str]:
 # Keys the loader knows (so that the fuzz reaches deep into sections), old-style keys, and junk.
 KEYS = st.sampled_from([
     *_field_names(Config, ConditionConfig, BootstrapOptions, SigmoidGate, ConstantGate,
-                  PerformanceGate, MemoryOptions),
+                  PerformanceGate, EvidenceGate, MemoryOptions),
     "world", "camera", "head", "caregiver", "objects", "lighting", "face_window", "agent",
     "model", "detector", "experiment", "conditions", "kind", "gate", "memory", "gate_rate",
     "gate_midpoint_steps", "performance", "constant", "sigmoid", "bootstrap",
@@ -38,7 +38,8 @@ KEYS = st.sampled_from([
 SCALARS = (st.booleans() | st.integers() | st.integers(-2**70, 2**70)
            | st.floats(allow_nan=True, allow_infinity=True) | st.text(max_size=12)
            | st.sampled_from(["fast", "rendered", "compiled", "python", "constant", "sigmoid",
-                              "performance", "memory", "backprop", "trial", "step", "sweep",
+                              "performance", "evidence", "memory", "backprop", "trial",
+                              "step", "sweep",
                               "in_view", "n5", "../x", ""]))
 VALUES = st.recursive(SCALARS, lambda inner: st.lists(inner, max_size=4)
                       | st.dictionaries(KEYS, inner, max_size=5), max_leaves=25)
