@@ -143,14 +143,16 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     python = _cell_rate(config, cond, engine="python")
     rendered = _cell_rate(config, cond, n_steps=rendered_steps, perception="rendered",
                           engine="python")
-    beyond = load_config("beyond")
-    memory = _cell_rate(beyond, next(c for c in beyond.experiment.conditions
-                                     if c.name == "memory-n5"))
-    models = load_config("models")
-    rl = _cell_rate(models, next(c for c in models.experiment.conditions if c.name == "rl-n5"),
-                    n_steps=100_000)
+    beyond, models = load_config("beyond"), load_config("models")
+    memory_cell = next(c for c in beyond.experiment.conditions if c.name == "memory-n5")
+    rl_cell = next(c for c in models.experiment.conditions if c.name == "rl-n5")
     population_cell = dataclasses.replace(cond, model={"learner": "population",
                                                        "vf_fallback": "sweep"})
+    for warm_config, warm_cell in ((beyond, memory_cell), (models, rl_cell),
+                                   (config, population_cell)):  # each loop loaded outside
+        _cell_rate(warm_config, warm_cell, n_steps=100)
+    memory = _cell_rate(beyond, memory_cell)
+    rl = _cell_rate(models, rl_cell, n_steps=100_000)
     population = _cell_rate(config, population_cell, n_steps=100_000)
     population_python = _cell_rate(config, population_cell, n_steps=50_000, engine="python")
     step_us, bound_us = 1e6 / compiled, _update_us()
