@@ -42,20 +42,36 @@ class InputSpec(NamedTuple):
 
 
 @jit
-def module_input_into(face, pan, tilt, spec, mean, m2, n_seen, x, tmp) -> None:
-    """The module's input ``x``: the window's features, then the scaled head angle.
+def features_into(face, spec, out) -> None:
+    """The features ``spec`` asks for of one face window (:func:`face_features_into`)."""
+    face_features_into(face, spec.height, spec.width, spec.cell_px, spec.n_orientations,
+                       spec.pixels, spec.hog, out)
+
+
+@jit
+def input_of_features_into(features, pan, tilt, spec, mean, m2, n_seen, x) -> None:
+    """The module's input ``x``: a window's ``features``, then the scaled head angle.
 
     The features are standardised by ``mean``, ``m2`` of ``n_seen`` faces if ``n_seen`` > 0
-    (pass 0 to leave them as they are). ``tmp`` holds the features meanwhile.
+    (pass 0 to leave them as they are).
+    """
+    n = len(features)
+    if n_seen > 0:
+        standardise(features, mean, m2, n_seen, spec.min_std, x[:n])
+    else:
+        x[:n] = features
+    scale_angle_into(pan, tilt, spec.theta_mid_rad, spec.theta_half_rad, x, n)
+
+
+@jit
+def module_input_into(face, pan, tilt, spec, mean, m2, n_seen, x, tmp) -> None:
+    """The module's input ``x`` for a face window (:func:`input_of_features_into`).
+
+    ``tmp`` holds the window's features, not standardised.
     """
     n = len(x) - 2
-    face_features_into(face, spec.height, spec.width, spec.cell_px, spec.n_orientations,
-                       spec.pixels, spec.hog, x)
-    if n_seen > 0:
-        for i in range(n):
-            tmp[i] = x[i]
-        standardise(tmp[:n], mean, m2, n_seen, spec.min_std, x[:n])
-    scale_angle_into(pan, tilt, spec.theta_mid_rad, spec.theta_half_rad, x, n)
+    features_into(face, spec, tmp[:n])
+    input_of_features_into(tmp[:n], pan, tilt, spec, mean, m2, n_seen, x)
 
 
 @jit
@@ -77,18 +93,14 @@ def replay_into(drawn, features, thetas, directions, counts, spec, mean, m2, n_s
                 taught) -> int:
     """Teach again the kept trials ``drawn`` (replay memory rows); the places taught.
 
-    Each row keeps its face's features as :func:`module_input_into` computes them before
-    standardising, so the input is the same as from the face, without computing them again.
+    Each row keeps its face's features, not standardised, so the input is the same as from
+    the face (:func:`module_input_into`), without computing them again.
     """
-    x, n = np.empty(len(w1[0])), features.shape[1]
+    x = np.empty(len(w1[0]))
     n_taught = 0
     for i in drawn:
-        if n_seen > 0:
-            standardise(features[i], mean, m2, n_seen, spec.min_std, x[:n])
-        else:
-            x[:n] = features[i]
-        scale_angle_into(thetas[i, 0], thetas[i, 1], spec.theta_mid_rad, spec.theta_half_rad,
-                         x, n)
+        input_of_features_into(features[i], thetas[i, 0], thetas[i, 1], spec, mean, m2,
+                               n_seen, x)
         population_teach(x, directions[i, : counts[i]], kappa, w1, b1, w2, b2, learning_rate,
                          hidden_mean, hidden_rate, h, p, grad_h, taught)
         n_taught += counts[i]
@@ -127,13 +139,12 @@ class PopulationArrays(NamedTuple):
     hidden_mean: np.ndarray
     feature_mean: np.ndarray
     feature_m2: np.ndarray
-    no_stats: np.ndarray  # zeros: the features as they are
     replay_features: np.ndarray  # each kept face's features, not standardised
     replay_thetas: np.ndarray
     replay_directions: np.ndarray
     replay_counts: np.ndarray
     x: np.ndarray  # the trial's input, from its start to its end
-    tmp: np.ndarray
+    features: np.ndarray  # its face's features, not standardised, likewise
     h: np.ndarray
     p: np.ndarray
     grad_h: np.ndarray
@@ -150,13 +161,13 @@ def population_begin(a, face, pan, tilt, fit) -> float:
     With ``standardise``, ``fit`` adds this face's features to their running statistics
     first.
     """
-    n = len(a.x) - 2
+    features_into(face, a.spec, a.features)
     if fit and a.standardise:
-        module_input_into(face, pan, tilt, a.spec, a.no_stats, a.no_stats, 0, a.x, a.tmp)
         a.counters[2] += 1
-        welford_update(a.x[:n], a.feature_mean, a.feature_m2, a.counters[2])
+        welford_update(a.features, a.feature_mean, a.feature_m2, a.counters[2])
     n_seen = a.counters[2] if a.standardise else 0
-    module_input_into(face, pan, tilt, a.spec, a.feature_mean, a.feature_m2, n_seen, a.x, a.tmp)
+    input_of_features_into(a.features, pan, tilt, a.spec, a.feature_mean, a.feature_m2,
+                           n_seen, a.x)
     population_scores_into(a.x, a.readout_w1, a.readout_b1, a.readout_w2, a.readout_b2,
                            a.hidden_mean, a.readout, a.h, a.p, a.z, a.score)
     psi, _ = population_readout(a.score)
@@ -182,12 +193,10 @@ def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
     for j in range(len(face)):  # kept as an image keeps it: whole grey levels, 0 to 255
         kept[j] = float(np.uint8(min(max(np.rint(face[j]), 0.0), 255.0)))
         whole = whole and kept[j] == face[j]
-    if whole and not a.standardise:  # the trial's input holds them already
-        a.replay_features[slot, :] = a.x[: len(a.x) - 2]
+    if whole:  # the trial's features are those of the face kept
+        a.replay_features[slot, :] = a.features
     else:
-        face_features_into(kept, a.spec.height, a.spec.width, a.spec.cell_px,
-                           a.spec.n_orientations, a.spec.pixels, a.spec.hog,
-                           a.replay_features[slot])
+        features_into(kept, a.spec, a.replay_features[slot])
     a.replay_thetas[slot, 0], a.replay_thetas[slot, 1] = start_pan, start_tilt
     for i in range(n):
         a.replay_directions[slot, i] = directions[i]

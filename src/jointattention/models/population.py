@@ -88,9 +88,9 @@ class PopulationModule:
                               float(self.feature_stats.min_std),
                               np.asarray(host.theta_mid_rad, float),
                               np.asarray(host.theta_half_rad, float))
-        self._no_stats = np.zeros(self.n_features)
         n_in = self.n_features + 2
-        self._x, self._tmp, self._score = np.empty(n_in), np.empty(n_in), np.empty(o.n_bins)
+        self._x, self._features = np.empty(n_in), np.empty(self.n_features)
+        self._score = np.empty(o.n_bins)
         self.direction_rad_ = 0.0
         self.replay_features_ = np.zeros((o.replay_capacity, self.n_features))
         self.replay_thetas_ = np.zeros((o.replay_capacity, 2))
@@ -144,8 +144,8 @@ class PopulationModule:
             float(o.average_rate), p.readout_code, bool(o.standardise),
             o.keep == "in_view", int(o.replay), p.w1_, p.b1_, p.w2_, p.b2_, *p.averaged_,
             *p._readout_weights(), p.hidden_mean_, f.mean_, f.m2_,
-            self._no_stats, self.replay_features_, self.replay_thetas_, self.replay_directions_,
-            self.replay_counts_, self._x, self._tmp, p._h, p._p, p._grad_h, p._taught, p._z,
+            self.replay_features_, self.replay_thetas_, self.replay_directions_,
+            self.replay_counts_, self._x, self._features, p._h, p._p, p._grad_h, p._taught, p._z,
             self._score, np.array([self.n_kept_, p.n_taught_, f.n_seen_], np.int64))
 
     def sync(self, arrays: PopulationArrays) -> None:
