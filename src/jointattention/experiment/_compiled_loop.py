@@ -93,6 +93,23 @@ def _keep(code, pan, tilt, memory, c) -> int:
 
 
 @jit
+def _places_into(place, centre, seen, in_view, pan, tilt, cx, cy, gain_rad_per_px,
+                 places) -> int:
+    """``place``, then (``in_view``) every other object of the last image but ``seen``.
+
+    Into ``places``, as ``BootstrapAgent.place_of`` finds them; returns how many.
+    """
+    places[0, 0], places[0, 1], n = place[0], place[1], 1
+    for i in range(len(centre) if in_view else 0):
+        if i != seen and n < len(places):
+            v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
+                                                gain_rad_per_px)
+            places[n, 0], places[n, 1] = pan + v_pan, tilt + v_tilt
+            n += 1
+    return n
+
+
+@jit
 def run_trials(until_steps, max_trials, world, robot, state, memory, development, population,
                trials_rng, shuffle_rng, gate_rng, move_rng, module_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
@@ -125,9 +142,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             n_cached = len(world.faces)
     cached, cached_aim = np.zeros(n_cached, np.int8), np.empty((n_cached, 3))  # aim, evidence
     scaled, code, sweep = np.empty(2), np.empty(n_code), (0.0, 0.0)
-    has_memory, on_line = n_code > 0, False
-    if population is not None:
-        on_line = True
+    has_memory, on_line = n_code > 0, population is not None
     places = np.empty((_MAX_PLACES, 2))  # the population code's places found
     aim, place = np.empty(2), np.empty(2)  # the place recalled, the place found
     thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
@@ -255,21 +270,13 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             if robot.learning_target == _OBJECT_DIRECTION:
                 place[0], place[1] = pan + v_pan, tilt + v_tilt
         if learns and memory is not None:  # MemoryModule.learn
-            c[5] = _keep(code, place[0], place[1], memory, c)
-            for i in range(m if memory.in_view else 0):
-                if i != seen:
-                    v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
-                                                        robot.gain_rad_per_px)
-                    c[5] = _keep(code, pan + v_pan, tilt + v_tilt, memory, c)
+            n_places = _places_into(place, centre[:m], seen, memory.in_view, pan, tilt, cx, cy,
+                                    robot.gain_rad_per_px, places)
+            for i in range(n_places):
+                c[5] = _keep(code, places[i, 0], places[i, 1], memory, c)
         elif learns and population is not None:  # PopulationModule.learn
-            places[0, 0], places[0, 1] = place[0], place[1]
-            n_places = 1
-            for i in range(m if population.in_view else 0):
-                if i != seen and n_places < _MAX_PLACES:
-                    v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
-                                                        robot.gain_rad_per_px)
-                    places[n_places, 0], places[n_places, 1] = pan + v_pan, tilt + v_tilt
-                    n_places += 1
+            n_places = _places_into(place, centre[:m], seen, population.in_view, pan, tilt, cx,
+                                    cy, robot.gain_rad_per_px, places)
             population_learn(population, places[:n_places], face, pan_start, tilt_start,
                              module_rng)
         elif learns:
