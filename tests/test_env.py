@@ -112,6 +112,8 @@ def test_face_window_is_kept_for_the_episode():
     ({"n_objects": 0}, r"expected an integer in \[1, 20\]"),
     ({"render_mode": "human"}, "expected one of None, 'rgb_array'"),
     ({"config": "no-such-preset"}, "no such preset"),
+    ({"render_quality": "low"}, "expected one of 'full', 'fast'"),
+    ({"render_quality": "fast", "obs_mode": "face"}, "expected 'full' with obs_mode='face'"),
 ])
 def test_bad_arguments_are_refused(kwargs, match):
     """Bad constructor arguments raise one ConfigError naming what was expected."""

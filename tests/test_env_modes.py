@@ -313,6 +313,24 @@ def test_v2_shows_v1_scaled():
             (a, _), (b, _) = v1.reset(), v2.reset()
 
 
+@pytest.mark.usefixtures("needs_gl")
+def test_v3_renders_v2s_episodes_fast():
+    """v3 gives v2's scenes, rewards and ends; its images differ from v2's at outlines alone."""
+    v2, v3 = gym.make("JointAttention-N3-v2"), gym.make("JointAttention-N3-v3")
+    assert v3.unwrapped.config.world.camera.antialias_samples == 0
+    (a, _), (b, _) = v2.reset(seed=5), v3.reset(seed=5)
+    actions = np.random.default_rng(1).uniform(-1, 1, (30, 2)).astype(np.float32)
+    for action in actions:
+        x, y = a["image"].astype(int), b["image"].astype(int)
+        assert np.array_equal(a["head_angle"], b["head_angle"])
+        assert np.mean(np.abs(x - y).max(axis=2) > 40) < 0.02  # most pixels agree
+        (a, *end), (b, *end3) = v2.step(action), v3.step(action)
+        assert end[:3] == end3[:3]
+        if end[1] or end[2]:
+            (a, _), (b, _) = v2.reset(), v3.reset()
+    assert not np.array_equal(x, y)
+
+
 @pytest.mark.parametrize("mode", ["face", "detections", "image"])
 def test_a_copy_continues_the_episode(mode, request):
     """Pickled or deep-copied mid-episode, a copy gives the original's observations and ends."""

@@ -146,6 +146,22 @@ def test_antialiasing_changes_only_the_edges(needs_gl):
     assert np.mean(np.abs(x - y).max(axis=2) > 40) < 0.05  # most pixels agree
 
 
+def test_coarser_spheres_change_only_the_outlines(needs_gl):
+    """sphere_slices / sphere_stacks set MuJoCo's facets: fewer move only a few pixels."""
+    import dataclasses
+
+    plain = WorldConfig()
+    coarse = dataclasses.replace(plain, camera=dataclasses.replace(
+        plain.camera, sphere_slices=8, sphere_stacks=4))
+    with World(plain, seed=3) as a, World(coarse, seed=3) as b:
+        assert (b.model.vis.quality.numslices, b.model.vis.quality.numstacks) == (8, 4)
+        a.set_head_angle(a.face_angle_rad)
+        b.set_head_angle(b.face_angle_rad)
+        x, y = a.render().astype(int), b.render().astype(int)
+    assert not np.array_equal(x, y)
+    assert np.mean(np.abs(x - y).max(axis=2) > 40) < 0.05
+
+
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 60))
 @settings(max_examples=80, deadline=None)
 def test_the_compiled_permutation_draws_as_numpy(seed, n):

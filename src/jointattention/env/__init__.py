@@ -15,7 +15,9 @@ Registered ids (:data:`ENV_IDS`), each with ``max_episode_steps=40`` and actions
 
 v2 observations are scaled (``scaled_obs=True``: the face in [-0.5, 0.5], the head angle and
 the detections near [-1, 1]), so that an RL library's default network learns from them; each
-v2 id has a v1 twin with the raw observations (uint8 grey levels, radians, pixels).
+v2 id has a v1 twin with the raw observations (uint8 grey levels, radians, pixels). The ids
+with images also have a v3: v2 rendered with ``render_quality="fast"`` (no multisampling,
+coarser spheres; about 2.5x the steps on a CPU).
 
 Other arguments go to :func:`gymnasium.make` as keywords, as usual. The ids without images
 have a ``vector_entry_point``: ``gymnasium.make_vec(id, num_envs=N,
@@ -46,7 +48,7 @@ _MODES = {"": "image", "Face": "face", "Detections": "detections"}
 
 
 def _variants() -> dict[str, dict]:
-    """Every registered id and its keyword arguments (v2: the same, with ``scaled_obs``)."""
+    """Every registered id and its keyword arguments (v2: ``scaled_obs``; v3: fast images)."""
     ids = {}
     for name, mode in _MODES.items():
         ids[f"JointAttention{name}"] = {"obs_mode": mode}
@@ -55,8 +57,11 @@ def _variants() -> dict[str, dict]:
     for n in (1, 3, 5, 10):
         ids[f"JointAttentionFace-N{n}-Intrinsic"] = {"obs_mode": "face", "n_objects": n,
                                                     "reward": "intrinsic"}
-    return {f"{i}-v{v}": {**kwargs, "normalize_actions": True, "scaled_obs": v == 2}
+    made = {f"{i}-v{v}": {**kwargs, "normalize_actions": True, "scaled_obs": v == 2}
             for v in (1, 2) for i, kwargs in ids.items()}
+    return {**made, **{f"{i}-v3": {**kwargs, "normalize_actions": True, "scaled_obs": True,
+                                   "render_quality": "fast"}
+                       for i, kwargs in ids.items() if kwargs["obs_mode"] == "image"}}
 
 
 ENV_IDS = tuple(_variants())

@@ -15,7 +15,8 @@ from .._checks import check_int, short_repr
 from ..config import Config, load_config
 from ..errors import ArgumentError, ConfigError
 
-__all__ = ["EpisodePickle", "check_action", "env_config", "refuse_options"]
+__all__ = ["FAST_CAMERA", "RENDER_QUALITIES", "EpisodePickle", "check_action", "env_config",
+           "refuse_options"]
 
 
 def check_action(action, shape: tuple[int, ...] = (2,), name: str = "action") -> np.ndarray:
@@ -34,8 +35,14 @@ def refuse_options(options: dict | None) -> None:
                             "takes no reset options")
 
 
-def env_config(config, obs_mode, width, height) -> Config:
-    """The environment's configuration: ``config`` with its image size."""
+RENDER_QUALITIES = ("full", "fast")
+# "fast": the camera settings that keep an image observation's look at 320 x 240 and render
+# it about 2.5x faster on a CPU (no multisampling, 16 x 8 facets per sphere: docs/gymnasium.md).
+FAST_CAMERA = {"antialias_samples": 0, "sphere_slices": 16, "sphere_stacks": 8}
+
+
+def env_config(config, obs_mode, width, height, render_quality="full") -> Config:
+    """The environment's configuration: ``config`` with its image size and render quality."""
     if not isinstance(config, (Config, str, Path, type(None))):
         raise ConfigError(f"config={short_repr(config)}: expected a Config, a preset name, "
                           "a TOML file or None")
@@ -43,10 +50,17 @@ def env_config(config, obs_mode, width, height) -> Config:
     if (width is not None or height is not None) and obs_mode != "image":
         raise ConfigError(f"width/height: the image size of obs_mode='image'; expected None "
                           f"with obs_mode={obs_mode!r}")
+    if not isinstance(render_quality, str) or render_quality not in RENDER_QUALITIES:
+        raise ConfigError(f"render_quality={short_repr(render_quality)}: expected one of "
+                          f"{', '.join(map(repr, RENDER_QUALITIES))}")
+    if render_quality != "full" and obs_mode != "image":
+        raise ConfigError(f"render_quality: how obs_mode='image' renders; expected 'full' "
+                          f"with obs_mode={obs_mode!r}")
     camera = cfg.world.camera
     camera = dataclasses.replace(
         camera, width_px=camera.width_px if width is None else check_int("width", width, 16, 4096),
-        height_px=camera.height_px if height is None else check_int("height", height, 16, 4096))
+        height_px=camera.height_px if height is None else check_int("height", height, 16, 4096),
+        **(FAST_CAMERA if render_quality == "fast" else {}))
     return dataclasses.replace(cfg, world=dataclasses.replace(cfg.world, camera=camera))
 
 

@@ -115,7 +115,9 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
     rows = [("JointAttention-v1 steps, image (rendered)",
              _env_rate(JointAttentionEnv(), n_steps), "steps/s"),
             ("JointAttention-v1 steps, image, antialias_samples = 0",
-             _env_rate(JointAttentionEnv(config=jagged), n_steps), "steps/s")]
+             _env_rate(JointAttentionEnv(config=jagged), n_steps), "steps/s"),
+            ("JointAttention-v3 steps, image, render_quality = 'fast'",
+             _env_rate(JointAttentionEnv(render_quality="fast"), n_steps), "steps/s")]
     for mode in ("face", "detections"):
         rows.append((f"JointAttention-v1 steps, {mode} (no rendering)",
                      _env_rate(JointAttentionEnv(obs_mode=mode), 20 * n_steps), "steps/s"))

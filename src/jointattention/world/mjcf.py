@@ -74,7 +74,8 @@ def build_mjcf(world: WorldConfig, n_objects: int) -> str:
   <visual>
     <global offwidth="{size}" offheight="{size}"/>
     <headlight ambient="{_vec([HEADLIGHT_AMBIENT] * 3)}" diffuse="0.25 0.25 0.25" specular="0 0 0"/>
-    <quality shadowsize="0" offsamples="{cam.antialias_samples}"/>
+    <quality shadowsize="0" offsamples="{cam.antialias_samples}"
+             numslices="{cam.sphere_slices}" numstacks="{cam.sphere_stacks}"/>
   </visual>
   <default>
     <geom contype="0" conaffinity="0"/>

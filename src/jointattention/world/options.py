@@ -51,6 +51,13 @@ class CameraConfig(Section):
         4, "samples per pixel of the rendered images (MuJoCo's offsamples): 0 renders about "
         "twice as fast on a CPU, with jagged edges; every image of the shipped data sets and "
         "runs is rendered with 4", lo=0, hi=16)
+    sphere_slices: int = param(
+        28, "facets around each sphere, ellipsoid and capsule as rendered (MuJoCo's numslices): "
+        "fewer render faster on a CPU, with a coarser outline; every image of the shipped data "
+        "sets and runs is rendered with 28", lo=4, hi=128)
+    sphere_stacks: int = param(
+        16, "facets from pole to pole of each sphere, ellipsoid and capsule as rendered "
+        "(MuJoCo's numstacks); the shipped images use 16", lo=2, hi=64)
 
 
 @dataclass(frozen=True)
