@@ -208,7 +208,7 @@ def test_the_ratio_readout_is_the_difference_of_the_output_units():
                                                average_rate=0.0), np.random.default_rng(1))
     code.hidden_mean_ = np.random.default_rng(2).normal(size=5)
     x = np.random.default_rng(3).normal(size=6)
-    h = np.tanh(code.w1_ @ x + code.b1_)
+    h = np.tanh(x @ code.w1_ + code.b1_)
     np.testing.assert_allclose(code.scores(x), code.w2_ @ h - code.w2_ @ code.hidden_mean_,
                                atol=1e-12)
 
@@ -228,3 +228,47 @@ def test_a_replayed_trial_teaches_as_teaching_it_again():
         assert np.array_equal(getattr(a.module.population, name),
                               getattr(b.module.population, name)), name
     assert a.module.population.n_taught_ == 4
+
+
+@given(seed=st.integers(0, 2**32 - 1), counts=st.lists(st.integers(0, 3), min_size=1, max_size=5))
+@settings(max_examples=40, deadline=None)
+def test_teaching_rows_in_one_pass_each_gives_the_bits_of_one_row_at_a_time(seed, counts):
+    """population_teach_rows (each w1 pass also sums the next row) equals row-by-row teaching."""
+    from jointattention.agent.population import population_teach, population_teach_rows
+
+    rng = np.random.default_rng(seed)
+    X, dirs = rng.normal(size=(len(counts), 9)), rng.uniform(-math.pi, math.pi, (len(counts), 3))
+    a, b = (PopulationCode(9, PopulationOptions(n_hidden=6, n_bins=8), np.random.default_rng(seed))
+            for _ in range(2))
+    taught = population_teach_rows(X, dirs, np.array(counts), a.kappa, *a.teach_arrays())
+    for x, d, n in zip(X, dirs, counts, strict=True):
+        population_teach(x, d[:n].copy(), b.kappa, *b.teach_arrays())
+    assert taught == sum(counts)
+    for name in ("w1_", "b1_", "w2_", "b2_", "hidden_mean_"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert not np.array_equal(a.w1_, PopulationCode(9, PopulationOptions(n_hidden=6, n_bins=8),
+                                                    np.random.default_rng(seed)).w1_) \
+        or sum(counts) == 0
+
+
+def test_one_teaching_step_is_the_cross_entropy_gradient_step():
+    """A teaching step equals numpy's gradient step on the summed cross-entropy (to 1e-12)."""
+    from jointattention.agent.population import von_mises_into
+
+    code = PopulationCode(7, PopulationOptions(n_hidden=5, n_bins=8, learning_rate=0.05),
+                          np.random.default_rng(4))
+    w1, b1, w2, b2 = (a.copy() for a in (code.w1_, code.b1_, code.w2_, code.b2_))
+    x, dirs = np.random.default_rng(5).normal(size=7), np.array([0.3, -2.0])
+    code.teach(x, dirs)
+    taught = np.zeros(8)
+    for d in dirs:
+        von_mises_into(d, code.kappa, 1.0, taught)
+    h = np.tanh(x @ w1 + b1)
+    z = w2 @ h + b2
+    p = np.exp(z - z.max()) / np.exp(z - z.max()).sum()
+    g = len(dirs) * p - taught
+    step_h = (w2.T @ g) * (1 - h**2) * 0.05
+    np.testing.assert_allclose(code.w2_, w2 - 0.05 * np.outer(g, h), atol=1e-12)
+    np.testing.assert_allclose(code.b2_, b2 - 0.05 * g, atol=1e-12)
+    np.testing.assert_allclose(code.w1_, w1 - np.outer(x, step_h), atol=1e-12)
+    np.testing.assert_allclose(code.b1_, b1 - step_h, atol=1e-12)

@@ -14,7 +14,7 @@ from .._jit import jit
 
 __all__ = ["EXCESS", "MODE", "RATIO", "average_into", "population_forward",
            "population_readout", "population_scores_into", "population_teach",
-           "population_update", "von_mises_into"]
+           "population_teach_rows", "von_mises_into"]
 
 EXCESS, RATIO, MODE = 0, 1, 2  # the readouts (population.READOUTS), as codes
 
@@ -55,42 +55,39 @@ def _output_into(h, w2, b2, z) -> None:
 
 
 @jit
-def population_forward(x, w1, b1, w2, b2, h, p) -> None:
-    """Hidden units ``h = tanh(w1 x + b1)`` and the softmax ``p`` of ``w2 h + b2``.
-
-    Four hidden units at a time: each unit's sum runs over the inputs in the same order as
-    one at a time (the same bits), but the four sums do not wait for each other.
-    """
-    n4 = len(h) - len(h) % 4
-    for j in range(0, n4, 4):
-        r0, r1, r2, r3 = w1[j], w1[j + 1], w1[j + 2], w1[j + 3]
-        s0, s1, s2, s3 = b1[j], b1[j + 1], b1[j + 2], b1[j + 3]
-        for i in range(len(x)):
-            s0 += r0[i] * x[i]
-            s1 += r1[i] * x[i]
-            s2 += r2[i] * x[i]
-            s3 += r3[i] * x[i]
-        h[j], h[j + 1], h[j + 2], h[j + 3] = (math.tanh(s0), math.tanh(s1), math.tanh(s2),
-                                              math.tanh(s3))
-    for j in range(n4, len(h)):
-        s = b1[j]
-        row = w1[j]
-        for i in range(len(x)):
-            s += row[i] * x[i]
-        h[j] = math.tanh(s)
+def _activate(h, w2, b2, p) -> None:
+    """From the hidden units' summed inputs in ``h``: ``h = tanh(h)``, ``p`` = softmax."""
+    for j in range(len(h)):
+        h[j] = math.tanh(h[j])
     _output_into(h, w2, b2, p)
     _softmax_into(p, p)
 
 
 @jit
-def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate: float, h, p,
-                      grad_h) -> None:
-    """One gradient step on the summed cross-entropy of ``n_taught`` places for input ``x``.
+def population_forward(x, w1, b1, w2, b2, h, p) -> None:
+    """Hidden units ``h = tanh(x w1 + b1)`` and the softmax ``p`` of ``w2 h + b2``.
 
-    ``taught`` is the sum of their spread directions; the gradient at the output units' input
-    is ``n_taught p - taught``.
+    ``w1`` is (n_in, n_hidden), input-major: the sums run over the inputs in order, each
+    hidden unit's alone (the bits of summing one unit at a time), all units at once along a
+    row of ``w1`` (the loop vectorises).
     """
-    population_forward(x, w1, b1, w2, b2, h, p)
+    for j in range(len(h)):
+        h[j] = b1[j]
+    for i in range(len(x)):
+        xi, row = x[i], w1[i]
+        for j in range(len(h)):
+            h[j] += row[j] * xi
+    _activate(h, w2, b2, p)
+
+
+@jit
+def _backward_into(taught, n_taught: float, b1, w2, b2, learning_rate: float, h, p,
+                   grad_h) -> None:
+    """The output layer's and ``b1``'s step; in ``grad_h`` the step at each unit's input.
+
+    The gradient of the summed cross-entropy of ``n_taught`` places (``taught``: the sum of
+    their spread directions) at the output units' input is ``n_taught p - taught``.
+    """
     grad_h[:] = 0.0
     for b in range(len(p)):
         g = n_taught * p[b] - taught[b]
@@ -100,11 +97,66 @@ def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate:
             row[j] -= learning_rate * g * h[j]
         b2[b] -= learning_rate * g
     for j in range(len(h)):
-        g = grad_h[j] * (1.0 - h[j] * h[j]) * learning_rate
-        row = w1[j]
+        grad_h[j] = grad_h[j] * (1.0 - h[j] * h[j]) * learning_rate
+        b1[j] -= grad_h[j]
+
+
+@jit
+def _w1_step(x, grad_h, w1, x_next, h_next) -> None:
+    """``w1 -= outer(x, grad_h)``; with ``x_next``, ``h_next += x_next w1`` in the same pass.
+
+    The pass over ``w1`` (the network's bulk) then also sums the next input's hidden units
+    with the new weights, in the order :func:`population_forward` sums them.
+    """
+    if x_next is None:
         for i in range(len(x)):
-            row[i] -= g * x[i]
-        b1[j] -= g
+            xi, row = x[i], w1[i]
+            for j in range(len(grad_h)):
+                row[j] -= grad_h[j] * xi
+    else:
+        for i in range(len(x)):
+            xi, xn, row = x[i], x_next[i], w1[i]
+            for j in range(len(grad_h)):
+                w = row[j] - grad_h[j] * xi
+                row[j] = w
+                h_next[j] += w * xn
+
+
+@jit
+def population_teach_rows(X, directions_rad, counts, kappa: float, w1, b1, w2, b2,
+                          learning_rate: float, hidden_mean, hidden_rate: float, h, p, grad_h,
+                          taught) -> int:
+    """One update per row of ``X`` toward its places, in order; returns the places taught.
+
+    Row r's places are ``directions_rad[r, :counts[r]]``, each spread by a von Mises bump of
+    concentration ``kappa`` (a row without places is skipped); the running mean of the hidden
+    units moves toward each input's at ``hidden_rate``. Each update's pass over ``w1`` also
+    sums the next row's hidden units (:func:`_w1_step`): one pass per update, not two, with
+    the bits of one row at a time.
+    """
+    rows = np.flatnonzero(counts > 0)
+    if len(rows) == 0:
+        return 0
+    h_next = np.empty(len(h))
+    population_forward(X[rows[0]], w1, b1, w2, b2, h, p)
+    n_taught = 0
+    for k in range(len(rows)):
+        r = rows[k]
+        taught[:] = 0.0
+        for d in range(counts[r]):
+            von_mises_into(directions_rad[r, d], kappa, 1.0, taught)
+        n_taught += counts[r]
+        _backward_into(taught, float(counts[r]), b1, w2, b2, learning_rate, h, p, grad_h)
+        for j in range(len(h)):
+            hidden_mean[j] += hidden_rate * (h[j] - hidden_mean[j])
+        if k + 1 == len(rows):
+            _w1_step(X[r], grad_h, w1, None, None)
+        else:
+            h_next[:] = b1
+            _w1_step(X[r], grad_h, w1, X[rows[k + 1]], h_next)
+            h[:] = h_next
+            _activate(h, w2, b2, p)
+    return n_taught
 
 
 @jit
@@ -163,18 +215,11 @@ def population_teach(x, directions_rad, kappa: float, w1, b1, w2, b2, learning_r
                      hidden_mean, hidden_rate: float, h, p, grad_h, taught) -> None:
     """One update toward the places found in ``directions_rad`` for input ``x``.
 
-    Each direction is spread by a von Mises bump of concentration ``kappa``; the running mean
-    of the hidden units moves toward this input's at ``hidden_rate``.
+    :func:`population_teach_rows` of one row.
     """
-    if len(directions_rad) == 0:
-        return
-    taught[:] = 0.0
-    for psi in directions_rad:
-        von_mises_into(psi, kappa, 1.0, taught)
-    population_update(x, taught, float(len(directions_rad)), w1, b1, w2, b2, learning_rate,
-                      h, p, grad_h)
-    for j in range(len(h)):
-        hidden_mean[j] += hidden_rate * (h[j] - hidden_mean[j])
+    population_teach_rows(x.reshape(1, -1), directions_rad.reshape(1, -1),
+                          np.array([len(directions_rad)]), kappa, w1, b1, w2, b2,
+                          learning_rate, hidden_mean, hidden_rate, h, p, grad_h, taught)
 
 
 @jit

@@ -17,7 +17,7 @@ direction whose probability for this face most exceeds its probability for the a
 (the module's own output at the running mean of its hidden units): the target, not the mean.
 
 Inputs are the robot's own features of the face window (:mod:`.face_features`) and the head
-angle at the face. The kernels (:func:`population_forward`, :func:`population_update`,
+angle at the face. The kernels (:func:`population_forward`, :func:`population_teach_rows`,
 :func:`population_scores_into`, :func:`population_readout`, ...) are compiled, in
 :mod:`._population_kernels`; :class:`PopulationCode` is their scikit-learn-style wrapper
 (``partial_fit`` on inputs and directions, ``predict`` a direction).
@@ -38,13 +38,13 @@ from ._population_kernels import (
     population_readout,
     population_scores_into,
     population_teach,
-    population_update,
+    population_teach_rows,
     von_mises_into,
 )
 
 __all__ = ["READOUTS", "PopulationCode", "PopulationOptions", "population_forward",
            "population_readout", "population_scores_into", "population_teach",
-           "population_update", "von_mises_into"]
+           "population_teach_rows", "von_mises_into"]
 
 READOUTS = ("excess", "ratio", "mode")
 
@@ -101,7 +101,8 @@ class PopulationCode:
         options: units, learning rate, label width, readout.
         rng: draws the initial weights.
 
-    Learned state: ``w1_`` (n_hidden, n_in), ``b1_``, ``w2_`` (n_bins, n_hidden), ``b2_``,
+    Learned state: ``w1_`` (n_in, n_hidden: input-major, as scikit-learn's ``coefs_``),
+    ``b1_``, ``w2_`` (n_bins, n_hidden), ``b2_``,
     ``averaged_`` (their running averages, which the readout uses; :meth:`average`),
     ``hidden_mean_`` (n_hidden,: the running mean of the hidden units over the inputs taught)
     and ``n_taught_`` (places taught).
@@ -110,7 +111,7 @@ class PopulationCode:
     def __init__(self, n_in: int, options: PopulationOptions, rng: np.random.Generator):
         self.options = options
         h, n = options.n_hidden, options.n_bins
-        self.w1_ = rng.normal(0.0, 1.0 / math.sqrt(n_in), (h, n_in))
+        self.w1_ = rng.normal(0.0, 1.0 / math.sqrt(n_in), (h, n_in)).T.copy()  # draws by unit
         self.b1_ = np.zeros(h)
         self.w2_ = rng.normal(0.0, 1.0 / math.sqrt(h), (n, h))
         self.b2_ = np.zeros(n)
@@ -144,14 +145,14 @@ class PopulationCode:
 
     def probabilities(self, x: np.ndarray) -> np.ndarray:
         """p(direction | input) over the units, for one input (n_in,), by the readout weights."""
-        population_forward(floats("x", x, (self.w1_.shape[1],)), *self._readout_weights(),
+        population_forward(floats("x", x, (len(self.w1_),)), *self._readout_weights(),
                            self._h, self._p)
         return self._p.copy()
 
     def scores(self, x: np.ndarray) -> np.ndarray:
         """The readout's score of each unit for one input (see ``options.readout``)."""
         score = np.empty(len(self.b2_))
-        population_scores_into(floats("x", x, (self.w1_.shape[1],)), *self._readout_weights(),
+        population_scores_into(floats("x", x, (len(self.w1_),)), *self._readout_weights(),
                                self.hidden_mean_, self.readout_code, self._h, self._p, self._z,
                                score)
         return score
@@ -162,7 +163,7 @@ class PopulationCode:
 
     def teach(self, x: np.ndarray, directions_rad) -> None:
         """One update toward the places found in ``directions_rad`` (rad) for input ``x``."""
-        self._teach(floats("x", x, (self.w1_.shape[1],)),
+        self._teach(floats("x", x, (len(self.w1_),)),
                     floats("directions_rad", directions_rad, None).reshape(-1))
 
     def _teach(self, x: np.ndarray, directions_rad: np.ndarray) -> None:
@@ -182,7 +183,7 @@ class PopulationCode:
 
         The running averages move once per row.
         """
-        X = rows("X", X, self.w1_.shape[1])
+        X = rows("X", X, len(self.w1_))
         for x, y in zip(X, floats("Y", Y, (len(X),)), strict=True):
             self.teach(x, [y])
             self.average()
@@ -190,4 +191,4 @@ class PopulationCode:
 
     def predict(self, X: np.ndarray) -> np.ndarray:
         """The readout direction (rad) for each row of ``X`` (n, n_in), (n,)."""
-        return np.array([self.direction(x)[0] for x in rows("X", X, self.w1_.shape[1])])
+        return np.array([self.direction(x)[0] for x in rows("X", X, len(self.w1_))])

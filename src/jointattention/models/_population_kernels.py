@@ -20,11 +20,11 @@ from ..agent.population import (
     average_into,
     population_readout,
     population_scores_into,
-    population_teach,
+    population_teach_rows,
 )
 
 __all__ = ["InputSpec", "PopulationArrays", "commands_into", "module_input_into",
-           "population_begin", "population_learn", "replay_into"]
+           "population_begin", "population_learn", "replay_rows_into"]
 
 
 class InputSpec(NamedTuple):
@@ -78,7 +78,7 @@ def module_input_into(face, pan, tilt, spec, mean, m2, n_seen, x, tmp) -> None:
 def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_mean,
                   readout, step_rad, out) -> None:
     """The first step from each face (K, pixels) at its head angle (K, 2): ``out`` (K, 2)."""
-    x, tmp = np.empty(len(w1[0])), np.empty(len(w1[0]))
+    x, tmp = np.empty(len(w1)), np.empty(len(w1))
     h, p, z, score = np.empty(len(b1)), np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
     for k in range(len(faces)):
         module_input_into(faces[k], thetas[k, 0], thetas[k, 1], spec, mean, m2, n_seen, x, tmp)
@@ -88,23 +88,19 @@ def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_
 
 
 @jit
-def replay_into(drawn, features, thetas, directions, counts, spec, mean, m2, n_seen, kappa,
-                w1, b1, w2, b2, learning_rate, hidden_mean, hidden_rate, h, p, grad_h,
-                taught) -> int:
-    """Teach again the kept trials ``drawn`` (replay memory rows); the places taught.
+def replay_rows_into(drawn, features, thetas, directions, counts, spec, mean, m2, n_seen, X,
+                     taught_rad, n_taught) -> None:
+    """The inputs and places of the kept trials ``drawn`` (replay memory rows), into rows.
 
     Each row keeps its face's features, not standardised, so the input is the same as from
     the face (:func:`module_input_into`), without computing them again.
     """
-    x = np.empty(len(w1[0]))
-    n_taught = 0
-    for i in drawn:
+    for r in range(len(drawn)):
+        i = drawn[r]
         input_of_features_into(features[i], thetas[i, 0], thetas[i, 1], spec, mean, m2,
-                               n_seen, x)
-        population_teach(x, directions[i, : counts[i]], kappa, w1, b1, w2, b2, learning_rate,
-                         hidden_mean, hidden_rate, h, p, grad_h, taught)
-        n_taught += counts[i]
-    return n_taught
+                               n_seen, X[r])
+        taught_rad[r, : counts[i]] = directions[i, : counts[i]]
+        n_taught[r] = counts[i]
 
 
 class PopulationArrays(NamedTuple):
@@ -184,11 +180,12 @@ def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
     Returns the places of this trial.
     """
     n = len(places)
-    directions = np.empty(n)
+    rows = 1 + a.replay  # the trial, then the replayed ones: taught in one pass each
+    X, taught_rad = np.empty((rows, len(a.x))), np.empty((rows, a.replay_directions.shape[1]))
+    n_taught = np.empty(rows, np.int64)
+    X[0], n_taught[0] = a.x, n
     for i in range(n):
-        directions[i] = math.atan2(places[i, 1] - start_tilt, places[i, 0] - start_pan)
-    population_teach(a.x, directions, a.kappa, a.w1, a.b1, a.w2, a.b2, a.learning_rate,
-                     a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught)
+        taught_rad[0, i] = math.atan2(places[i, 1] - start_tilt, places[i, 0] - start_pan)
     slot, kept, whole = a.counters[0] % len(a.replay_counts), np.empty(len(face)), True
     for j in range(len(face)):  # kept as an image keeps it: whole grey levels, 0 to 255
         kept[j] = float(np.uint8(min(max(np.rint(face[j]), 0.0), 255.0)))
@@ -198,16 +195,17 @@ def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
     else:
         features_into(kept, a.spec, a.replay_features[slot])
     a.replay_thetas[slot, 0], a.replay_thetas[slot, 1] = start_pan, start_tilt
-    for i in range(n):
-        a.replay_directions[slot, i] = directions[i]
+    a.replay_directions[slot, :n] = taught_rad[0, :n]
     a.replay_counts[slot] = n
     a.counters[0] += 1
     drawn = replay_rng.integers(0, min(a.counters[0], len(a.replay_counts)), size=a.replay)
     n_seen = a.counters[2] if a.standardise else 0
-    a.counters[1] += n + replay_into(
-        drawn, a.replay_features, a.replay_thetas, a.replay_directions, a.replay_counts, a.spec,
-        a.feature_mean, a.feature_m2, n_seen, a.kappa, a.w1, a.b1, a.w2, a.b2,
-        a.learning_rate, a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught)
+    replay_rows_into(drawn, a.replay_features, a.replay_thetas, a.replay_directions,
+                     a.replay_counts, a.spec, a.feature_mean, a.feature_m2, n_seen, X[1:],
+                     taught_rad[1:], n_taught[1:])
+    a.counters[1] += population_teach_rows(
+        X, taught_rad, n_taught, a.kappa, a.w1, a.b1, a.w2, a.b2, a.learning_rate,
+        a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught)
     average_into(a.averaged_w1.reshape(-1), a.w1.reshape(-1), a.average_rate)
     average_into(a.averaged_b1, a.b1, a.average_rate)
     average_into(a.averaged_w2.reshape(-1), a.w2.reshape(-1), a.average_rate)

@@ -106,7 +106,7 @@ class PopulationModule:
         """
         w1, b1, w2, b2 = self.population._readout_weights()
         f = self.feature_stats
-        return {"population_w1": w1, "population_b1": b1,
+        return {"population_w1": w1.T, "population_b1": b1,  # by hidden unit, as saved.py says
                 "population_w2": w2, "population_b2": b2,
                 "population_hidden_mean": self.population.hidden_mean_,
                 **({"population_feature_mean": f.mean_, "population_feature_m2": f.m2_,
@@ -116,7 +116,7 @@ class PopulationModule:
     def saved_shapes(self) -> dict[str, tuple[int, ...]]:
         """The shape of each member of :meth:`saved_arrays`."""
         p, n = self.population, self.n_features
-        return {"population_w1": p.w1_.shape,
+        return {"population_w1": p.w1_.shape[::-1],
                 "population_b1": p.b1_.shape, "population_w2": p.w2_.shape,
                 "population_b2": p.b2_.shape, "population_hidden_mean": p.hidden_mean_.shape,
                 **({"population_feature_mean": (n,), "population_feature_m2": (n,),
@@ -129,6 +129,7 @@ class PopulationModule:
         p.w1_, p.b1_, p.w2_, p.b2_, p.hidden_mean_ = (
             arrays[f"population_{k}"].astype(float)
             for k in ("w1", "b1", "w2", "b2", "hidden_mean"))
+        p.w1_ = p.w1_.T.copy()  # input-major in memory (PopulationCode)
         p.averaged_ = [a.copy() for a in (p.w1_, p.b1_, p.w2_, p.b2_)]
         if self.host.options.population.standardise:
             f = self.feature_stats
