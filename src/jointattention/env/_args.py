@@ -14,9 +14,9 @@ from .._arrays import floats
 from .._checks import check_int, short_repr
 from ..config import Config, load_config
 from ..errors import ArgumentError, ConfigError
+from ..world.options import FAST_CAMERA
 
-__all__ = ["FAST_CAMERA", "RENDER_QUALITIES", "EpisodePickle", "check_action", "env_config",
-           "refuse_options"]
+__all__ = ["RENDER_QUALITIES", "EpisodePickle", "check_action", "env_config", "refuse_options"]
 
 
 def check_action(action, shape: tuple[int, ...] = (2,), name: str = "action") -> np.ndarray:
@@ -35,10 +35,7 @@ def refuse_options(options: dict | None) -> None:
                             "takes no reset options")
 
 
-RENDER_QUALITIES = ("full", "fast")
-# "fast": the camera settings that keep an image observation's look at 320 x 240 and render
-# it about 2.5x faster on a CPU (no multisampling, 16 x 8 facets per sphere: docs/gymnasium.md).
-FAST_CAMERA = {"antialias_samples": 0, "sphere_slices": 16, "sphere_stacks": 8}
+RENDER_QUALITIES = ("full", "fast")  # "fast": world.options.FAST_CAMERA (docs/gymnasium.md)
 
 
 def env_config(config, obs_mode, width, height, render_quality="full") -> Config:

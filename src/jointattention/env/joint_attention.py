@@ -108,7 +108,8 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
             ``world.camera``, 320 x 240).
         render_quality: ``"image"`` mode: ``"full"`` (default), as ``world.camera`` says
             (the look of the shipped data sets' faces), or ``"fast"``, about 2.5x the steps on
-            a CPU: no multisampling and 16 x 8 facets per sphere (``FAST_CAMERA``).
+            a CPU: no multisampling and 16 x 8 facets per sphere
+            (``world.options.FAST_CAMERA``).
         normalize_actions: actions in [-1, 1] (default: False, radians).
         scaled_obs: observations scaled near [-1, 1] (default: False, raw; see above).
         render_mode: ``None`` or ``"rgb_array"`` (``"image"`` mode: an overview of the room;

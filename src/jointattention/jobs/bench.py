@@ -11,6 +11,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.learner import LearningModule, sgd_update
 from ..config import WorldConfig
+from ..world.options import FAST_CAMERA
 from .env_bench import run_env_benchmark, without_antialiasing
 
 __all__ = ["compile_times", "preset_estimates", "run_agent_benchmark", "run_env_benchmark",
@@ -62,11 +63,14 @@ def run_world_benchmarks(
             )
         )
         rows.append(("new scene (sample + show)", _rate(lambda i: world.reset(), 200), "scenes/s"))
-    with World(without_antialiasing(config), seed=0) as world:
-        world.render()
-        rows.append((f"render robot view, antialias_samples = 0 ({size})",
-                     _rate(lambda i: (world.set_head_angle(thetas[i]), world.render()), n_frames),
-                     "frames/s"))
+    fast = dataclasses.replace(config, camera=dataclasses.replace(config.camera, **FAST_CAMERA))
+    for name, cfg in (("antialias_samples = 0", without_antialiasing(config)),
+                      ("FAST_CAMERA: 0 samples, 16 x 8 facets", fast)):
+        with World(cfg, seed=0) as world:
+            world.render()
+            rows.append((f"render robot view, {name} ({size})",
+                         _rate(lambda i, w=world: (w.set_head_angle(thetas[i]), w.render()),
+                               n_frames), "frames/s"))
     return rows
 
 

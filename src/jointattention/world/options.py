@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from types import MappingProxyType
 
 from .._fields import Section, param, to_mapping
 from .._toml import dumps
@@ -15,6 +16,7 @@ from ..errors import ConfigError
 from .variation import IdentityConfig, RoomConfig, SensorConfig
 
 __all__ = [
+    "FAST_CAMERA",
     "N_OBJECTS",
     "CameraConfig",
     "CaregiverConfig",
@@ -29,6 +31,10 @@ __all__ = [
 ]
 
 N_OBJECTS = 5  # objects in a scene when no condition says otherwise (the paper's Fig. 5)
+# The camera settings that keep a 320 x 240 view's look and render it about 4x as fast on a
+# CPU: one sample per pixel, 16 x 8 facets per sphere (Gymnasium's render_quality="fast").
+FAST_CAMERA = MappingProxyType({"antialias_samples": 0, "sphere_slices": 16,
+                                "sphere_stacks": 8})
 
 
 @dataclass(frozen=True)
