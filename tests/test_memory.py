@@ -170,7 +170,7 @@ def test_weighted_kth_is_numpys_partition_of_the_repeated_values(values, data):
 def _recall_of_every_trial(memory, code):
     """The recall as it was before codes were kept once: distances to every kept trial."""
     n = min(memory.n_stored_, memory.options.capacity)
-    codes = memory.codes_[memory.links_[0, :n]]
+    codes = memory.codes_[:, memory.links_[0, :n]].T
     aims = memory.aims_[:n]
     d2 = ((codes - code) ** 2).sum(axis=1)
     d2_k = np.partition(d2, min(memory.options.k_nearest, n) - 1)[

@@ -49,7 +49,7 @@ def errors(n_objects: int) -> tuple[int, float, np.ndarray, np.ndarray]:
     config, memory = memory_of(n_objects)
     ds = datasets_of(config)
     n = memory.n_stored_
-    codes, places = memory.codes_[:n], memory.aims_[:n]
+    codes, places = memory.codes_[:, memory.links_[0, :n]].T, memory.aims_[:n]  # per trial
     targets = ds.theta_face_rad + ds.command_rad
     mean_err, mode_err, on_target = [], [], 0
     for k in range(len(ds)):

@@ -53,12 +53,16 @@ class MemoryOptions(Section):
 
 @jit
 def face_code_into(face, projection, out) -> None:
-    """``out = projection @ face``: the face window's compact code."""
-    for j in range(len(out)):
-        s = 0.0
-        for i in range(len(face)):
-            s += projection[j, i] * face[i]
-        out[j] = s
+    """``out = face @ projection``: the face window's compact code.
+
+    ``projection`` is (pixels, code length): each entry of the code sums over the pixels in
+    order, all entries at once along a row (the loop vectorises).
+    """
+    out[:] = 0.0
+    for i in range(len(face)):
+        fi, row = face[i], projection[i]
+        for j in range(len(out)):
+            out[j] += row[j] * fi
 
 
 @jit
@@ -92,7 +96,7 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, ba
                  n_codes, lo_rad, cell_rad) -> int:
     """Keep a trial (face code, place) in slot ``n_stored % capacity``, forgetting its last.
 
-    Equal face codes are kept once (``codes[u]``, with ``counts[u]`` trials), so that a recall
+    Equal face codes are kept once (``codes[:, u]``, with ``counts[u]`` trials), so that a recall
     measures each distinct face once: with the data sets' faces a few hundred codes, not every
     kept trial. ``links`` holds each slot's code and each code's slots in slot order
     (:mod:`._recall`). ``base`` counts, per grid cell, the kept places within the voting
@@ -106,19 +110,19 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, ba
     if slot == 0:
         new_lap(links, n_codes)
     u = code_of[slot - 1] if n_stored > 0 else 0  # a trial's places share its face
-    if not (n_stored > 0 and counts[u] > 0 and _same(codes[u], code)):
+    if not (n_stored > 0 and counts[u] > 0 and _same(codes[:, u], code)):
         u, free = -1, -1
         for v in range(n_codes):
             if counts[v] == 0:
                 free = v if free < 0 else free
-            elif _same(codes[v], code):
+            elif _same(codes[:, v], code):
                 u = v
                 break
         if u < 0:
             u = free if free >= 0 else n_codes
             n_codes = max(n_codes, u + 1)
             for j in range(len(code)):
-                codes[u, j] = code[j]
+                codes[j, u] = code[j]
     counts[u] += 1
     link(links, slot, u)
     aims[slot, 0], aims[slot, 1] = aim_pan_rad, aim_tilt_rad
@@ -144,12 +148,11 @@ def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_
     n = min(n_stored, len(aims))
     if n == 0:
         return -1.0, 0.0
-    d2u = np.empty(n_codes)
-    for u in range(n_codes):
-        s = 0.0
-        for j in range(len(code)):
-            s += (codes[u, j] - code[j]) ** 2
-        d2u[u] = s
+    d2u = np.zeros(n_codes)  # each code's sum in the order of its entries, all codes at once
+    for j in range(len(code)):
+        cj, row = code[j], codes[j]
+        for u in range(n_codes):
+            d2u[u] += (row[u] - cj) ** 2
     d2_k = weighted_kth(d2u, counts[:n_codes], min(k_nearest, n))
     near = near_slots(links, counts, d2u, d2_k, n_codes)  # in slot order, as the sums go
     n_near = len(near)
@@ -188,7 +191,8 @@ class EpisodicMemory:
         rng: draws the face code's projection.
 
     Learned state: ``aims_`` (the kept trials' places), ``codes_`` (their distinct face codes,
-    the first ``n_codes_`` rows), ``counts_`` (trials per code), ``links_`` (each trial's code,
+    the first ``n_codes_`` columns: (code length, capacity), entry-major so that a recall
+    measures every code at once), ``counts_`` (trials per code), ``links_`` (each trial's code,
     and each code's trials in slot order: :mod:`._recall`), ``base_`` (the base-rate grid),
     ``n_stored_`` (trials kept so far, forgotten ones included).
     """
@@ -196,12 +200,12 @@ class EpisodicMemory:
     def __init__(self, n_in: int, options: MemoryOptions, limits_rad, rng: np.random.Generator):
         self.options = options
         self.projection = rng.normal(0.0, 1.0 / math.sqrt(options.code_dims),
-                                     (options.code_dims, n_in))
+                                     (options.code_dims, n_in)).T.copy()  # (pixels, code)
         limits = np.asarray(limits_rad, dtype=float)
         self.lo_rad = limits[:, 0] - 0.2
         self.cell_rad = self.radius_rad / 2
         shape = np.ceil((limits[:, 1] + 0.2 - self.lo_rad) / self.cell_rad).astype(int) + 1
-        self.codes_ = np.zeros((options.capacity, options.code_dims))
+        self.codes_ = np.zeros((options.code_dims, options.capacity))
         self.counts_ = np.zeros(options.capacity, np.int64)
         self.links_ = no_links(options.capacity)
         self.aims_ = np.zeros((options.capacity, 2))
@@ -215,14 +219,14 @@ class EpisodicMemory:
 
     def code(self, face_window) -> np.ndarray:
         """The compact code of a face window."""
-        face = flat("face_window", face_window, self.projection.shape[1])
+        face = flat("face_window", face_window, len(self.projection))
         out = np.empty(self.options.code_dims)
         face_code_into(face, self.projection, out)
         return out
 
     def store(self, code: np.ndarray, aim_rad) -> None:
         """Keep one trial: the face's code and the place (pan, tilt) where it found an object."""
-        code, aim_rad = floats("code", code, (len(self.projection),)), angles("aim_rad", aim_rad)
+        code, aim_rad = floats("code", code, (self.options.code_dims,)), angles("aim_rad", aim_rad)
         self.n_codes_ = memory_store(code, float(aim_rad[0]), float(aim_rad[1]),
                                      *self.kept_arrays(), self.lo_rad, self.cell_rad)
         self.n_stored_ += 1
@@ -239,7 +243,7 @@ class EpisodicMemory:
 
     def recall_evidence(self, code: np.ndarray) -> tuple[np.ndarray | None, float, float]:
         """:meth:`recall`, and the place's evidence in trials (:func:`memory_recall`)."""
-        code, out = floats("code", code, (len(self.projection),)), np.empty(2)
+        code, out = floats("code", code, (self.options.code_dims,)), np.empty(2)
         support, evidence = memory_recall(code, *self.kept_arrays(), self.lo_rad,
                                           self.cell_rad, self.options.k_nearest,
                                           self.radius_rad, out)
@@ -247,14 +251,14 @@ class EpisodicMemory:
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> EpisodicMemory:
         """Keep each row's trial: face windows ``X`` (n, pixels), places ``Y`` (n, 2)."""
-        X = rows("X", X, self.projection.shape[1])
+        X = rows("X", X, len(self.projection))
         for x, y in zip(X, angles("Y", Y, len(X)), strict=True):
             self.store(self.code(x), y)
         return self
 
     def predict(self, X: np.ndarray) -> np.ndarray:
         """The place recalled for each face window (n, pixels), (n, 2); NaN with no memory."""
-        X = rows("X", X, self.projection.shape[1])
+        X = rows("X", X, len(self.projection))
         out = np.full((len(X), 2), np.nan)
         for row, x in zip(out, X, strict=True):
             aim, _ = self.recall(self.code(x))

@@ -137,7 +137,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     hid, out, x_full = np.empty(n_hidden), np.empty(2), np.empty(n_pix + 2)
     n_code = n_cached = 0
     if memory is not None:
-        n_code = len(memory.projection)
+        n_code = memory.projection.shape[1]
         if not robot.learning:  # a frozen memory recalls a face alike each time: once a face
             n_cached = len(world.faces)
     cached, cached_aim = np.zeros(n_cached, np.int8), np.empty((n_cached, 3))  # aim, evidence

@@ -32,7 +32,8 @@ def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, 
     whose code is the one before's (e.g. a blank face at many head angles) is not recalled
     again: the recall depends on the code alone.
     """
-    code, last, aim = np.empty(len(projection)), np.empty(len(projection)), np.empty(2)
+    n_code = projection.shape[1]
+    code, last, aim = np.empty(n_code), np.empty(n_code), np.empty(2)
     support = -1.0
     for r in range(len(faces)):
         face_code_into(faces[r], projection, code)
