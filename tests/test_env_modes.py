@@ -17,7 +17,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jointattention.env import (
-    ENV_ID,
     ENV_IDS,
     MAX_DETECTIONS,
     EnvTrial,
@@ -38,7 +37,8 @@ def test_check_env_passes_on_every_registered_id_and_the_readme_pattern():
             check_env(env.unwrapped)
             assert env.spec.max_episode_steps == 40
             env.close()
-        readme = FaceWindowObservation(gym.make(ENV_ID, n_objects=3))  # the README's own code
+        readme = FaceWindowObservation(  # the manual's own code (docs/gymnasium.md)
+            gym.make("JointAttention-v3", n_objects=3, render_quality="full"))
         check_env(readme)
         readme.close()
 

@@ -10,6 +10,7 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.learner import LearningModule, sgd_update
+from ..agent.vision import ImageDetector
 from ..config import WorldConfig
 from ..world.options import FAST_CAMERA
 from .env_bench import run_env_benchmark, without_antialiasing
@@ -63,6 +64,10 @@ def run_world_benchmarks(
             )
         )
         rows.append(("new scene (sample + show)", _rate(lambda i: world.reset(), 200), "scenes/s"))
+        views = [(world.set_head_angle(t), world.render())[1] for t in thetas[:20]]
+        detector = ImageDetector(focal_px=world.kinematics.focal_px)
+        rows.append((f"detect objects in one view (OpenCV, {size})",
+                     _rate(lambda i: detector.detect(views[i % 20]), n_frames), "frames/s"))
     fast = dataclasses.replace(config, camera=dataclasses.replace(config.camera, **FAST_CAMERA))
     for name, cfg in (("antialias_samples = 0", without_antialiasing(config)),
                       ("FAST_CAMERA: 0 samples, 16 x 8 facets", fast)):
