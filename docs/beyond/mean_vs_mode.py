@@ -40,7 +40,7 @@ def memory_of(n_objects: int):
         config.experiment, n_steps=STEPS, conditions=(condition,)))
     kept = {}
     run_cell(config, condition, 0, checkpoints=[STEPS - 1],
-             on_checkpoint=lambda t, agent: kept.setdefault("memory", agent.memory))
+             on_checkpoint=lambda t, agent: kept.setdefault("memory", agent.module.memory))
     return config, kept["memory"]
 
 
