@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import example, given
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from jointattention.agent.gates import (
@@ -155,6 +155,7 @@ def test_the_old_agent_classes_build_the_composed_agent_with_a_warning():
 
 
 @given(values=st.lists(st.floats(-1e6, 1e6), min_size=1, max_size=60), data=st.data())
+@settings(deadline=None)  # the first example may compile the kernel
 def test_weighted_kth_is_numpys_partition_of_the_repeated_values(values, data):
     """The recall's selection over distinct codes is np.partition's over every trial."""
     from jointattention.agent._recall import weighted_kth

@@ -91,13 +91,48 @@ def near_slots(links, counts, d2u, d2_k: float, n_codes: int):
     return near
 
 
+_SHORT_K = 64  # up to this k, one pass keeping the smallest values beats a quickselect
+
+
+@jit
+def _kth_in_one_pass(values, weights, k: int) -> float:
+    """:func:`weighted_kth` by one pass that keeps the smallest values seen, sorted.
+
+    Values at or above the k-th smallest kept so far are passed over: with thousands of
+    distinct codes and a few neighbours, nearly all of them.
+    """
+    kept, kept_w = np.empty(k + 1), np.empty(k + 1, np.int64)
+    m = total = 0  # entries kept, their summed weight
+    for i in range(len(values)):
+        w, v = weights[i], values[i]
+        if w <= 0 or (total >= k and v >= kept[m - 1]):
+            continue
+        p = m
+        while p > 0 and kept[p - 1] > v:
+            kept[p], kept_w[p] = kept[p - 1], kept_w[p - 1]
+            p -= 1
+        kept[p], kept_w[p] = v, w
+        m, total = m + 1, total + w
+        while m > 1 and total - kept_w[m - 1] >= k:  # the largest is not among the k smallest
+            m, total = m - 1, total - kept_w[m - 1]
+    below = 0
+    for p in range(m):
+        below += kept_w[p]
+        if below >= k:
+            return kept[p]
+    return kept[m - 1]
+
+
 @jit
 def weighted_kth(values, weights, k: int) -> float:
     """The k-th smallest (k >= 1) of ``values`` each repeated ``weights`` times.
 
-    ``np.partition(np.repeat(values, weights), k - 1)[k - 1]``, by a three-way quickselect
-    on the distinct values (``weights`` >= 0 sum to at least ``k``).
+    ``np.partition(np.repeat(values, weights), k - 1)[k - 1]`` (``weights`` >= 0 sum to at
+    least ``k``): for small k by one pass (:func:`_kth_in_one_pass`), else by a three-way
+    quickselect on the distinct values.
     """
+    if k <= _SHORT_K:
+        return _kth_in_one_pass(values, weights, k)
     a, w = values.copy(), weights.copy()
     lo, hi = 0, len(a)
     while True:

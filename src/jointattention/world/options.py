@@ -31,7 +31,7 @@ __all__ = [
 ]
 
 N_OBJECTS = 5  # objects in a scene when no condition says otherwise (the paper's Fig. 5)
-# The camera settings that keep a 320 x 240 view's look and render it about 4x as fast on a
+# The camera settings that keep a 320 x 240 view's look and render it about 2.5x as fast on a
 # CPU: one sample per pixel, 16 x 8 facets per sphere (Gymnasium's render_quality="fast").
 FAST_CAMERA = MappingProxyType({"antialias_samples": 0, "sphere_slices": 16,
                                 "sphere_stacks": 8})
