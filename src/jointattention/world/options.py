@@ -55,8 +55,8 @@ class CameraConfig(Section):
     )
     antialias_samples: int = param(
         4, "samples per pixel of the rendered images (MuJoCo's offsamples): 0 renders about "
-        "twice as fast on a CPU, with jagged edges; every image of the shipped data sets and "
-        "runs is rendered with 4", lo=0, hi=16)
+        "twice as fast on a CPU, with jagged edges; every image of the shipped data sets is "
+        "rendered with 4 (the rendered preset renders with 0)", lo=0, hi=16)
     sphere_slices: int = param(
         28, "facets around each sphere, ellipsoid and capsule as rendered (MuJoCo's numslices): "
         "fewer render faster on a CPU, with a coarser outline; every image of the shipped data "
