@@ -252,8 +252,8 @@ def test_teaching_rows_in_one_pass_each_gives_the_bits_of_one_row_at_a_time(seed
 
 
 def test_one_teaching_step_is_the_cross_entropy_gradient_step():
-    """A teaching step equals numpy's gradient step on the summed cross-entropy (to 1e-12)."""
-    from jointattention.agent.population import von_mises_into
+    """A teaching step is numpy's cross-entropy gradient step (1e-12), and population_update's."""
+    from jointattention.agent.population import population_update, von_mises_into
 
     code = PopulationCode(7, PopulationOptions(n_hidden=5, n_bins=8, learning_rate=0.05),
                           np.random.default_rng(4))
@@ -272,3 +272,8 @@ def test_one_teaching_step_is_the_cross_entropy_gradient_step():
     np.testing.assert_allclose(code.b2_, b2 - 0.05 * g, atol=1e-12)
     np.testing.assert_allclose(code.w1_, w1 - np.outer(x, step_h), atol=1e-12)
     np.testing.assert_allclose(code.b1_, b1 - step_h, atol=1e-12)
+    population_update(x, taught, float(len(dirs)), w1, b1, w2, b2, 0.05, np.empty(5),
+                      np.empty(8), np.empty(5))  # the same step, without the hidden mean
+    for mine, taught_code in zip((w1, b1, w2, b2), (code.w1_, code.b1_, code.w2_, code.b2_),
+                                 strict=True):
+        assert np.array_equal(mine, taught_code)

@@ -14,7 +14,7 @@ from .._jit import jit
 
 __all__ = ["EXCESS", "MODE", "RATIO", "average_into", "population_forward",
            "population_readout", "population_scores_into", "population_teach",
-           "population_teach_rows", "von_mises_into"]
+           "population_teach_rows", "population_update", "von_mises_into"]
 
 EXCESS, RATIO, MODE = 0, 1, 2  # the readouts (population.READOUTS), as codes
 
@@ -120,6 +120,18 @@ def _w1_step(x, grad_h, w1, x_next, h_next) -> None:
                 w = row[j] - grad_h[j] * xi
                 row[j] = w
                 h_next[j] += w * xn
+
+
+@jit
+def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate: float, h, p,
+                      grad_h) -> None:
+    """One gradient step on the summed cross-entropy of ``n_taught`` places for input ``x``.
+
+    ``taught`` is the sum of their spread directions (:func:`_backward_into`).
+    """
+    population_forward(x, w1, b1, w2, b2, h, p)
+    _backward_into(taught, n_taught, b1, w2, b2, learning_rate, h, p, grad_h)
+    _w1_step(x, grad_h, w1, None, None)
 
 
 @jit

@@ -39,12 +39,13 @@ from ._population_kernels import (
     population_scores_into,
     population_teach,
     population_teach_rows,
+    population_update,
     von_mises_into,
 )
 
 __all__ = ["READOUTS", "PopulationCode", "PopulationOptions", "population_forward",
            "population_readout", "population_scores_into", "population_teach",
-           "population_teach_rows", "von_mises_into"]
+           "population_teach_rows", "population_update", "von_mises_into"]
 
 READOUTS = ("excess", "ratio", "mode")
 
