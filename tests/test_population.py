@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -87,7 +88,7 @@ def test_the_line_step_follows_the_line_and_returns_to_it(psi, s, off):
 
 
 def test_a_frozen_agent_changes_nothing_it_learned():
-    """Trials of a frozen copy change nothing it learned; the original still learns."""
+    """A frozen copy (no replay memory) changes nothing it learned and succeeds as a whole copy."""
     config = load_config({"experiment": {"n_steps": 4000, "n_seeds": 1, "bin_steps": 1000,
                                          "engine": "python", "held_out": {"n_trials": 0}}})
     learned = []
@@ -101,6 +102,11 @@ def test_a_frozen_agent_changes_nothing_it_learned():
     frozen_success(frozen, default_datasets(), config, 3, 50, 0)
     assert all(np.array_equal(before[k], v) for k, v in frozen.saved_arrays().items())
     assert frozen.learning_time_steps == time and agent.learning
+    whole = copy.deepcopy(agent)  # a frozen copy that keeps the replay memory
+    whole.learning = False
+    assert len(frozen.module.replay_features_) == 0 < len(agent.module.replay_features_)
+    assert frozen_success(whole, default_datasets(), config, 3, 50, 0) == frozen_success(
+        freeze(agent), default_datasets(), config, 3, 50, 0)
 
 
 @pytest.mark.parametrize("standardise", [False, True])

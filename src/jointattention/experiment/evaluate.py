@@ -71,11 +71,16 @@ class Evaluation:
 
 
 def freeze(agent):
-    """A copy of ``agent`` that learns nothing (``learning = False``); ``agent`` is untouched."""
+    """A copy of ``agent`` that learns nothing (``learning = False``); ``agent`` is untouched.
+
+    What only learning reads (a learning module's ``learning_only()``: the population code's
+    replay memory, 178 MB when full) is not copied: the copy holds empty arrays in its place.
+    """
     if not hasattr(agent, "learning"):
         raise ConfigError(f"{type(agent).__name__}: this model cannot be frozen (it has no "
                           "'learning' switch); expected a model of the package's registry")
-    frozen = copy.deepcopy(agent)
+    unread = getattr(getattr(agent, "module", None), "learning_only", tuple)()
+    frozen = copy.deepcopy(agent, {id(a): a[:0].copy() for a in unread})
     frozen.learning = False
     return frozen
 

@@ -98,6 +98,11 @@ class PopulationModule:
         self.replay_counts_ = np.zeros(o.replay_capacity, np.int64)
         self.n_kept_ = 0
 
+    def learning_only(self) -> tuple[np.ndarray, ...]:
+        """The arrays that only learning reads (the replay memory): a frozen copy needs none."""
+        return (self.replay_features_, self.replay_thetas_, self.replay_directions_,
+                self.replay_counts_)
+
     def saved_arrays(self) -> dict[str, np.ndarray]:
         """The population code's members of a model file (``population_*``).
 
