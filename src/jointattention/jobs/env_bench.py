@@ -14,13 +14,12 @@ from ..experiment.trial import end_after_look, move_head
 from ..world.fast import FastScene, detect_into
 from ..world.kinematics import HeadKinematics, rotation_matrix
 
-__all__ = ["run_env_benchmark", "step_bound", "without_antialiasing"]
+__all__ = ["run_env_benchmark", "step_bound", "with_camera"]
 
 
-def without_antialiasing(world: WorldConfig) -> WorldConfig:
-    """``world`` rendered with one sample per pixel (``antialias_samples = 0``)."""
-    return dataclasses.replace(world, camera=dataclasses.replace(world.camera,
-                                                                 antialias_samples=0))
+def with_camera(world: WorldConfig, **fields) -> WorldConfig:
+    """``world`` with these fields of its camera changed (e.g. ``antialias_samples=0``)."""
+    return dataclasses.replace(world, camera=dataclasses.replace(world.camera, **fields))
 
 
 @jit
@@ -111,7 +110,7 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
     except ImportError:
         return []
     plain = Config()
-    jagged = dataclasses.replace(plain, world=without_antialiasing(plain.world))
+    jagged = dataclasses.replace(plain, world=with_camera(plain.world, antialias_samples=0))
     rows = [("JointAttention-v1 steps, image (rendered)",
              _env_rate(JointAttentionEnv(), n_steps), "steps/s"),
             ("JointAttention-v1 steps, image, antialias_samples = 0",
