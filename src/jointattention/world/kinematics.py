@@ -41,7 +41,8 @@ def direction(pan_rad, tilt_rad) -> np.ndarray:
 def angle_rad(a, b) -> np.ndarray:
     """Angles (rad) between each vector of ``a`` (..., k) and the vector ``b`` (k,)."""
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    cos = a @ b / (np.linalg.norm(a, axis=-1) * np.linalg.norm(b))
+    # sums of products, not ``a @ b``: BLAS fuses multiply-adds on some CPUs, not on others
+    cos = (a * b).sum(axis=-1) / (np.sqrt((a * a).sum(axis=-1)) * np.sqrt((b * b).sum()))
     return np.arccos(np.clip(cos, -1.0, 1.0))
 
 
