@@ -253,3 +253,18 @@ def test_the_memory_s_commands_for_repeated_faces_are_each_face_s_own():
     alone = np.array([agent.lm_commands(w[None], t[None])[0]
                       for w, t in zip(windows, thetas, strict=True)])
     assert np.array_equal(together, alone) and np.abs(together).sum() > 0
+
+
+def test_the_memory_s_commands_in_batches_are_each_face_s_own():
+    """70 faces (three batches, a repeated face across a batch's end) command as each alone."""
+    agent = BootstrapOptions(learner="memory").build(AgentConfig(), BODY,
+                                                     np.random.default_rng(2))
+    rng = np.random.default_rng(5)
+    faces = rng.uniform(0, 255, (6, 12))
+    agent.module.memory.partial_fit(np.repeat(faces, 5, axis=0), rng.uniform(-0.5, 0.5, (30, 2)))
+    order = rng.integers(0, 6, 70)
+    order[29:36] = 4  # one face at many head angles, across the first batch's end (32)
+    windows, thetas = faces[order].reshape(-1, 3, 4), rng.uniform(-0.5, 0.5, (70, 2))
+    alone = np.array([agent.lm_commands(w[None], t[None])[0]
+                      for w, t in zip(windows, thetas, strict=True)])
+    assert np.array_equal(agent.lm_commands(windows, thetas), alone)

@@ -194,6 +194,19 @@ def test_the_face_sharpens_with_learning_time():
     np.testing.assert_array_equal(agent.see(face), face)
 
 
+@pytest.mark.parametrize("learning_time_steps", [0, 500, 1000])
+def test_the_batched_commands_see_each_face_as_one_command_does(learning_time_steps):
+    """lm_commands blurs every face as lm_command does one at a time (blurred and sharp)."""
+    agent = _developmental_agent(blur_start_px=3.0, blur_sharp_steps=1000.0)
+    agent.learning_time_steps = learning_time_steps
+    rng = np.random.default_rng(4)
+    faces = rng.integers(0, 256, (5, 25, 30)).astype(np.uint8)
+    thetas = rng.uniform(-0.5, 0.5, (5, 2))
+    agent.faces.partial_fit(faces.reshape(5, -1))  # the standardiser's statistics
+    alone = [agent.lm_command(f, t) for f, t in zip(faces, thetas, strict=True)]
+    assert np.array_equal(agent.lm_commands(faces, thetas), np.array(alone))
+
+
 @settings(max_examples=30, deadline=None)
 @given(sigma=st.floats(0.3, 4.0), seed=st.integers(0, 2**16))
 def test_the_blur_is_opencvs_gaussian_blur(sigma, seed):

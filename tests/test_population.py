@@ -191,10 +191,10 @@ def _as_python(agent):
 @pytest.mark.parametrize("readout", ["excess", "ratio", "mode"])
 @pytest.mark.parametrize("standardise", [False, True])
 def test_batched_commands_are_the_trial_s_readout(readout, standardise):
-    """The batched commands (probes) are each face's own readout at the start of a trial."""
+    """Batched commands (40 faces, one repeated across a batch's end) are each face's readout."""
     agent = _agent(readout=readout, standardise=standardise, n_hidden=16)
     module, ds = agent.module, default_datasets()
-    faces = ds.face[:40].reshape(40, -1).astype(float)
+    faces = ds.face[np.r_[0:29, [7] * 6, 29:34]].reshape(40, -1).astype(float)
     rng = np.random.default_rng(3)
     for face, theta in zip(faces[:20], ds.theta_face_rad[:20], strict=True):
         module.begin(face, theta)  # fits the features' statistics with ``standardise``

@@ -12,9 +12,11 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["EXCESS", "MODE", "RATIO", "average_into", "population_forward",
+__all__ = ["EXCESS", "MODE", "RATIO", "average_face_into", "average_into",
+           "population_activate", "population_forward", "population_hidden_into",
            "population_readout", "population_scores_into", "population_teach",
-           "population_teach_rows", "population_update", "von_mises_into"]
+           "population_teach_rows", "population_update", "scores_of_output_into",
+           "von_mises_into"]
 
 EXCESS, RATIO, MODE = 0, 1, 2  # the readouts (population.READOUTS), as codes
 
@@ -55,7 +57,7 @@ def _output_into(h, w2, b2, z) -> None:
 
 
 @jit
-def _activate(h, w2, b2, p) -> None:
+def population_activate(h, w2, b2, p) -> None:
     """From the hidden units' summed inputs in ``h``: ``h = tanh(h)``, ``p`` = softmax."""
     for j in range(len(h)):
         h[j] = math.tanh(h[j])
@@ -64,20 +66,39 @@ def _activate(h, w2, b2, p) -> None:
 
 
 @jit
+def population_hidden_into(X, w1, b1, H) -> None:
+    """The hidden units' summed inputs ``H = X w1 + b1`` of inputs ``X`` (rows), before tanh.
+
+    ``w1`` is (n_in, n_hidden), input-major: each unit's sum runs over the inputs in order
+    (the bits of summing one unit at a time), all units at once along a row of ``w1`` (the
+    loop vectorises), and a row of ``w1`` serves every input of ``X`` while it is in cache.
+    """
+    for r in range(len(X)):
+        H[r, :] = b1
+    n_in = X.shape[1]
+    n4 = n_in - n_in % 4
+    for i in range(0, n4, 4):  # four inputs per pass over H, added one after another
+        r0, r1, r2, r3 = w1[i], w1[i + 1], w1[i + 2], w1[i + 3]
+        for r in range(len(X)):
+            x0, x1, x2, x3, hr = X[r, i], X[r, i + 1], X[r, i + 2], X[r, i + 3], H[r]
+            for j in range(len(hr)):
+                hr[j] = (((hr[j] + r0[j] * x0) + r1[j] * x1) + r2[j] * x2) + r3[j] * x3
+    for i in range(n4, n_in):
+        row = w1[i]
+        for r in range(len(X)):
+            xi, hr = X[r, i], H[r]
+            for j in range(len(row)):
+                hr[j] += row[j] * xi
+
+
+@jit
 def population_forward(x, w1, b1, w2, b2, h, p) -> None:
     """Hidden units ``h = tanh(x w1 + b1)`` and the softmax ``p`` of ``w2 h + b2``.
 
-    ``w1`` is (n_in, n_hidden), input-major: the sums run over the inputs in order, each
-    hidden unit's alone (the bits of summing one unit at a time), all units at once along a
-    row of ``w1`` (the loop vectorises).
+    The sums: :func:`population_hidden_into` of the one input.
     """
-    for j in range(len(h)):
-        h[j] = b1[j]
-    for i in range(len(x)):
-        xi, row = x[i], w1[i]
-        for j in range(len(h)):
-            h[j] += row[j] * xi
-    _activate(h, w2, b2, p)
+    population_hidden_into(x.reshape((1, len(x))), w1, b1, h.reshape((1, len(h))))
+    population_activate(h, w2, b2, p)
 
 
 @jit
@@ -167,7 +188,7 @@ def population_teach_rows(X, directions_rad, counts, kappa: float, w1, b1, w2, b
             h_next[:] = b1
             _w1_step(X[r], grad_h, w1, X[rows[k + 1]], h_next)
             h[:] = h_next
-            _activate(h, w2, b2, p)
+            population_activate(h, w2, b2, p)
     return n_taught
 
 
@@ -204,6 +225,25 @@ def population_scores_into(x, w1, b1, w2, b2, hidden_mean, readout: int, h, p, z
     difference of their logs, in which the softmax's normalisers cancel.
     """
     population_forward(x, w1, b1, w2, b2, h, p)
+    if readout == EXCESS:
+        average_face_into(hidden_mean, w2, b2, z)
+    scores_of_output_into(h, p, w2, hidden_mean, readout, z, score)
+
+
+@jit
+def average_face_into(hidden_mean, w2, b2, z) -> None:
+    """p(direction | the average face): the softmax of the output at ``hidden_mean``."""
+    _output_into(hidden_mean, w2, b2, z)
+    _softmax_into(z, z)
+
+
+@jit
+def scores_of_output_into(h, p, w2, hidden_mean, readout: int, average_p, score) -> None:
+    """:func:`population_scores_into` from the forward pass's hidden units ``h`` and ``p``.
+
+    ``average_p`` is :func:`average_face_into`'s (read by ``excess`` only): the same for
+    every face, so batched commands compute it once.
+    """
     if readout == MODE:
         for b in range(len(p)):
             score[b] = p[b]
@@ -216,10 +256,8 @@ def population_scores_into(x, w1, b1, w2, b2, hidden_mean, readout: int, h, p, z
                 t += row[j] * hidden_mean[j]
             score[b] = s - t
     else:
-        _output_into(hidden_mean, w2, b2, z)
-        _softmax_into(z, z)
         for b in range(len(p)):
-            score[b] = p[b] - z[b]
+            score[b] = p[b] - average_p[b]
 
 
 @jit

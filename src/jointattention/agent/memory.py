@@ -26,8 +26,8 @@ from .._fields import Section, param
 from .._jit import jit
 from ._recall import CODE_OF, link, near_slots, new_lap, no_links, unlink, votes_into, weighted_kth
 
-__all__ = ["EpisodicMemory", "MemoryOptions", "face_code_into", "memory_recall", "memory_store",
-           "no_links"]
+__all__ = ["EpisodicMemory", "MemoryOptions", "code_distances_into", "face_code_into",
+           "memory_recall", "memory_store", "no_links", "recall_at_distances"]
 
 
 @dataclass(frozen=True)
@@ -130,6 +130,27 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, ba
     return n_codes
 
 
+_TILE_CODES = 128  # codes measured against every face of a batch while they are in cache
+
+
+@jit
+def code_distances_into(queries, codes, n_codes: int, d2) -> None:
+    """``d2[q, u]``: the squared distance from face code ``queries[q]`` to ``codes[:, u]``.
+
+    Each sum runs over the code's entries in order, whatever the batch (the same bits as one
+    face alone); a tile of codes serves every face of the batch before the next is read.
+    """
+    for u0 in range(0, n_codes, _TILE_CODES):
+        u1 = min(u0 + _TILE_CODES, n_codes)
+        for q in range(len(queries)):
+            row_d2 = d2[q, u0:u1]
+            row_d2[:] = 0.0
+            for j in range(queries.shape[1]):
+                cj, row = queries[q, j], codes[j, u0:u1]
+                for u in range(u1 - u0):
+                    row_d2[u] += (row[u] - cj) ** 2
+
+
 @jit
 def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_rad,
                   cell_rad, k_nearest, radius_rad, out) -> tuple[float, float]:
@@ -143,16 +164,23 @@ def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_
     its evidence, in trials (the face's own trials weigh 1 each), and the support is the
     evidence as a fraction of the weight recalled (0: nothing beyond chance; 1: all agree);
     (-1, 0) with no memory. Distances are measured once per distinct code
-    (:func:`memory_store`).
+    (:func:`memory_store`, :func:`code_distances_into`).
     """
+    if min(n_stored, len(aims)) == 0:
+        return -1.0, 0.0
+    d2 = np.empty((1, n_codes))
+    code_distances_into(code.reshape(1, len(code)), codes, n_codes, d2)
+    return recall_at_distances(d2[0], counts, links, aims, base, n_stored, n_codes, lo_rad,
+                               cell_rad, k_nearest, radius_rad, out)
+
+
+@jit
+def recall_at_distances(d2u, counts, links, aims, base, n_stored, n_codes, lo_rad, cell_rad,
+                        k_nearest, radius_rad, out) -> tuple[float, float]:
+    """:func:`memory_recall` of a face code whose distances to the codes are ``d2u``."""
     n = min(n_stored, len(aims))
     if n == 0:
         return -1.0, 0.0
-    d2u = np.zeros(n_codes)  # each code's sum in the order of its entries, all codes at once
-    for j in range(len(code)):
-        cj, row = code[j], codes[j]
-        for u in range(n_codes):
-            d2u[u] += (row[u] - cj) ** 2
     d2_k = weighted_kth(d2u, counts[:n_codes], min(k_nearest, n))
     near = near_slots(links, counts, d2u, d2_k, n_codes)  # in slot order, as the sums go
     n_near = len(near)

@@ -33,19 +33,26 @@ import numpy as np
 from .._arrays import floats, rows
 from .._fields import Section, param
 from ._population_kernels import (
+    EXCESS,
+    average_face_into,
     average_into,
+    population_activate,
     population_forward,
+    population_hidden_into,
     population_readout,
     population_scores_into,
     population_teach,
     population_teach_rows,
     population_update,
+    scores_of_output_into,
     von_mises_into,
 )
 
-__all__ = ["READOUTS", "PopulationCode", "PopulationOptions", "population_forward",
-           "population_readout", "population_scores_into", "population_teach",
-           "population_teach_rows", "population_update", "von_mises_into"]
+__all__ = ["EXCESS", "READOUTS", "PopulationCode", "PopulationOptions", "average_face_into",
+           "population_activate",
+           "population_forward", "population_hidden_into", "population_readout",
+           "population_scores_into", "population_teach", "population_teach_rows",
+           "population_update", "scores_of_output_into", "von_mises_into"]
 
 READOUTS = ("excess", "ratio", "mode")
 

@@ -17,10 +17,15 @@ from ..agent.face_features import face_features_into
 from ..agent.learner import standardise, welford_update
 from ..agent.moves import scale_angle_into
 from ..agent.population import (
+    EXCESS,
+    average_face_into,
     average_into,
+    population_activate,
+    population_hidden_into,
     population_readout,
     population_scores_into,
     population_teach_rows,
+    scores_of_output_into,
 )
 
 __all__ = ["InputSpec", "PopulationArrays", "commands_into", "module_input_into",
@@ -74,17 +79,37 @@ def module_input_into(face, pan, tilt, spec, mean, m2, n_seen, x, tmp) -> None:
     input_of_features_into(tmp[:n], pan, tilt, spec, mean, m2, n_seen, x)
 
 
+_BATCH = 32  # faces whose hidden units are summed in one pass over the input weights
+
+
 @jit
 def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_mean,
                   readout, step_rad, out) -> None:
-    """The first step from each face (K, pixels) at its head angle (K, 2): ``out`` (K, 2)."""
-    x, tmp = np.empty(len(w1)), np.empty(len(w1))
-    h, p, z, score = np.empty(len(b1)), np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
-    for k in range(len(faces)):
-        module_input_into(faces[k], thetas[k, 0], thetas[k, 1], spec, mean, m2, n_seen, x, tmp)
-        population_scores_into(x, w1, b1, w2, b2, hidden_mean, readout, h, p, z, score)
-        psi, _ = population_readout(score)
-        out[k, 0], out[k, 1] = step_rad * math.cos(psi), step_rad * math.sin(psi)
+    """The first step from each face (K, pixels) at its head angle (K, 2): ``out`` (K, 2).
+
+    A batch of faces at a time shares each pass over ``w1`` (:func:`population_hidden_into`:
+    the same bits as one face at a time); a face the same as the one before (a blank face at
+    many head angles) reuses its features.
+    """
+    n_features = len(w1) - 2
+    X, H, tmp = np.empty((_BATCH, len(w1))), np.empty((_BATCH, len(b1))), np.empty(len(w1))
+    p, z, score = np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
+    if readout == EXCESS:
+        average_face_into(hidden_mean, w2, b2, z)
+    for k0 in range(0, len(faces), _BATCH):
+        n = min(_BATCH, len(faces) - k0)
+        for k in range(k0, k0 + n):
+            if k == 0 or not np.array_equal(faces[k], faces[k - 1]):  # e.g. a blank face
+                features_into(faces[k], spec, tmp[:n_features])
+            input_of_features_into(tmp[:n_features], thetas[k, 0], thetas[k, 1], spec, mean,
+                                   m2, n_seen, X[k - k0])
+        population_hidden_into(X[:n], w1, b1, H[:n])
+        for k in range(k0, k0 + n):
+            h = H[k - k0]
+            population_activate(h, w2, b2, p)
+            scores_of_output_into(h, p, w2, hidden_mean, readout, z, score)
+            psi, _ = population_readout(score)
+            out[k, 0], out[k, 1] = step_rad * math.cos(psi), step_rad * math.sin(psi)
 
 
 @jit

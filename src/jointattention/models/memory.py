@@ -15,11 +15,19 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..agent.memory import EpisodicMemory, face_code_into, memory_recall
+from ..agent.memory import (
+    EpisodicMemory,
+    code_distances_into,
+    face_code_into,
+    recall_at_distances,
+)
 from ..agent.moves import random_step, unit_step
 from ..agent.protocol import Outcome
 
 __all__ = ["MemoryModule", "recall_commands_into"]
+
+
+_BATCH = 32  # faces whose distances are measured in one pass over the codes
 
 
 @jit
@@ -30,22 +38,38 @@ def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, 
 
     From each head angle ``thetas`` (K, 2); no step for a face with no place recalled. A face
     whose code is the one before's (e.g. a blank face at many head angles) is not recalled
-    again: the recall depends on the code alone.
+    again: the recall depends on the code alone. The distances of a batch of faces are
+    measured together (:func:`code_distances_into`: the same bits as one by one).
     """
     n_code = projection.shape[1]
-    code, last, aim = np.empty(n_code), np.empty(n_code), np.empty(2)
+    batch, last, aim = np.empty((_BATCH, n_code)), np.empty(n_code), np.empty(2)
+    new, d2 = np.empty(_BATCH, np.int64), np.empty((_BATCH, n_codes))
     support = -1.0
-    for r in range(len(faces)):
-        face_code_into(faces[r], projection, code)
-        if r == 0 or not np.array_equal(code, last):
-            support, _ = memory_recall(code, codes, counts, links, aims, base, n_stored,
-                                       n_codes, lo_rad, cell_rad, k_nearest, radius_rad, aim)
-            last[:] = code
-        if support < 0:
-            out[r, 0], out[r, 1] = 0.0, 0.0
-        else:
-            out[r, 0], out[r, 1] = unit_step(aim[0] - thetas[r, 0], aim[1] - thetas[r, 1],
-                                             step_rad)
+    for r0 in range(0, len(faces), _BATCH):
+        r1 = min(r0 + _BATCH, len(faces))
+        for r in range(r0, r1):
+            face_code_into(faces[r], projection, batch[r - r0])
+        n_new = 0  # the faces whose code differs from the one before's
+        for r in range(r0, r1):
+            prev = last if r == r0 else batch[r - r0 - 1]
+            if r == 0 or not np.array_equal(batch[r - r0], prev):
+                new[n_new] = r - r0
+                n_new += 1
+        if n_new and min(n_stored, len(aims)):
+            code_distances_into(batch[new[:n_new]], codes, n_codes, d2)
+        i = 0
+        for r in range(r0, r1):
+            if i < n_new and new[i] == r - r0:
+                support, _ = recall_at_distances(d2[i], counts, links, aims, base, n_stored,
+                                                 n_codes, lo_rad, cell_rad, k_nearest,
+                                                 radius_rad, aim)
+                i += 1
+            if support < 0:
+                out[r, 0], out[r, 1] = 0.0, 0.0
+            else:
+                out[r, 0], out[r, 1] = unit_step(aim[0] - thetas[r, 0], aim[1] - thetas[r, 1],
+                                                 step_rad)
+        last[:] = batch[r1 - r0 - 1]
 
 
 class MemoryModule:
