@@ -240,31 +240,37 @@ def test_the_counted_votes_of_a_face_seen_often_are_the_scan_over_every_trial(n,
         assert _is_recalled(aim, support, ref_aim)
 
 
-def test_the_memory_s_commands_for_repeated_faces_are_each_face_s_own():
-    """A face repeated at many head angles (recalled once) commands as each alone would."""
+def _memory_of_six_faces(rng):
+    """A memory agent that kept six faces (3 x 4 windows), five places each; and the faces."""
     agent = BootstrapOptions(learner="memory").build(AgentConfig(), BODY,
                                                      np.random.default_rng(2))
-    rng = np.random.default_rng(3)
     faces = rng.uniform(0, 255, (6, 12))
     agent.module.memory.partial_fit(np.repeat(faces, 5, axis=0), rng.uniform(-0.5, 0.5, (30, 2)))
+    return agent, faces
+
+
+def _one_at_a_time(agent, windows, thetas):
+    return np.array([agent.lm_commands(w[None], t[None])[0]
+                     for w, t in zip(windows, thetas, strict=True)])
+
+
+def test_the_memory_s_commands_for_repeated_faces_are_each_face_s_own():
+    """A face repeated at many head angles (recalled once) commands as each alone would."""
+    rng = np.random.default_rng(3)
+    agent, faces = _memory_of_six_faces(rng)
     windows = faces[[0, 0, 0, 1, 1, 2, 0, 0]].reshape(-1, 3, 4)
     thetas = rng.uniform(-0.5, 0.5, (8, 2))
     together = agent.lm_commands(windows, thetas)
-    alone = np.array([agent.lm_commands(w[None], t[None])[0]
-                      for w, t in zip(windows, thetas, strict=True)])
-    assert np.array_equal(together, alone) and np.abs(together).sum() > 0
+    assert np.array_equal(together, _one_at_a_time(agent, windows, thetas))
+    assert np.abs(together).sum() > 0
 
 
 def test_the_memory_s_commands_in_batches_are_each_face_s_own():
     """70 faces (three batches, a repeated face across a batch's end) command as each alone."""
-    agent = BootstrapOptions(learner="memory").build(AgentConfig(), BODY,
-                                                     np.random.default_rng(2))
     rng = np.random.default_rng(5)
-    faces = rng.uniform(0, 255, (6, 12))
-    agent.module.memory.partial_fit(np.repeat(faces, 5, axis=0), rng.uniform(-0.5, 0.5, (30, 2)))
+    agent, faces = _memory_of_six_faces(rng)
     order = rng.integers(0, 6, 70)
     order[29:36] = 4  # one face at many head angles, across the first batch's end (32)
     windows, thetas = faces[order].reshape(-1, 3, 4), rng.uniform(-0.5, 0.5, (70, 2))
-    alone = np.array([agent.lm_commands(w[None], t[None])[0]
-                      for w, t in zip(windows, thetas, strict=True)])
-    assert np.array_equal(agent.lm_commands(windows, thetas), alone)
+    assert np.array_equal(agent.lm_commands(windows, thetas),
+                          _one_at_a_time(agent, windows, thetas))

@@ -49,10 +49,10 @@ from ._population_kernels import (
 )
 
 __all__ = ["EXCESS", "READOUTS", "PopulationCode", "PopulationOptions", "average_face_into",
-           "population_activate",
-           "population_forward", "population_hidden_into", "population_readout",
-           "population_scores_into", "population_teach", "population_teach_rows",
-           "population_update", "scores_of_output_into", "von_mises_into"]
+           "population_activate", "population_forward", "population_hidden_into",
+           "population_readout", "population_scores_into", "population_teach",
+           "population_teach_rows", "population_update", "scores_of_output_into",
+           "von_mises_into"]
 
 READOUTS = ("excess", "ratio", "mode")
 
