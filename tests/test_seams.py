@@ -81,11 +81,16 @@ n_seeds = 2
 bin_steps = 200
 n_ceiling_trials = 40
 """
+HELD_OUT = """
+[experiment.held_out]  # measured, on few trials: no test here reads the measures
+n_trials = 50
+n_checkpoints = 2
+"""
 
 
 def _config(tmp_path, conditions: str):
     path = tmp_path / "c.toml"
-    path.write_text(TINY + conditions)
+    path.write_text(TINY + HELD_OUT + conditions)
     return load_config(path)
 
 
