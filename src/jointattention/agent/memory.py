@@ -166,9 +166,7 @@ def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_
     (-1, 0) with no memory. Distances are measured once per distinct code
     (:func:`memory_store`, :func:`code_distances_into`).
     """
-    if min(n_stored, len(aims)) == 0:
-        return -1.0, 0.0
-    d2 = np.empty((1, n_codes))
+    d2 = np.empty((1, n_codes))  # no codes while nothing is kept: recall_at_distances says so
     code_distances_into(code.reshape(1, len(code)), codes, n_codes, d2)
     return recall_at_distances(d2[0], counts, links, aims, base, n_stored, n_codes, lo_rad,
                                cell_rad, k_nearest, radius_rad, out)

@@ -28,7 +28,7 @@ from ..agent.population import (
     scores_of_output_into,
 )
 
-__all__ = ["InputSpec", "PopulationArrays", "commands_into", "module_input_into",
+__all__ = ["InputSpec", "PopulationArrays", "commands_into",
            "population_begin", "population_learn", "replay_rows_into"]
 
 
@@ -68,17 +68,6 @@ def input_of_features_into(features, pan, tilt, spec, mean, m2, n_seen, x) -> No
     scale_angle_into(pan, tilt, spec.theta_mid_rad, spec.theta_half_rad, x, n)
 
 
-@jit
-def module_input_into(face, pan, tilt, spec, mean, m2, n_seen, x, tmp) -> None:
-    """The module's input ``x`` for a face window (:func:`input_of_features_into`).
-
-    ``tmp`` holds the window's features, not standardised.
-    """
-    n = len(x) - 2
-    features_into(face, spec, tmp[:n])
-    input_of_features_into(tmp[:n], pan, tilt, spec, mean, m2, n_seen, x)
-
-
 _BATCH = 32  # faces whose hidden units are summed in one pass over the input weights
 
 
@@ -91,8 +80,8 @@ def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_
     the same bits as one face at a time); a face the same as the one before (a blank face at
     many head angles) reuses its features.
     """
-    n_features = len(w1) - 2
-    X, H, tmp = np.empty((_BATCH, len(w1))), np.empty((_BATCH, len(b1))), np.empty(len(w1))
+    X, H = np.empty((_BATCH, len(w1))), np.empty((_BATCH, len(b1)))
+    features = np.empty(len(w1) - 2)
     p, z, score = np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
     if readout == EXCESS:
         average_face_into(hidden_mean, w2, b2, z)
@@ -100,9 +89,9 @@ def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_
         n = min(_BATCH, len(faces) - k0)
         for k in range(k0, k0 + n):
             if k == 0 or not np.array_equal(faces[k], faces[k - 1]):  # e.g. a blank face
-                features_into(faces[k], spec, tmp[:n_features])
-            input_of_features_into(tmp[:n_features], thetas[k, 0], thetas[k, 1], spec, mean,
-                                   m2, n_seen, X[k - k0])
+                features_into(faces[k], spec, features)
+            input_of_features_into(features, thetas[k, 0], thetas[k, 1], spec, mean, m2, n_seen,
+                                   X[k - k0])
         population_hidden_into(X[:n], w1, b1, H[:n])
         for k in range(k0, k0 + n):
             h = H[k - k0]
@@ -118,7 +107,8 @@ def replay_rows_into(drawn, features, thetas, directions, counts, spec, mean, m2
     """The inputs and places of the kept trials ``drawn`` (replay memory rows), into rows.
 
     Each row keeps its face's features, not standardised, so the input is the same as from
-    the face (:func:`module_input_into`), without computing them again.
+    the face (:func:`features_into`, then :func:`input_of_features_into`), without computing
+    them again.
     """
     for r in range(len(drawn)):
         i = drawn[r]

@@ -55,7 +55,7 @@ def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, 
             if r == 0 or not np.array_equal(batch[r - r0], prev):
                 new[n_new] = r - r0
                 n_new += 1
-        if n_new and min(n_stored, len(aims)):
+        if n_new:
             code_distances_into(batch[new[:n_new]], codes, n_codes, d2)
         i = 0
         for r in range(r0, r1):
