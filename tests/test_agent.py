@@ -102,7 +102,7 @@ def test_each_learning_target_teaches_its_direction(target, monkeypatch):
     """
     agent = _agent(learning_target=target, gate=ConstantGate(rate=1.0))
     taught = []
-    monkeypatch.setattr(agent.learner, "partial_fit", lambda X, Y: taught.append(Y))
+    monkeypatch.setattr(agent.learner, "partial_fit", lambda X, Y, **_: taught.append(Y))
     agent.begin_trial(np.zeros((2, 3)), [0.5, 0.2])
     step, _ = agent.act(_det(np.zeros((0, 2))), [0.5, 0.2])
     end = np.array([0.0, 0.3])

@@ -19,6 +19,7 @@ from jointattention.agent.attention import attended_index, interest_argmax, visu
 from jointattention.agent.gates import SigmoidGate
 from jointattention.agent.learner import LearningModule
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
+from jointattention.errors import ArgumentError
 from jointattention.experiment import evaluate as evaluate_module
 from jointattention.experiment.cells import datasets_of
 from jointattention.experiment.evaluate import frozen_success
@@ -242,3 +243,54 @@ def test_forward_pass_and_one_update_agree_with_numpy(seed, n_hidden, momentum):
     net.partial_fit(x[1:], y[1:])
     for p, p0, v0, g in zip(net._params(), (w1, b1, w2, b2), v, grads, strict=True):
         np.testing.assert_allclose(p, p0 + (momentum * v0 - 0.01 * g), rtol=0, atol=1e-9)
+
+
+def _two_modules(seed: int, n_hidden: int, momentum: float):
+    rng = np.random.default_rng(seed)
+    nets = [LearningModule(30, n_hidden, 2, learning_rate=0.02, momentum=momentum,
+                           rng=np.random.default_rng(seed)) for _ in range(2)]
+    x, y = rng.normal(size=(3, 30)), rng.normal(size=(3, 2))
+    for net in nets:
+        net.partial_fit(x, y)  # momentum to carry into the shared rows
+    return nets, rng
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 9), st.floats(0, 0.95),
+       st.integers(0, 12), st.integers(0, 30))
+def test_rows_sharing_inputs_learn_as_row_by_row(seed, n_hidden, momentum, n_rows, n_shared):
+    """Rows that share their first inputs, updated in closed form, match row by row to 1e-12."""
+    (closed, one_by_one), rng = _two_modules(seed, n_hidden, momentum)
+    X, Y = rng.normal(size=(n_rows, 30)), rng.normal(size=(n_rows, 2))
+    X[:, :n_shared] = rng.normal(size=n_shared)
+    closed.partial_fit(X, Y, shared_inputs=n_shared)
+    for x, y in zip(X, Y, strict=True):
+        one_by_one.partial_fit(x[None], y[None])
+    assert closed.n_updates_ == one_by_one.n_updates_
+    for a, b in zip(closed._params() + closed.velocity_,
+                    one_by_one._params() + one_by_one.velocity_, strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+
+
+def test_rows_sharing_nothing_learn_with_the_bits_of_row_by_row():
+    """With no shared input, updating many rows at once gives the same bits as one by one."""
+    (many, one_by_one), rng = _two_modules(3, 7, 0.5)
+    X, Y = rng.normal(size=(9, 30)), rng.normal(size=(9, 2))
+    many.partial_fit(X, Y)
+    for x, y in zip(X, Y, strict=True):
+        one_by_one.partial_fit(x[None], y[None])
+    for a, b in zip(many._params() + many.velocity_,
+                    one_by_one._params() + one_by_one.velocity_, strict=True):
+        assert np.array_equal(a, b)
+
+
+def test_rows_that_do_not_share_their_inputs_are_refused():
+    """partial_fit refuses shared_inputs that the rows do not share, and changes nothing."""
+    (net, _), rng = _two_modules(4, 7, 0.5)
+    before = [p.copy() for p in net._params()]
+    X = rng.normal(size=(2, 30))
+    with pytest.raises(ArgumentError, match="rows differ in their first 5 inputs"):
+        net.partial_fit(X, np.zeros((2, 2)), shared_inputs=5)
+    with pytest.raises(ArgumentError, match="shared_inputs: 31; expected 0 to 30"):
+        net.partial_fit(X, np.zeros((2, 2)), shared_inputs=31)
+    assert all(np.array_equal(a, b) for a, b in zip(net._params(), before, strict=True))

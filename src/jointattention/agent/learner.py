@@ -5,7 +5,7 @@ has seen) and the head angle (scaled by the robot's own joint ranges); outputs a
 command in units of one step. The interface follows scikit-learn: ``partial_fit`` and
 ``predict`` on 2-D arrays, learned state in attributes ending in ``_``.
 
-The arithmetic is in compiled kernels (:func:`accumulate`, :func:`forward`, :func:`sgd_update`,
+The arithmetic is in compiled kernels (:func:`accumulate`, :func:`forward`, :func:`sgd_rows`,
 :func:`welford_update`, :func:`standardise`), which the compiled engine calls too.
 """
 
@@ -20,7 +20,7 @@ from .._jit import jit
 from ..errors import ArgumentError
 
 __all__ = ["NO_FACE_SEEN", "FaceStandardiser", "LearningModule", "accumulate", "forward",
-           "sgd_update", "standardise", "welford_update"]
+           "sgd_rows", "sgd_update", "standardise", "welford_update"]
 
 # transform's error before any face (the compiled loops raise it too)
 NO_FACE_SEEN = "faces: the standardiser has seen no face; expected partial_fit before transform"
@@ -104,30 +104,76 @@ def forward(acc, b1, w2, b2, h, out) -> None:
 @jit
 def sgd_update(x, y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate: float,
                momentum: float) -> None:
-    """One back-propagation step with momentum on 0.5 |out - y|^2 for input ``x``."""
+    """One back-propagation step with momentum on 0.5 |out - y|^2 for input ``x``.
+
+    The one-row case of :func:`sgd_rows` with nothing shared.
+    """
+    sgd_rows(x[:0], x.reshape(1, len(x)), y.reshape(1, len(y)), w1, b1, w2, b2, v1, vb1, v2,
+             vb2, learning_rate, momentum)
+
+
+@jit
+def sgd_rows(shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate: float,
+             momentum: float) -> None:
+    """One back-propagation step with momentum per row ``t``, input ``(shared, rest[t])``.
+
+    The paper's update (III-D): ``v = momentum v - rate dL/dw``, ``w += v``, on
+    ``L = 0.5 |out - y|^2``, row after row. The rows of a trial share its face (``shared``,
+    750 of 752 inputs), so the weights on those inputs are not written row by row: after
+    ``t`` rows ``v1 = momentum^t v1_0 - c f`` and ``w1 = w1_0 + s v1_0 - d f``, where ``f`` is
+    the shared input, ``s`` the sum of ``momentum^k`` (k = 1..t) and ``c``, ``d`` one number
+    per hidden unit. Each row's hidden input on the shared part is then ``w1_0 . f +
+    s v1_0 . f - d |f|^2``, and one pass at the end writes the shared weights: the cost of a
+    row is that of its own inputs. The same arithmetic as row by row up to rounding; with
+    nothing shared, the same bits.
+    """
     n_hidden, n_out = w2.shape
-    acc, h, out = np.zeros(n_hidden), np.empty(n_hidden), np.empty(n_out)
-    accumulate(x, w1, 0, acc)
-    forward(acc, b1, w2, b2, h, out)
-    err = out - y  # d(0.5 |out - y|^2) / d out
-    for j in range(n_hidden):
-        s = 0.0
+    n_s = len(shared)
+    face_w, face_v = np.zeros(n_hidden), np.zeros(n_hidden)  # w1_0 . f, v1_0 . f
+    accumulate(shared, w1, 0, face_w)
+    accumulate(shared, v1, 0, face_v)
+    ff = 0.0
+    for i in range(n_s):
+        ff += shared[i] * shared[i]
+    c, d = np.zeros(n_hidden), np.zeros(n_hidden)
+    decay, s = 1.0, 0.0  # momentum^t and the sum of momentum^k, k = 1..t
+    acc, h, out, err = np.empty(n_hidden), np.empty(n_hidden), np.empty(n_out), np.empty(n_out)
+    for t in range(len(rest)):
+        x = rest[t]
+        for j in range(n_hidden):
+            acc[j] = (face_w[j] + s * face_v[j]) - d[j] * ff
+        accumulate(x, w1, n_s, acc)
+        forward(acc, b1, w2, b2, h, out)
         for k in range(n_out):
-            s += w2[j, k] * err[k]
-        rate_dh = learning_rate * (s * (1 - h[j] * h[j]))  # the step times d loss / d acc_j
-        for i in range(len(x)):
-            v1[j, i] = v1[j, i] * momentum - rate_dh * x[i]
-            w1[j, i] += v1[j, i]
-        vb1[j] = vb1[j] * momentum - rate_dh
-        b1[j] += vb1[j]
+            err[k] = out[k] - Y[t, k]  # d(0.5 |out - y|^2) / d out
+        decay *= momentum
+        s += decay
+        for j in range(n_hidden):
+            back = 0.0
+            for k in range(n_out):
+                back += w2[j, k] * err[k]
+            rate_dh = learning_rate * (back * (1 - h[j] * h[j]))  # the step times dL/d acc_j
+            c[j] = c[j] * momentum + rate_dh
+            d[j] += c[j]
+            for i in range(len(x)):
+                v1[j, n_s + i] = v1[j, n_s + i] * momentum - rate_dh * x[i]
+                w1[j, n_s + i] += v1[j, n_s + i]
+            vb1[j] = vb1[j] * momentum - rate_dh
+            b1[j] += vb1[j]
+            for k in range(n_out):
+                v2[j, k] = v2[j, k] * momentum - learning_rate * (h[j] * err[k])
+        for j in range(n_hidden):  # after the loop above has used w2 for every unit
+            for k in range(n_out):
+                w2[j, k] += v2[j, k]
         for k in range(n_out):
-            v2[j, k] = v2[j, k] * momentum - learning_rate * (h[j] * err[k])
-    for j in range(n_hidden):  # after the loop above has used w2 for every unit
-        for k in range(n_out):
-            w2[j, k] += v2[j, k]
-    for k in range(n_out):
-        vb2[k] = vb2[k] * momentum - learning_rate * err[k]
-        b2[k] += vb2[k]
+            vb2[k] = vb2[k] * momentum - learning_rate * err[k]
+            b2[k] += vb2[k]
+    if len(rest) > 0:
+        for j in range(n_hidden):
+            for i in range(n_s):
+                v0 = v1[j, i]
+                w1[j, i] += s * v0 - d[j] * shared[i]
+                v1[j, i] = decay * v0 - c[j] * shared[i]
 
 
 class FaceStandardiser:
@@ -171,7 +217,7 @@ class LearningModule:
     """A 3-layer perceptron, ``n_in - n_hidden - n_out`` (paper: 752 - 7 - 2).
 
     Hidden units are tanh, outputs linear; training is stochastic gradient descent with
-    momentum on the squared error, one update per sample (:func:`sgd_update`). Learned state:
+    momentum on the squared error, one update per sample (:func:`sgd_rows`). Learned state:
     ``w1_`` (n_hidden, n_in), one row of input weights per hidden unit; ``b1_``; ``w2_``
     (n_hidden, n_out); ``b2_``; ``velocity_`` (their momentum terms); ``n_updates_``.
     """
@@ -201,12 +247,23 @@ class LearningModule:
             forward(acc, self.b1_, self.w2_, self.b2_, h, o)
         return out
 
-    def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> LearningModule:
-        """One back-propagation update per row of ``X`` toward the row of ``Y``."""
+    def partial_fit(self, X: np.ndarray, Y: np.ndarray, *,
+                    shared_inputs: int = 0) -> LearningModule:
+        """One back-propagation update per row of ``X`` toward the row of ``Y``, in order.
+
+        ``shared_inputs``: how many first inputs every row shares (a trial's face), which
+        :func:`sgd_rows` updates in closed form.
+        """
         X = rows("X", X, self.w1_.shape[1])
         Y = rows("Y", Y, self.w2_.shape[1], len(X))
-        for x, y in zip(X, Y, strict=True):
-            sgd_update(x, y, *self._params(), *self.velocity_, float(self.learning_rate),
-                       float(self.momentum))
-            self.n_updates_ += 1
+        if not 0 <= shared_inputs <= X.shape[1]:
+            raise ArgumentError(f"shared_inputs: {shared_inputs}; expected 0 to {X.shape[1]}")
+        shared = X[0, :shared_inputs] if len(X) else np.zeros(shared_inputs)
+        if np.any(X[:, :shared_inputs] != shared):
+            raise ArgumentError(f"X: rows differ in their first {shared_inputs} inputs; "
+                                "expected shared_inputs to count inputs every row shares")
+        sgd_rows(np.ascontiguousarray(shared), np.ascontiguousarray(X[:, shared_inputs:]), Y,
+                 *self._params(), *self.velocity_, float(self.learning_rate),
+                 float(self.momentum))
+        self.n_updates_ += len(X)
         return self

@@ -23,7 +23,7 @@ from ..agent.gates import (
     performance_rate,
     sigmoid_rate,
 )
-from ..agent.learner import accumulate, forward, sgd_update, standardise, welford_update
+from ..agent.learner import accumulate, forward, sgd_rows, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
 from ..models._population_kernels import population_begin, population_learn
@@ -134,7 +134,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     arrays = look_arrays(n)
     centre, seen_area, seen_edge, motion = arrays[3], arrays[4], arrays[5], np.zeros(n)
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
-    hid, out, x_full = np.empty(n_hidden), np.empty(2), np.empty(n_pix + 2)
+    hid, out, angles_x = np.empty(n_hidden), np.empty(2), np.empty((robot.max_steps, 2))
     n_code = n_cached = 0
     if memory is not None:
         n_code = memory.projection.shape[1]
@@ -282,17 +282,17 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         elif learns:
             keep = learning_samples(thetas[:n_steps], steps[:n_steps], place,
                                     robot.learning_target == _EXECUTED_STEP, y[:n_steps])
-            for i in range(n_pix):  # element by element: numba compiles no shape check
-                x_full[i] = face_x[i]
-            for _ in range(robot.n_passes):
-                for s in range(n_steps):
-                    if keep[s]:
-                        scale_angle_into(thetas[s, 0], thetas[s, 1], robot.theta_mid_rad,
-                                         robot.theta_half_rad, x_full, n_pix)
-                        sgd_update(x_full, y[s], state.w1, state.b1, state.w2, state.b2,
-                                   state.v1, state.vb1, state.v2, state.vb2,
-                                   robot.learning_rate, robot.momentum)
-                        c[2] += 1
+            n_kept = 0
+            for s in range(n_steps):  # the kept steps' scaled head angles and aims, in order
+                if keep[s]:
+                    scale_angle_into(thetas[s, 0], thetas[s, 1], robot.theta_mid_rad,
+                                     robot.theta_half_rad, angles_x[n_kept], 0)
+                    y[n_kept, 0], y[n_kept, 1], n_kept = y[s, 0], y[s, 1], n_kept + 1
+            for _ in range(robot.n_passes):  # the face is every row's: shared inputs
+                sgd_rows(face_x, angles_x[:n_kept], y[:n_kept], state.w1, state.b1, state.w2,
+                         state.b2, state.v1, state.vb1, state.v2, state.vb2,
+                         robot.learning_rate, robot.momentum)
+                c[2] += n_kept
         r = c[3]
         records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random
         records[4, r], records[5, r], records[6, r] = attended, target, end

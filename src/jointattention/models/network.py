@@ -85,8 +85,8 @@ class NetworkModule:
         y = np.empty_like(thetas)
         keep = learning_samples(thetas, steps, h.aim_of(outcome), executed, y)
         x = self._inputs(self._face_x, thetas[keep])
-        for _ in range(h.options.n_passes):
-            h.learner.partial_fit(x, y[keep])
+        for _ in range(h.options.n_passes):  # the face is every row's: shared inputs
+            h.learner.partial_fit(x, y[keep], shared_inputs=len(self._face_x))
         return int(keep.sum())
 
     def command(self, face: np.ndarray, theta_rad: np.ndarray) -> np.ndarray:
