@@ -129,15 +129,17 @@ def sgd_rows(shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate: f
     """
     n_hidden, n_out = w2.shape
     n_s = len(shared)
-    face_w, face_v = np.zeros(n_hidden), np.zeros(n_hidden)  # w1_0 . f, v1_0 . f
+    work = np.zeros(6 * n_hidden + 2 * n_out)  # one allocation: a call may be one row
+    face_w, face_v = work[:n_hidden], work[n_hidden:2 * n_hidden]  # w1_0 . f, v1_0 . f
+    c, d = work[2 * n_hidden:3 * n_hidden], work[3 * n_hidden:4 * n_hidden]
+    acc, h = work[4 * n_hidden:5 * n_hidden], work[5 * n_hidden:6 * n_hidden]
+    out, err = work[6 * n_hidden:6 * n_hidden + n_out], work[6 * n_hidden + n_out:]
     accumulate(shared, w1, 0, face_w)
     accumulate(shared, v1, 0, face_v)
     ff = 0.0
     for i in range(n_s):
         ff += shared[i] * shared[i]
-    c, d = np.zeros(n_hidden), np.zeros(n_hidden)
     decay, s = 1.0, 0.0  # momentum^t and the sum of momentum^k, k = 1..t
-    acc, h, out, err = np.empty(n_hidden), np.empty(n_hidden), np.empty(n_out), np.empty(n_out)
     for t in range(len(rest)):
         x = rest[t]
         for j in range(n_hidden):
@@ -155,9 +157,10 @@ def sgd_rows(shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate: f
             rate_dh = learning_rate * (back * (1 - h[j] * h[j]))  # the step times dL/d acc_j
             c[j] = c[j] * momentum + rate_dh
             d[j] += c[j]
-            for i in range(len(x)):
-                v1[j, n_s + i] = v1[j, n_s + i] * momentum - rate_dh * x[i]
-                w1[j, n_s + i] += v1[j, n_s + i]
+            v_row, w_row = v1[j, n_s:], w1[j, n_s:]  # views: indexed at an offset, the loop
+            for i in range(len(x)):                  # ran half as fast (not vectorised)
+                v_row[i] = v_row[i] * momentum - rate_dh * x[i]
+                w_row[i] += v_row[i]
             vb1[j] = vb1[j] * momentum - rate_dh
             b1[j] += vb1[j]
             for k in range(n_out):
@@ -170,10 +173,11 @@ def sgd_rows(shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate: f
             b2[k] += vb2[k]
     if len(rest) > 0:
         for j in range(n_hidden):
+            v_row, w_row, cj, dj = v1[j, :n_s], w1[j, :n_s], c[j], d[j]
             for i in range(n_s):
-                v0 = v1[j, i]
-                w1[j, i] += s * v0 - d[j] * shared[i]
-                v1[j, i] = decay * v0 - c[j] * shared[i]
+                v0 = v_row[i]
+                w_row[i] += s * v0 - dj * shared[i]
+                v_row[i] = decay * v0 - cj * shared[i]
 
 
 class FaceStandardiser:

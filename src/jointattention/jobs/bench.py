@@ -9,7 +9,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .._jit import jit
-from ..agent.learner import LearningModule, sgd_update
+from ..agent.learner import LearningModule, sgd_rows, sgd_update
 from ..agent.vision import ImageDetector
 from ..config import WorldConfig
 from ..world.options import FAST_CAMERA
@@ -140,7 +140,7 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     5-object reinforcement learner (compiled) for 1e5 steps; the population learner for 1e5
     steps compiled and 5x10^4 step by step. Then one compiled step's time
     against its bound: one forward and backward pass of the learning module alone, in compiled
-    code.
+    code; and one update as a trial's updates run (10 that share the face).
     """
     from ..config import load_config
 
@@ -163,7 +163,7 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     rl = _cell_rate(models, rl_cell, n_steps=100_000)
     population = _cell_rate(config, population_cell, n_steps=100_000)
     population_python = _cell_rate(config, population_cell, n_steps=50_000, engine="python")
-    step_us, bound_us = 1e6 / compiled, _update_us()
+    step_us, bound_us, trial_us = 1e6 / compiled, _update_us(), _update_us(trial_rows=10)
     return [("agent steps, compiled engine, learning (quick n5-sigmoid)", compiled, "steps/s"),
             ("agent steps, python engine, learning (same cell)", python, "steps/s"),
             ("agent steps, rendered mode + OpenCV, learning (same cell)", rendered, "steps/s"),
@@ -182,27 +182,45 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
             ("compiled / rendered", compiled / rendered, "x"),
             ("one compiled step (mean over the cell)", step_us, "us"),
             ("bound: one forward + backward pass, 752-7-2, compiled", bound_us, "us"),
+            ("one update of a trial's 10 (the face shared, summed in closed form)", trial_us,
+             "us"),
             ("step / bound", step_us / bound_us, "x")]
 
 
-def _update_us(n: int = 20000) -> float:
-    """Microseconds of one back-propagation step (forward and backward) of a 752-7-2 network."""
+def _update_us(trial_rows: int = 1, n: int = 20000) -> float:
+    """Microseconds of one back-propagation step (forward and backward) of a 752-7-2 network.
+
+    Alone (``trial_rows`` 1), or as one of a trial's ``trial_rows`` updates, which share the
+    face (750 inputs) and are summed in closed form (:func:`~.agent.learner.sgd_rows`).
+    """
     net = LearningModule(752, 7, 2, rng=np.random.default_rng(0))
     x, y = np.random.default_rng(1).normal(size=(n, 752)), np.tile([0.6, 0.8], (n, 1))
+    angles = np.ascontiguousarray(x[:, 750:])
     net.partial_fit(x[:10], y[:10])
     best = np.inf
     for _ in range(3):
         start = time.perf_counter()
-        _updates(x, y, *net._params(), *net.velocity_)
+        _updates(x, angles, y, trial_rows, *net._params(), *net.velocity_)
         best = min(best, time.perf_counter() - start)
     return best / n * 1e6
 
 
 @jit
-def _updates(x, y, w1, b1, w2, b2, v1, vb1, v2, vb2) -> None:
-    """One :func:`~.agent.learner.sgd_update` per row, in one compiled loop (no call overhead)."""
-    for i in range(len(x)):
-        sgd_update(x[i], y[i], w1, b1, w2, b2, v1, vb1, v2, vb2, 0.0003, 0.5)
+def _updates(x, angles, y, trial_rows, w1, b1, w2, b2, v1, vb1, v2, vb2) -> None:
+    """The updates, in one compiled loop (no call overhead).
+
+    One :func:`~.agent.learner.sgd_update` per row, or with ``trial_rows`` above 1 one
+    :func:`~.agent.learner.sgd_rows` call per block of rows, the block's first face
+    (``x[:, :750]``) shared by its rows (``angles``: ``x[:, 750:]``).
+    """
+    if trial_rows == 1:
+        for i in range(len(x)):
+            sgd_update(x[i], y[i], w1, b1, w2, b2, v1, vb1, v2, vb2, 0.0003, 0.5)
+        return
+    for start in range(0, len(x), trial_rows):
+        end = min(start + trial_rows, len(x))
+        sgd_rows(x[start, :750], angles[start:end], y[start:end], w1, b1, w2, b2, v1, vb1, v2,
+                 vb2, 0.0003, 0.5)
 
 
 def compile_times() -> list[tuple[str, float, str]]:
