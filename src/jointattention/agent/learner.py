@@ -125,7 +125,7 @@ def sgd_rows(shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate: f
     per hidden unit. Each row's hidden input on the shared part is then ``w1_0 . f +
     s v1_0 . f - d |f|^2``, and one pass at the end writes the shared weights: the cost of a
     row is that of its own inputs. The same arithmetic as row by row up to rounding; with
-    nothing shared, the same bits.
+    nothing shared, the same bits as one call per row.
     """
     n_hidden, n_out = w2.shape
     n_s = len(shared)
