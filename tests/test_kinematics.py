@@ -8,7 +8,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jointattention.config import WorldConfig
-from jointattention.world.kinematics import HeadKinematics, Unreachable
+from jointattention.world.kinematics import (
+    HeadKinematics,
+    Unreachable,
+    forward_axis,
+    rotation_into,
+    rotation_matrix,
+)
 from jointattention.world.simulator import World
 
 KIN = HeadKinematics.from_config(WorldConfig())
@@ -36,6 +42,17 @@ def test_round_trip_from_head_angle(theta, dist):
     """A point on the optical axis at head angle theta gives theta back."""
     point = KIN.camera_position(theta) + dist * KIN.gaze_direction(theta)
     np.testing.assert_allclose(KIN.centring_angles(point), theta, atol=1e-9)
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.floats(-3.2, 3.2), st.floats(-1.6, 1.6))
+def test_forward_axis_is_the_rotation_s_middle_column(pan, tilt):
+    """forward_axis and rotation_into give rotation_matrix's values, to the bit."""
+    rot = rotation_matrix(pan, tilt)
+    assert forward_axis(pan, tilt) == tuple(rot[:, 1])
+    into = np.full((3, 3), np.nan)
+    rotation_into(pan, tilt, into)
+    assert np.array_equal(into, rot)
 
 
 def test_project_takes_many_points_at_once():

@@ -13,7 +13,7 @@ from .._jit import jit
 from ..agent.attention import attended_index
 from ..experiment.trial import RUNNING, end_after_look, move_head
 from ..world.fast import detect_into, draw_index, draw_objects
-from ..world.kinematics import rotation_matrix
+from ..world.kinematics import rotation_into
 from ._looks import _rows_into
 
 __all__ = ["rows_all", "start_all", "step_all"]
@@ -47,9 +47,10 @@ def start_all(rngs, which, targets_m, faces_m, face_radius_m, region, offset_m, 
 @jit
 def step_all(theta, dtheta, lo, hi, pos, radius, edge, n_objects, offset_m, focal_px, width_px,
               height_px, d_th_px, max_steps, n_steps, end, limit_hit, attended, seen, n_det,
-              centre, area, seen_edge, ids, uv, depth, scratch_area):
+              centre, area, seen_edge, ids):
     """One step of every running episode: move (Eq. 2's command), look, evaluate (Eq. 3)."""
     cx, cy = (width_px - 1) / 2, (height_px - 1) / 2
+    rot = np.empty((3, 3))
     for i in range(theta.shape[0]):
         if end[i] != RUNNING:
             continue
@@ -58,10 +59,9 @@ def step_all(theta, dtheta, lo, hi, pos, radius, edge, n_objects, offset_m, foca
         n_steps[i] += 1
         limit_hit[i] = hit
         n = n_objects
-        rot = rotation_matrix(theta[i, 0], theta[i, 1])
+        rotation_into(theta[i, 0], theta[i, 1], rot)
         m = detect_into(pos[i, :n], radius[i, :n], edge[i, :n], rot, offset_m, focal_px,
-                        width_px, height_px, uv[i, :n], depth[i, :n], scratch_area[i, :n],
-                        centre[i], area[i], seen_edge[i], ids[i])
+                        width_px, height_px, centre[i], area[i], seen_edge[i], ids[i])
         n_det[i] = m
         s = attended_index(centre[i, :m], cx, cy, d_th_px)
         seen[i] = s

@@ -107,7 +107,6 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._seen, self._n_det = np.full(k, -1, i), np.zeros(k, i)
         self._centre, self._area = f((k, n, 2)), f((k, n))
         self._seen_edge, self._ids = f((k, n)), np.zeros((k, n), i)
-        self._scratch = f((k, n, 2)), f((k, n)), f((k, n))
 
     def _start(self, which: np.ndarray, seeds=None) -> None:
         """Start the episodes of sub-environments ``which`` from their own generators.
@@ -150,7 +149,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
                   self._n, self._offset_m, float(kin.focal_px), kin.width_px,
                   kin.height_px, self._d_th_px, self.max_steps, steps, end, self._limit_hit,
                   self._attended, self._seen, self._n_det, self._centre, self._area,
-                  self._seen_edge, self._ids, *self._scratch)
+                  self._seen_edge, self._ids)
         self._n_steps[:] = steps
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):

@@ -5,7 +5,8 @@ the loop itself. Each step calls the kernels the step-by-step path calls
 (:mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
 :mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner`,
 :mod:`~jointattention.agent.memory` or :mod:`~jointattention.models._population_kernels`,
-:mod:`~jointattention.models.bootstrap`), in the order of its random draws.
+:mod:`~jointattention.models.bootstrap`), in the order of its random draws; the agent's
+gate, its module's command and the places it keeps are :mod:`._loop_agent`'s.
 """
 
 from __future__ import annotations
@@ -14,23 +15,16 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.attention import interest_argmax, visual_feedback_rad
-from ..agent.gates import (
-    CONSTANT,
-    EVIDENCE,
-    PERFORMANCE,
-    agreement_update,
-    evidence_rate,
-    performance_rate,
-    sigmoid_rate,
-)
-from ..agent.learner import accumulate, forward, sgd_rows, standardise, welford_update
-from ..agent.memory import face_code_into, memory_recall, memory_store
-from ..agent.moves import learning_samples, random_step, scale_angle_into, unit_step
+from ..agent.gates import PERFORMANCE, agreement_update
+from ..agent.learner import sgd_rows_from, standardise, welford_update
+from ..agent.memory import face_code_into, memory_recall
+from ..agent.moves import learning_samples, random_step, scale_angle_into
 from ..models._population_kernels import population_begin, population_learn
 from ..models.bootstrap import LEARNING_TARGETS
 from ..models.developmental import blur_into, blur_px, caregiver_update
-from ..models.population import PopulationModule, line_step
+from ..models.population import PopulationModule
 from ..world.kinematics import separation_rad
+from ._loop_agent import face_part, gate_rate, keep_place, lm_step, places_into
 from ._loop_steps import draw_trial, look, look_arrays
 from .trial import END_FIRED, RUNNING, move_head
 
@@ -43,70 +37,6 @@ COLUMNS = ("learning_time", "n_steps", "n_lm_steps", "n_random_steps", "attended
 _OBJECT_DIRECTION = LEARNING_TARGETS.index("object_direction")
 _EXECUTED_STEP = LEARNING_TARGETS.index("executed_step")
 _MAX_PLACES = PopulationModule.MAX_PLACES
-
-
-@jit
-def _gate_rate(robot, t, agreement, evidence):
-    """The gate's rate of choosing the learning module at learning time ``t``.
-
-    ``agreement``: the performance gate's measure; ``evidence``: the memory's for the face.
-    """
-    if robot.gate_kind == CONSTANT:
-        return robot.gate_a
-    if robot.gate_kind == PERFORMANCE:
-        return performance_rate(agreement, robot.gate_a, robot.gate_b)
-    if robot.gate_kind == EVIDENCE:
-        return evidence_rate(evidence, robot.gate_a, robot.gate_b)
-    return sigmoid_rate(float(t), robot.gate_a, robot.gate_b)
-
-
-@jit
-def _lm_step(robot, state, face_acc, pan, tilt, memory, recalled, aim, line, acc, scaled, hid,
-             out):
-    """The learning module's command at a head angle (no step if the memory recalled nothing).
-
-    As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`);
-    ``memory`` is whether the learner is the episodic memory; ``line`` is whether it is the
-    population code, the direction it read out and the trial's start.
-    """
-    if memory:
-        if not recalled:
-            return 0.0, 0.0
-        return unit_step(aim[0] - pan, aim[1] - tilt, robot.step_rad)
-    if line[0]:
-        return line_step(line[2], line[3], line[1], pan, tilt, robot.step_rad)
-    for i in range(len(acc)):  # element by element: quicker for numba to compile
-        acc[i] = face_acc[i]
-    scale_angle_into(pan, tilt, robot.theta_mid_rad, robot.theta_half_rad, scaled, 0)
-    accumulate(scaled, state.w1, len(state.w1[0]) - 2, acc)
-    forward(acc, state.b1, state.w2, state.b2, hid, out)
-    return unit_step(out[0], out[1], robot.step_rad)
-
-
-@jit
-def _keep(code, pan, tilt, memory, c) -> int:
-    """:func:`~jointattention.agent.memory.memory_store` of a place; the codes in use."""
-    n_codes = memory_store(code, pan, tilt, memory.codes, memory.counts, memory.links,
-                           memory.aims, memory.base, c[4], c[5], memory.lo_rad, memory.cell_rad)
-    c[4] += 1
-    return n_codes
-
-
-@jit
-def _places_into(place, centre, seen, in_view, pan, tilt, cx, cy, gain_rad_per_px,
-                 places) -> int:
-    """``place``, then (``in_view``) every other object of the last image but ``seen``.
-
-    Into ``places``, as ``BootstrapAgent.place_of`` finds them; returns how many.
-    """
-    places[0, 0], places[0, 1], n = place[0], place[1], 1
-    for i in range(len(centre) if in_view else 0):
-        if i != seen and n < len(places):
-            v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
-                                                gain_rad_per_px)
-            places[n, 0], places[n, 1] = pan + v_pan, tilt + v_tilt
-            n += 1
-    return n
 
 
 @jit
@@ -132,7 +62,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     cx, cy = (world.width_px - 1) / 2, (world.height_px - 1) / 2
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
     arrays = look_arrays(n)
-    centre, seen_area, seen_edge, motion = arrays[3], arrays[4], arrays[5], np.zeros(n)
+    centre, seen_area, seen_edge, motion = arrays[1], arrays[2], arrays[3], np.zeros(n)
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, angles_x = np.empty(n_hidden), np.empty(2), np.empty((robot.max_steps, 2))
     n_code = n_cached = 0
@@ -150,6 +80,9 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     seen_face, blur_tmp = np.empty(n_pix), np.empty(n_pix)  # the face through the blur
     a1, a2, a3 = robot.weights[0], robot.weights[1], robot.weights[2]
     c = state.counters
+    # the arrays of every step, taken from the records once (each taking is counted in and out)
+    w1, b1, w2, b2, agreement = state.w1, state.b1, state.w2, state.b2, state.agreement
+    mid, half, lim = robot.theta_mid_rad, robot.theta_half_rad, world.limits_rad
     while (c[0] < until_steps or not robot.learning) and c[3] < max_trials:
         start = c[0]
         # the scene (cells.random_scene, FastScene.sample)
@@ -187,14 +120,12 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             c[1] += 1
             welford_update(face, state.mean, state.m2, c[1])
         standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
-        for i in range(len(face_acc)):
-            face_acc[i] = 0.0
-        accumulate(face_x, state.w1, 0, face_acc)
+        face_part(face_x, w1, face_acc)
         if robot.vf_fallback_sweep:
             sweep = random_step(move_rng, robot.step_rad)
         trial_module = -1
         if robot.gate_per_trial:
-            rate = _gate_rate(robot, c[0], state.agreement[0], evidence)
+            rate = gate_rate(robot, c[0], agreement[0], evidence)
             trial_module = _LM if gate_rng.random() < rate else _VF
         # the trial (SceneTrial, run_trial)
         pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
@@ -212,7 +143,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             # the agent acts (BootstrapAgent.act)
             module = trial_module
             if module < 0:
-                rate = _gate_rate(robot, c[0], state.agreement[0], evidence)
+                rate = gate_rate(robot, c[0], agreement[0], evidence)
                 module = _LM if gate_rng.random() < rate else _VF
             i = -1
             if module == _VF:
@@ -225,8 +156,9 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             elif module == _LM and has_memory and not recalled:
                 d_pan, d_tilt = random_step(move_rng, robot.step_rad)
             elif module == _LM:
-                d_pan, d_tilt = _lm_step(robot, state, face_acc, pan, tilt, has_memory, recalled,
-                                         aim, line, acc, scaled, hid, out)
+                d_pan, d_tilt = lm_step(w1, b1, w2, b2, mid, half, robot.step_rad, face_acc, pan,
+                                        tilt, has_memory, recalled, aim, line, acc, scaled, hid,
+                                        out)
             elif robot.vf_fallback_sweep:
                 d_pan, d_tilt = sweep
             else:
@@ -238,7 +170,6 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             n_lm += module == _LM
             n_random += module == _RANDOM
             # the head moves, stopping at its joint limits (SceneTrial.step)
-            lim = world.limits_rad
             pan, tilt, limit_hit = move_head(pan, tilt, d_pan, d_tilt, lim[0], lim[1], lim[2],
                                              lim[3])
             n_steps += 1
@@ -260,23 +191,23 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
                                                 robot.gain_rad_per_px)
             if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
-                u_pan, u_tilt = _lm_step(robot, state, face_acc, pan_start, tilt_start,
-                                         has_memory, recalled, aim, line, acc, scaled, hid,
-                                         out)
-                state.agreement[0] = agreement_update(
-                    state.agreement[0], u_pan, u_tilt, pan + v_pan - pan_start,
+                u_pan, u_tilt = lm_step(w1, b1, w2, b2, mid, half, robot.step_rad, face_acc,
+                                        pan_start, tilt_start, has_memory, recalled, aim, line,
+                                        acc, scaled, hid, out)
+                agreement[0] = agreement_update(
+                    agreement[0], u_pan, u_tilt, pan + v_pan - pan_start,
                     tilt + v_tilt - tilt_start, robot.gate_a, robot.gate_window)
             place[0], place[1] = pan, tilt
             if robot.learning_target == _OBJECT_DIRECTION:
                 place[0], place[1] = pan + v_pan, tilt + v_tilt
         if learns and memory is not None:  # MemoryModule.learn
-            n_places = _places_into(place, centre[:m], seen, memory.in_view, pan, tilt, cx, cy,
-                                    robot.gain_rad_per_px, places)
+            n_places = places_into(place, centre[:m], seen, memory.in_view, pan, tilt, cx, cy,
+                                   robot.gain_rad_per_px, places)
             for i in range(n_places):
-                c[5] = _keep(code, places[i, 0], places[i, 1], memory, c)
+                c[5] = keep_place(code, places[i, 0], places[i, 1], memory, c)
         elif learns and population is not None:  # PopulationModule.learn
-            n_places = _places_into(place, centre[:m], seen, population.in_view, pan, tilt, cx,
-                                    cy, robot.gain_rad_per_px, places)
+            n_places = places_into(place, centre[:m], seen, population.in_view, pan, tilt, cx,
+                                   cy, robot.gain_rad_per_px, places)
             population_learn(population, places[:n_places], face, pan_start, tilt_start,
                              module_rng)
         elif learns:
@@ -285,13 +216,14 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             n_kept = 0
             for s in range(n_steps):  # the kept steps' scaled head angles and aims, in order
                 if keep[s]:
-                    scale_angle_into(thetas[s, 0], thetas[s, 1], robot.theta_mid_rad,
-                                     robot.theta_half_rad, angles_x[n_kept], 0)
+                    scale_angle_into(thetas[s, 0], thetas[s, 1], mid, half, angles_x[n_kept], 0)
                     y[n_kept, 0], y[n_kept, 1], n_kept = y[s, 0], y[s, 1], n_kept + 1
-            for _ in range(robot.n_passes):  # the face is every row's: shared inputs
-                sgd_rows(face_x, angles_x[:n_kept], y[:n_kept], state.w1, state.b1, state.w2,
-                         state.b2, state.v1, state.vb1, state.v2, state.vb2,
-                         robot.learning_rate, robot.momentum)
+            for p in range(robot.n_passes):  # the face is every row's: shared inputs
+                if p > 0:  # face_acc, the face's part summed at the trial's start, is stale
+                    face_part(face_x, w1, face_acc)
+                sgd_rows_from(face_acc, face_x, angles_x[:n_kept], y[:n_kept], w1, b1, w2, b2,
+                              state.v1, state.vb1, state.v2, state.vb2, robot.learning_rate,
+                              robot.momentum)
                 c[2] += n_kept
         r = c[3]
         records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random

@@ -12,7 +12,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.attention import attended_index
 from ..world.fast import detect_into, draw_index, draw_objects
-from ..world.kinematics import rotation_matrix
+from ..world.kinematics import rotation_into
 from .trial import END_FIRED, end_after_look
 
 __all__ = ["draw_trial", "look", "look_arrays"]
@@ -20,12 +20,12 @@ __all__ = ["draw_trial", "look", "look_arrays"]
 
 @jit
 def look_arrays(n: int):
-    """A look's arrays for ``n`` objects: their projections and what the detector reports.
+    """A look's arrays for ``n`` objects: the head's rotation and what the detector reports.
 
-    (uv, depth, area, centre, seen_area, seen_edge, ids); :func:`look` fills them.
+    (rotation, centre, seen_area, seen_edge, ids); :func:`look` fills them.
     """
-    return (np.empty((n, 2)), np.empty(n), np.empty(n), np.empty((n, 2)), np.empty(n),
-            np.empty(n), np.empty(n, dtype=np.int64))
+    return (np.empty((3, 3)), np.empty((n, 2)), np.empty(n), np.empty(n),
+            np.empty(n, dtype=np.int64))
 
 
 @jit
@@ -53,10 +53,10 @@ def look(world, obj_pos, obj_rad, edge, pan, tilt, d_th_px, limit_hit, n_steps, 
     :func:`~.trial.end_after_look`'s; the attended is the experimenter's id of the object the
     evaluator fired on (-1 if it did not).
     """
-    uv, depth, area, centre, seen_area, seen_edge, ids = arrays
-    m = detect_into(obj_pos, obj_rad, edge, rotation_matrix(pan, tilt), world.offset_m,
-                    world.focal_px, world.width_px, world.height_px, uv, depth, area, centre,
-                    seen_area, seen_edge, ids)
+    rot, centre, seen_area, seen_edge, ids = arrays
+    rotation_into(pan, tilt, rot)
+    m = detect_into(obj_pos, obj_rad, edge, rot, world.offset_m, world.focal_px,
+                    world.width_px, world.height_px, centre, seen_area, seen_edge, ids)
     seen = attended_index(centre[:m], (world.width_px - 1) / 2, (world.height_px - 1) / 2,
                           d_th_px)
     end = end_after_look(seen, limit_hit, n_steps, max_steps)

@@ -12,7 +12,7 @@ from ..agent.attention import attended_index
 from ..config import Config, WorldConfig
 from ..experiment.trial import end_after_look, move_head
 from ..world.fast import FastScene, detect_into
-from ..world.kinematics import HeadKinematics, rotation_matrix
+from ..world.kinematics import HeadKinematics, rotation_into
 
 __all__ = ["run_env_benchmark", "step_bound", "with_camera"]
 
@@ -24,16 +24,17 @@ def with_camera(world: WorldConfig, **fields) -> WorldConfig:
 
 @jit
 def _kernel_steps(dtheta, pos, rad, edge, offset_m, focal_px, width_px, height_px, d_th_px,
-                  limits_rad, uv, depth, scratch, centre, area, seen_edge, ids) -> int:
+                  limits_rad, centre, area, seen_edge, ids) -> int:
     """The arithmetic of ``len(dtheta)`` environment steps: move, project, evaluate, end."""
     pan = tilt = 0.0
     cx, cy = (width_px - 1) / 2, (height_px - 1) / 2
-    ended = 0
+    ended, rot = 0, np.empty((3, 3))
     for i in range(len(dtheta)):
         pan, tilt, hit = move_head(pan, tilt, dtheta[i, 0], dtheta[i, 1], limits_rad[0],
                                    limits_rad[1], limits_rad[2], limits_rad[3])
-        m = detect_into(pos, rad, edge, rotation_matrix(pan, tilt), offset_m, focal_px,
-                        width_px, height_px, uv, depth, scratch, centre, area, seen_edge, ids)
+        rotation_into(pan, tilt, rot)
+        m = detect_into(pos, rad, edge, rot, offset_m, focal_px, width_px, height_px, centre,
+                        area, seen_edge, ids)
         seen = attended_index(centre[:m], cx, cy, d_th_px)
         ended += end_after_look(seen, hit, i % 40, 40) >= 0
     return ended
@@ -52,8 +53,7 @@ def step_bound(n_steps: int = 200_000) -> float:
     n = len(scene.object_radius_m)
     dtheta = rng.uniform(-0.02, 0.02, (n_steps, 2))
     limits = np.array([*kin.pan_limits_rad, *kin.tilt_limits_rad])
-    arrays = (np.empty((n, 2)), np.empty(n), np.empty(n), np.empty((n, 2)), np.empty(n),
-              np.empty(n), np.empty(n, dtype=np.int64))
+    arrays = np.empty((n, 2)), np.empty(n), np.empty(n), np.empty(n, dtype=np.int64)
     args = (scene.object_pos_m, scene.object_radius_m, scene.edge,
             np.asarray(kin.offset_m, float), float(kin.focal_px), kin.width_px, kin.height_px,
             config.agent.d_th_px(kin.width_px), limits, *arrays)  # Eq. 3's radius

@@ -21,7 +21,7 @@ from .._arrays import floats
 from .._jit import jit
 from ..agent.detections import Detections
 from ..errors import ConfigError
-from .kinematics import HeadKinematics, project_spheres_into, rotation_matrix
+from .kinematics import HeadKinematics, project_point, rotation_matrix, sphere_area_px
 from .mjcf import HEAD_RADII_M
 from .options import WorldConfig
 from .placement import place_into, region_of
@@ -102,20 +102,19 @@ def _inside_fraction(h: float) -> float:
 
 @jit
 def detect_into(pos_m, radius_m, edge, rot, offset_m, focal_px, width_px, height_px,
-                uv, depth, area, centre_out, area_out, edge_out, ids_out) -> int:
+                centre_out, area_out, edge_out, ids_out) -> int:
     """The fast detector: the objects whose centre lies in the image, written into ``*_out``.
 
-    Returns how many; ``uv``, ``depth`` and ``area`` are scratch space (one row per object).
+    Returns how many. Each object is projected (:func:`~.kinematics.project_point`), and only
+    those in the image are given their area (:func:`~.kinematics.sphere_area_px`).
     """
     w, h = float(width_px), float(height_px)
-    project_spheres_into(pos_m, radius_m, rot, offset_m, focal_px, (w - 1) / 2, (h - 1) / 2,
-                         uv, depth, area)
     m = 0
     for i in range(len(radius_m)):
-        u, v = uv[i, 0], uv[i, 1]
-        if not (depth[i] > 0 and u >= -0.5 and u <= w - 0.5 and v >= -0.5 and v <= h - 0.5):
+        u, v, d = project_point(pos_m[i], rot, offset_m, focal_px, (w - 1) / 2, (h - 1) / 2)
+        if not (d > 0 and u >= -0.5 and u <= w - 0.5 and v >= -0.5 and v <= h - 0.5):
             continue
-        a = area[i]
+        a = sphere_area_px(pos_m[i], radius_m[i], rot, offset_m, focal_px)
         r = math.sqrt(a / math.pi)  # equal_area_radius
         # distance of the centre to the nearest image border, in radii
         if min(min(u + 0.5, w - 0.5 - u), min(v + 0.5, h - 0.5 - v)) / r < 1.0:
@@ -149,10 +148,9 @@ class FastScene:
         self.edge = floats("edge", edge, (n,))
         self.target_index = int(target_index)
         self.visible_ids = np.arange(0)
-        # what every look needs of the camera, and the projection's scratch arrays, once
+        # what every look needs of the camera, once
         self._camera = (np.asarray(kinematics.offset_m, dtype=float), float(kinematics.focal_px),
                         kinematics.width_px, kinematics.height_px)
-        self._scratch = np.empty((n, 2)), np.empty(n), np.empty(n)
 
     @classmethod
     def sample(cls, world: WorldConfig, kinematics: HeadKinematics, target_m, face_m,
@@ -183,6 +181,6 @@ class FastScene:
         offset_m, focal_px, width_px, height_px = self._camera
         m = detect_into(self.object_pos_m, self.object_radius_m, self.edge,
                         rotation_matrix(float(theta_rad[0]), float(theta_rad[1])), offset_m,
-                        focal_px, width_px, height_px, *self._scratch, centre, area, edge, ids)
+                        focal_px, width_px, height_px, centre, area, edge, ids)
         self.visible_ids = ids[:m]
         return Detections(centre[:m], area[:m], edge[:m], np.zeros(m), (width_px, height_px))

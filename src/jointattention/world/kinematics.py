@@ -23,8 +23,9 @@ from ..agent.detections import equal_area_radius
 from .options import WorldConfig
 
 __all__ = ["BEHIND", "CENTRED", "INSIDE_LATERAL", "INSIDE_VERTICAL", "HeadKinematics",
-           "Unreachable", "angle_rad", "centring_angles", "direction", "project_spheres_into",
-           "rotation_matrix", "separation_rad"]
+           "Unreachable", "angle_rad", "centring_angles", "direction", "forward_axis",
+           "project_point", "project_spheres_into", "rotation_into", "rotation_matrix",
+           "separation_rad", "sphere_area_px"]
 
 
 class Unreachable(ValueError):
@@ -62,14 +63,30 @@ def separation_rad(a_m: np.ndarray, b_m: np.ndarray) -> float:
 @jit
 def rotation_matrix(pan_rad: float, tilt_rad: float) -> np.ndarray:
     """Head orientation: columns are the head's right, forward and up axes in the world."""
+    rot = np.empty((3, 3))
+    rotation_into(pan_rad, tilt_rad, rot)
+    return rot
+
+
+@jit
+def rotation_into(pan_rad: float, tilt_rad: float, rot: np.ndarray) -> None:
+    """:func:`rotation_matrix` written into ``rot`` (3, 3): a loop's look allocates nothing."""
     cp, sp = math.cos(pan_rad), math.sin(pan_rad)
     ct, st = math.cos(tilt_rad), math.sin(tilt_rad)
     # (rotation about -z by pan) @ (rotation about +x by tilt), multiplied out
-    rot = np.empty((3, 3))
     rot[0, 0], rot[0, 1], rot[0, 2] = cp, sp * ct, -sp * st
     rot[1, 0], rot[1, 1], rot[1, 2] = -sp, cp * ct, -cp * st
     rot[2, 0], rot[2, 1], rot[2, 2] = 0.0, st, ct
-    return rot
+
+
+@jit
+def forward_axis(pan_rad: float, tilt_rad: float) -> tuple[float, float, float]:
+    """The head's forward axis in the world: :func:`rotation_matrix`'s middle column.
+
+    The same products, without a matrix: a placement's every candidate asks it.
+    """
+    return (math.sin(pan_rad) * math.cos(tilt_rad), math.cos(pan_rad) * math.cos(tilt_rad),
+            math.sin(tilt_rad))
 
 
 @jit
@@ -89,22 +106,36 @@ def project_spheres_into(points_m, radii_m, rot, offset_m, focal_px, cx_px, cy_p
     off-axis spheres look larger than on-axis ones.
     """
     for i in range(points_m.shape[0]):
-        x = _camera_axis(points_m[i], rot, offset_m, 0)
-        d = _camera_axis(points_m[i], rot, offset_m, 1)
-        z = _camera_axis(points_m[i], rot, offset_m, 2)
-        depth[i] = d
-        if not d > 0:
-            uv[i, 0], uv[i, 1], area[i] = np.nan, np.nan, np.nan
-            continue
-        uv[i, 0] = cx_px + focal_px * (x / d)
-        uv[i, 1] = cy_px + focal_px * (-z / d)
-        dist2 = x * x + d * d + z * z
-        sin2_b = radii_m[i] * radii_m[i] / dist2
-        denom = d * d / dist2 - sin2_b
-        if denom > 0:
-            area[i] = math.pi * focal_px * focal_px * sin2_b * np.sqrt(1 - sin2_b) / denom**1.5
-        else:
-            area[i] = np.nan
+        uv[i, 0], uv[i, 1], depth[i] = project_point(points_m[i], rot, offset_m, focal_px,
+                                                     cx_px, cy_px)
+        area[i] = sphere_area_px(points_m[i], radii_m[i], rot, offset_m, focal_px)
+
+
+@jit
+def project_point(point_m, rot, offset_m, focal_px, cx_px, cy_px) -> tuple[float, float, float]:
+    """The pixel (u, v) and depth of a world point (NaN pixels behind the camera)."""
+    x = _camera_axis(point_m, rot, offset_m, 0)
+    d = _camera_axis(point_m, rot, offset_m, 1)
+    z = _camera_axis(point_m, rot, offset_m, 2)
+    if not d > 0:
+        return np.nan, np.nan, d
+    return cx_px + focal_px * (x / d), cy_px + focal_px * (-z / d), d
+
+
+@jit
+def sphere_area_px(point_m, radius_m, rot, offset_m, focal_px) -> float:
+    """The image area of a sphere (:func:`project_spheres_into`; NaN behind the camera)."""
+    x = _camera_axis(point_m, rot, offset_m, 0)
+    d = _camera_axis(point_m, rot, offset_m, 1)
+    z = _camera_axis(point_m, rot, offset_m, 2)
+    if not d > 0:
+        return np.nan
+    dist2 = x * x + d * d + z * z
+    sin2_b = radius_m * radius_m / dist2
+    denom = d * d / dist2 - sin2_b
+    if denom > 0:
+        return math.pi * focal_px * focal_px * sin2_b * np.sqrt(1 - sin2_b) / denom**1.5
+    return np.nan
 
 
 # centring_angles' status: solved, or why not
@@ -136,7 +167,8 @@ def centring_angles(point_m: np.ndarray, offset_m: np.ndarray) -> tuple[float, f
     if rho <= abs(oz):
         return np.nan, np.nan, INSIDE_VERTICAL
     tilt = math.atan2(pz, y1) - math.asin(oz / rho)
-    if _camera_axis(point_m, rotation_matrix(pan, tilt), offset_m, 1) <= 0:
+    f0, f1, f2 = forward_axis(pan, tilt)  # the depth, as _camera_axis sums it
+    if point_m[0] * f0 + point_m[1] * f1 + point_m[2] * f2 - offset_m[1] <= 0:
         return np.nan, np.nan, BEHIND
     return pan, tilt, CENTRED
 

@@ -22,12 +22,16 @@ _MAX_TRIES = 4000
 
 
 @jit
-def _angle(a: np.ndarray, b: np.ndarray) -> float:
-    """Angle (rad) between vectors ``a`` and ``b`` (3,)."""
+def _norm(a: np.ndarray) -> float:
+    """The length of vector ``a`` (3,)."""
+    return math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2])
+
+
+@jit
+def _angle(a: np.ndarray, b: np.ndarray, norm_a: float, norm_b: float) -> float:
+    """Angle (rad) between vectors ``a`` and ``b`` (3,) of lengths ``norm_a``, ``norm_b``."""
     dot = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-    norms = math.sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * math.sqrt(
-        b[0] * b[0] + b[1] * b[1] + b[2] * b[2])
-    return math.acos(min(max(dot / norms, -1.0), 1.0))
+    return math.acos(min(max(dot / (norm_a * norm_b), -1.0), 1.0))
 
 
 @jit
@@ -47,9 +51,11 @@ def place_into(rng, pos, rad, n_fixed, head_pos_m, face_radius_m, region, offset
     face_half = math.asin(face_radius_m / math.sqrt(
         head_pos_m[0] ** 2 + head_pos_m[1] ** 2 + head_pos_m[2] ** 2))
     gap, clearance = np.deg2rad(region[8]), np.deg2rad(region[9])
-    half = np.empty(n)
+    half, norm = np.empty(n), np.empty(n)  # each placed object's angular radius and distance
     for i in range(n_fixed):
         half[i] = math.asin(rad[i] / math.sqrt(pos[i, 0] ** 2 + pos[i, 1] ** 2 + pos[i, 2] ** 2))
+        norm[i] = _norm(pos[i])
+    head_norm = _norm(head_pos_m)
     placed, drawn = n_fixed, 0
     cand = np.empty(3)
     while placed < n and drawn < _MAX_TRIES:
@@ -65,12 +71,13 @@ def place_into(rng, pos, rad, n_fixed, head_pos_m, face_radius_m, region, offset
             cand[0] = dist[j] * (math.sin(pan[j]) * math.cos(tilt[j]))
             cand[1] = dist[j] * (math.cos(pan[j]) * math.cos(tilt[j]))
             cand[2] = dist[j] * math.sin(tilt[j])
-            cand_half = math.asin(radius[j] / dist[j])
-            if not _angle(cand, head_pos_m) - cand_half - face_half >= clearance:
+            cand_half, cand_norm = math.asin(radius[j] / dist[j]), _norm(cand)
+            if not (_angle(cand, head_pos_m, cand_norm, head_norm) - cand_half - face_half
+                    >= clearance):
                 continue
             apart = True
             for i in range(placed):
-                if _angle(pos[i], cand) - half[i] - cand_half < gap:
+                if _angle(pos[i], cand, norm[i], cand_norm) - half[i] - cand_half < gap:
                     apart = False
                     break
             if not apart:
@@ -81,7 +88,7 @@ def place_into(rng, pos, rad, n_fixed, head_pos_m, face_radius_m, region, offset
                 continue
             for d in range(3):  # element by element: quicker for numba to compile
                 pos[placed, d] = cand[d]
-            rad[placed], half[placed] = radius[j], cand_half
+            rad[placed], half[placed], norm[placed] = radius[j], cand_half, cand_norm
             placed += 1
     return placed
 
