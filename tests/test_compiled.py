@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from jointattention import run_cell, run_experiment
 from jointattention.agent.attention import attended_index, interest_argmax, visual_feedback_rad
 from jointattention.agent.gates import SigmoidGate
-from jointattention.agent.learner import LearningModule, accumulate, accumulate_square
+from jointattention.agent.learner import LearningModule
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 from jointattention.errors import ArgumentError
 from jointattention.experiment import evaluate as evaluate_module
@@ -282,22 +282,6 @@ def test_rows_sharing_nothing_learn_with_the_bits_of_row_by_row():
     for a, b in zip(many._params() + many.velocity_,
                     one_by_one._params() + one_by_one.velocity_, strict=True):
         assert np.array_equal(a, b)
-
-
-@settings(max_examples=40, deadline=None)
-@given(st.integers(0, 2**32 - 1), st.integers(0, 9), st.integers(0, 40))
-def test_accumulate_square_sums_as_accumulate_and_a_running_sum(seed, n_hidden, n):
-    """accumulate_square gives accumulate's sums and x . x summed in order, to the bit."""
-    rng = np.random.default_rng(seed)
-    x, w1 = rng.normal(size=n), rng.normal(size=(n_hidden, n + 2))
-    acc = rng.normal(size=n_hidden)
-    expected = acc.copy()
-    accumulate(x, w1, 0, expected)
-    squares = 0.0
-    for v in x:
-        squares += v * v
-    assert accumulate_square(x, w1, acc) == squares
-    assert np.array_equal(acc, expected)
 
 
 def test_rows_that_do_not_share_their_inputs_are_refused():

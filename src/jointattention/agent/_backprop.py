@@ -13,8 +13,7 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["accumulate", "accumulate_square", "forward", "sgd_rows", "sgd_rows_from",
-           "sgd_update"]
+__all__ = ["accumulate", "forward", "sgd_rows", "sgd_rows_from", "sgd_update"]
 
 
 @jit
@@ -59,39 +58,6 @@ def accumulate(x, w1, first_input: int, acc) -> None:
         for i in range(n4, n):
             s0 += x[i] * row[i]
         acc[j] += (s0 + s1) + (s2 + s3)
-
-
-@jit
-def accumulate_square(x, w1, acc) -> float:
-    """:func:`accumulate` ``(x, w1, 0, acc)``, and ``x . x`` summed in order, in one pass.
-
-    The square's one running sum waits on each add; beside the first unit's four sums it
-    costs no time of its own. Each sum in the order it has alone (the same bits).
-    """
-    n = len(x)
-    n4 = n - n % 4
-    xx = 0.0
-    if len(acc) == 0:
-        for i in range(n):
-            xx += x[i] * x[i]
-        return xx
-    row = w1[0, :n]
-    s0 = s1 = s2 = s3 = 0.0
-    for i in range(0, n4, 4):
-        s0 += x[i] * row[i]
-        s1 += x[i + 1] * row[i + 1]
-        s2 += x[i + 2] * row[i + 2]
-        s3 += x[i + 3] * row[i + 3]
-        xx += x[i] * x[i]
-        xx += x[i + 1] * x[i + 1]
-        xx += x[i + 2] * x[i + 2]
-        xx += x[i + 3] * x[i + 3]
-    for i in range(n4, n):
-        s0 += x[i] * row[i]
-        xx += x[i] * x[i]
-    acc[0] += (s0 + s1) + (s2 + s3)
-    accumulate(x, w1[1:], 0, acc[1:])
-    return xx
 
 
 @jit
@@ -156,7 +122,10 @@ def sgd_rows_from(shared_w1, shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2,
     c, d = work[n_hidden:2 * n_hidden], work[2 * n_hidden:3 * n_hidden]
     acc, h = work[3 * n_hidden:4 * n_hidden], work[4 * n_hidden:5 * n_hidden]
     out, err = work[5 * n_hidden:5 * n_hidden + n_out], work[5 * n_hidden + n_out:]
-    ff = accumulate_square(shared, v1, face_v)  # and |f|^2
+    accumulate(shared, v1, 0, face_v)
+    ff = 0.0
+    for i in range(n_s):
+        ff += shared[i] * shared[i]
     decay, s = 1.0, 0.0  # momentum^t and the sum of momentum^k, k = 1..t
     for t in range(len(rest)):
         x = rest[t]

@@ -20,18 +20,10 @@ import numpy as np
 from .._arrays import rows
 from .._jit import jit
 from ..errors import ArgumentError
-from ._backprop import (
-    accumulate,
-    accumulate_square,
-    forward,
-    sgd_rows,
-    sgd_rows_from,
-    sgd_update,
-)
+from ._backprop import accumulate, forward, sgd_rows, sgd_rows_from, sgd_update
 
-__all__ = ["NO_FACE_SEEN", "FaceStandardiser", "LearningModule", "accumulate",
-           "accumulate_square", "forward", "sgd_rows", "sgd_rows_from", "sgd_update", "standardise",
-           "welford_update"]
+__all__ = ["NO_FACE_SEEN", "FaceStandardiser", "LearningModule", "accumulate", "forward",
+           "sgd_rows", "sgd_rows_from", "sgd_update", "standardise", "welford_update"]
 
 # transform's error before any face (the compiled loops raise it too)
 NO_FACE_SEEN = "faces: the standardiser has seen no face; expected partial_fit before transform"
