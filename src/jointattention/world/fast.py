@@ -21,7 +21,13 @@ from .._arrays import floats
 from .._jit import jit
 from ..agent.detections import Detections
 from ..errors import ConfigError
-from .kinematics import HeadKinematics, project_point, rotation_matrix, sphere_area_px
+from .kinematics import (
+    HeadKinematics,
+    camera_point,
+    pixel_px,
+    rotation_matrix,
+    sphere_area_px,
+)
 from .mjcf import HEAD_RADII_M
 from .options import WorldConfig
 from .placement import place_into, region_of
@@ -105,16 +111,17 @@ def detect_into(pos_m, radius_m, edge, rot, offset_m, focal_px, width_px, height
                 centre_out, area_out, edge_out, ids_out) -> int:
     """The fast detector: the objects whose centre lies in the image, written into ``*_out``.
 
-    Returns how many. Each object is projected (:func:`~.kinematics.project_point`), and only
+    Returns how many. Each object is projected (:func:`~.kinematics.pixel_px`), and only
     those in the image are given their area (:func:`~.kinematics.sphere_area_px`).
     """
     w, h = float(width_px), float(height_px)
     m = 0
     for i in range(len(radius_m)):
-        u, v, d = project_point(pos_m[i], rot, offset_m, focal_px, (w - 1) / 2, (h - 1) / 2)
+        x, d, z = camera_point(pos_m[i], rot, offset_m)
+        u, v = pixel_px(x, d, z, focal_px, (w - 1) / 2, (h - 1) / 2)
         if not (d > 0 and u >= -0.5 and u <= w - 0.5 and v >= -0.5 and v <= h - 0.5):
             continue
-        a = sphere_area_px(pos_m[i], radius_m[i], rot, offset_m, focal_px)
+        a = sphere_area_px(x, d, z, radius_m[i], focal_px)
         r = math.sqrt(a / math.pi)  # equal_area_radius
         # distance of the centre to the nearest image border, in radii
         if min(min(u + 0.5, w - 0.5 - u), min(v + 0.5, h - 0.5 - v)) / r < 1.0:

@@ -23,8 +23,8 @@ from ..agent.detections import equal_area_radius
 from .options import WorldConfig
 
 __all__ = ["BEHIND", "CENTRED", "INSIDE_LATERAL", "INSIDE_VERTICAL", "HeadKinematics",
-           "Unreachable", "angle_rad", "centring_angles", "direction", "forward_axis",
-           "project_point", "project_spheres_into", "rotation_into", "rotation_matrix",
+           "Unreachable", "angle_rad", "camera_point", "centring_angles", "direction",
+           "forward_axis", "pixel_px", "project_spheres_into", "rotation_into", "rotation_matrix",
            "separation_rad", "sphere_area_px"]
 
 
@@ -90,9 +90,17 @@ def forward_axis(pan_rad: float, tilt_rad: float) -> tuple[float, float, float]:
 
 
 @jit
-def _camera_axis(p: np.ndarray, rot: np.ndarray, offset_m: np.ndarray, j: int) -> float:
-    """Coordinate ``j`` (0 right, 1 depth, 2 up) of world point ``p`` in the camera frame."""
-    return p[0] * rot[0, j] + p[1] * rot[1, j] + p[2] * rot[2, j] - offset_m[j]
+def _along(p: np.ndarray, a0: float, a1: float, a2: float, offset_m: float) -> float:
+    """World point ``p`` along the head axis (a0, a1, a2), less the camera's offset on it."""
+    return p[0] * a0 + p[1] * a1 + p[2] * a2 - offset_m
+
+
+@jit
+def camera_point(point_m, rot, offset_m) -> tuple[float, float, float]:
+    """A world point in the camera frame: (right, depth, up), the columns of ``rot``."""
+    return (_along(point_m, rot[0, 0], rot[1, 0], rot[2, 0], offset_m[0]),
+            _along(point_m, rot[0, 1], rot[1, 1], rot[2, 1], offset_m[1]),
+            _along(point_m, rot[0, 2], rot[1, 2], rot[2, 2], offset_m[2]))
 
 
 @jit
@@ -100,34 +108,32 @@ def project_spheres_into(points_m, radii_m, rot, offset_m, focal_px, cx_px, cy_p
                          uv, depth, area) -> None:
     """Pixel positions, depths and image areas of spheres, written into ``uv``, ``depth``, ``area``.
 
-    Points behind the camera get NaN positions and areas. A sphere of angular radius b seen at
-    angle a off the optical axis images as an ellipse with semi-axes
-    f sin(b) cos(b) / (cos^2 a - sin^2 b) (radial) and f sin(b) / sqrt(cos^2 a - sin^2 b):
-    off-axis spheres look larger than on-axis ones.
+    Points behind the camera get NaN positions and areas (:func:`pixel_px`,
+    :func:`sphere_area_px`).
     """
     for i in range(points_m.shape[0]):
-        uv[i, 0], uv[i, 1], depth[i] = project_point(points_m[i], rot, offset_m, focal_px,
-                                                     cx_px, cy_px)
-        area[i] = sphere_area_px(points_m[i], radii_m[i], rot, offset_m, focal_px)
+        x, d, z = camera_point(points_m[i], rot, offset_m)
+        uv[i, 0], uv[i, 1] = pixel_px(x, d, z, focal_px, cx_px, cy_px)
+        depth[i] = d
+        area[i] = sphere_area_px(x, d, z, radii_m[i], focal_px)
 
 
 @jit
-def project_point(point_m, rot, offset_m, focal_px, cx_px, cy_px) -> tuple[float, float, float]:
-    """The pixel (u, v) and depth of a world point (NaN pixels behind the camera)."""
-    x = _camera_axis(point_m, rot, offset_m, 0)
-    d = _camera_axis(point_m, rot, offset_m, 1)
-    z = _camera_axis(point_m, rot, offset_m, 2)
+def pixel_px(x, d, z, focal_px, cx_px, cy_px) -> tuple[float, float]:
+    """The pixel (u, v) of a point at camera coordinates (x, d, z); NaN behind the camera."""
     if not d > 0:
-        return np.nan, np.nan, d
-    return cx_px + focal_px * (x / d), cy_px + focal_px * (-z / d), d
+        return np.nan, np.nan
+    return cx_px + focal_px * (x / d), cy_px + focal_px * (-z / d)
 
 
 @jit
-def sphere_area_px(point_m, radius_m, rot, offset_m, focal_px) -> float:
-    """The image area of a sphere (:func:`project_spheres_into`; NaN behind the camera)."""
-    x = _camera_axis(point_m, rot, offset_m, 0)
-    d = _camera_axis(point_m, rot, offset_m, 1)
-    z = _camera_axis(point_m, rot, offset_m, 2)
+def sphere_area_px(x, d, z, radius_m, focal_px) -> float:
+    """The image area of a sphere centred at camera coordinates (x, d, z); NaN behind.
+
+    A sphere of angular radius b seen at angle a off the optical axis images as an ellipse
+    with semi-axes f sin(b) cos(b) / (cos^2 a - sin^2 b) (radial) and
+    f sin(b) / sqrt(cos^2 a - sin^2 b): off-axis spheres look larger than on-axis ones.
+    """
     if not d > 0:
         return np.nan
     dist2 = x * x + d * d + z * z
@@ -167,8 +173,8 @@ def centring_angles(point_m: np.ndarray, offset_m: np.ndarray) -> tuple[float, f
     if rho <= abs(oz):
         return np.nan, np.nan, INSIDE_VERTICAL
     tilt = math.atan2(pz, y1) - math.asin(oz / rho)
-    f0, f1, f2 = forward_axis(pan, tilt)  # the depth, as _camera_axis sums it
-    if point_m[0] * f0 + point_m[1] * f1 + point_m[2] * f2 - offset_m[1] <= 0:
+    f0, f1, f2 = forward_axis(pan, tilt)
+    if _along(point_m, f0, f1, f2, offset_m[1]) <= 0:  # the depth, as camera_point sums it
         return np.nan, np.nan, BEHIND
     return pan, tilt, CENTRED
 

@@ -48,14 +48,13 @@ def place_into(rng, pos, rad, n_fixed, head_pos_m, face_radius_m, region, offset
     one by one and rejecting the ones that break a rule.
     """
     n = len(rad)
-    face_half = math.asin(face_radius_m / math.sqrt(
-        head_pos_m[0] ** 2 + head_pos_m[1] ** 2 + head_pos_m[2] ** 2))
+    head_norm = _norm(head_pos_m)
+    face_half = math.asin(face_radius_m / head_norm)
     gap, clearance = np.deg2rad(region[8]), np.deg2rad(region[9])
     half, norm = np.empty(n), np.empty(n)  # each placed object's angular radius and distance
     for i in range(n_fixed):
-        half[i] = math.asin(rad[i] / math.sqrt(pos[i, 0] ** 2 + pos[i, 1] ** 2 + pos[i, 2] ** 2))
         norm[i] = _norm(pos[i])
-    head_norm = _norm(head_pos_m)
+        half[i] = math.asin(rad[i] / norm[i])
     placed, drawn = n_fixed, 0
     cand = np.empty(3)
     while placed < n and drawn < _MAX_TRIES:
