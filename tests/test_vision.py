@@ -11,7 +11,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from jointattention.agent import vision
 from jointattention.agent.faces import FaceFinder, face_template
+from jointattention.agent.options import DetectorConfig
 from jointattention.agent.vision import ImageDetector, fit_ball
 from jointattention.config import Config, load_config
 
@@ -118,6 +120,85 @@ def test_edges_measure_texture_and_motion_measures_change():
     assert det.motion[0] > 0.2
     detector.reset()
     assert np.all(detector.detect(moved).motion == 0)
+
+
+def _whole_image_detect(img, previous, config, focal_px):
+    """The detector's formulas over the whole image, in numpy and OpenCV.
+
+    The code before the compiled passes: the bright mask cut where hues jump, the components
+    of all of it, the erosion and the counts.
+    """
+    hsv = cv2.cvtColor(img, cv2.COLOR_RGB2HSV)
+    mask = (hsv[..., 1] >= config.min_saturation * 255) & (hsv[..., 2] >= config.min_value * 255)
+    h, cut = hsv[..., 0].astype(np.int16), np.zeros_like(mask)
+    for later, earlier in (((slice(1, None),), (slice(None, -1),)),
+                           ((slice(None), slice(1, None)), (slice(None), slice(None, -1)))):
+        d = np.abs(h[later] - h[earlier])
+        cut[later] |= ((np.minimum(d, 180 - d) * 2 > config.hue_split_deg) & mask[later]
+                       & mask[earlier])
+    n, labels, stats, centroids = cv2.connectedComponentsWithStats(
+        (mask & ~cut).astype(np.uint8), connectivity=4, ltype=cv2.CV_32S)
+    height, width = mask.shape
+    keep, centres = [], []
+    for k in range(1, n):
+        x, y, w, hh, area = stats[k]
+        if area < config.min_area_px:
+            continue
+        centre = centroids[k]
+        if x == 0 or y == 0 or x + w == width or y + hh == height:
+            centre = vision._border_centre(labels, k, (x, y, w, hh), (0, 0), mask.shape,
+                                           focal_px)
+            if centre is None or not (-0.5 <= centre[0] <= width - 0.5
+                                      and -0.5 <= centre[1] <= height - 0.5):
+                continue
+        keep.append(k)
+        centres.append(centre)
+    relabel = np.zeros(n, np.int32)
+    relabel[keep] = np.arange(1, len(keep) + 1)
+    labels = relabel[labels]
+    inner = cv2.erode((labels > 0).astype(np.uint8), np.ones((5, 5), np.uint8))
+    gray = cv2.cvtColor(img, cv2.COLOR_RGB2GRAY)
+
+    def fractions(flags, where):
+        total = np.bincount(where[where > 0], minlength=len(keep) + 1)[1:]
+        return np.bincount(where[(where > 0) & flags], minlength=len(keep) + 1)[1:] / (
+            np.maximum(total, 1))
+
+    edge = fractions(cv2.Canny(gray, *config.canny_thresholds) > 0, labels * inner)
+    motion = (np.zeros(len(keep)) if previous is None else fractions(
+        cv2.absdiff(gray, cv2.cvtColor(previous, cv2.COLOR_RGB2GRAY)) > config.motion_threshold,
+        labels))
+    return (np.array(centres, float).reshape(-1, 2), stats[keep, cv2.CC_STAT_AREA].astype(float),
+            edge, motion)
+
+
+@settings(max_examples=80, deadline=None)
+@given(discs=st.lists(st.tuples(st.floats(-15, 335), st.floats(-15, 255), st.floats(3, 40),
+                                st.floats(0, 1), st.floats(0.75, 1.0)), min_size=1, max_size=8),
+       shift=st.integers(-6, 6), stripes=st.booleans())
+def test_the_compiled_passes_give_the_whole_image_formulas_bits(discs, shift, stripes):
+    """The compiled passes give the bits of the formulas over the whole image.
+
+    Discs anywhere in a 320 x 240 image (cut by the border, touching, faint, striped, moved):
+    the same centres, areas, edges and motion.
+    """
+    frames = []
+    for dx in (0, shift):
+        img = np.full((240, 320, 3), 110, np.uint8)
+        for x, y, r, hue, sat in discs:
+            rgb = tuple(int(255 * c) for c in colorsys.hsv_to_rgb(hue, sat, 0.95))
+            cv2.circle(img, (int((x + dx) * 16), int(y * 16)), int(r * 16), rgb, -1,
+                       lineType=cv2.LINE_AA, shift=4)
+        if stripes:
+            img[:, ::5] //= 2
+        frames.append(img)
+    config, detector = DetectorConfig(), ImageDetector(focal_px=FOCAL_PX)
+    for previous, img in ((None, frames[0]), (frames[0], frames[1])):
+        det = detector.detect(img)
+        want = _whole_image_detect(img, previous, config, FOCAL_PX)
+        for got, expected in zip((det.centre_px, det.colour_area_px, det.edge, det.motion),
+                                 want, strict=True):
+            np.testing.assert_array_equal(got, expected)
 
 
 def test_bad_images_are_refused_with_what_was_expected():

@@ -11,9 +11,12 @@ fraction of the region whose grey level changed since the previous image.
 
 from __future__ import annotations
 
+import math
+
 import cv2
 import numpy as np
 
+from ._regions import bright_regions_into, region_fractions
 from .detections import Detections
 from .options import DetectorConfig
 
@@ -24,27 +27,18 @@ class ColourRegions:
     """Bright-colour regions of one image.
 
     ``labels`` (H, W) int32 (0: none, k: region k-1), and per region ``centre_px`` (n, 2) and
-    ``area_px`` (n,).
+    ``area_px`` (n,). ``box_px`` (x0, y0, x1, y1), ends excluded, holds every region's pixels.
     """
 
-    __slots__ = ("area_px", "centre_px", "labels")
+    __slots__ = ("area_px", "box_px", "centre_px", "labels")
 
-    def __init__(self, labels: np.ndarray, centre_px: np.ndarray, area_px: np.ndarray):
+    def __init__(self, labels: np.ndarray, centre_px: np.ndarray, area_px: np.ndarray,
+                 box_px: tuple[int, int, int, int] | None = None):
         self.labels, self.centre_px, self.area_px = labels, centre_px, area_px
+        self.box_px = (0, 0, labels.shape[1], labels.shape[0]) if box_px is None else box_px
 
     def __len__(self) -> int:
         return len(self.area_px)
-
-
-def _hue_cuts(hue: np.ndarray, mask: np.ndarray, split_deg: float) -> np.ndarray:
-    """Pixels (right or lower of a pair of bright neighbours) where the hue jumps."""
-    h = hue.astype(np.int16)  # OpenCV hue: 0-179, two degrees per unit
-    cut = np.zeros_like(mask)
-    for later, earlier in (((slice(1, None), slice(None)), (slice(None, -1), slice(None))),
-                           ((slice(None), slice(1, None)), (slice(None), slice(None, -1)))):
-        d = np.abs(h[later] - h[earlier])
-        cut[later] |= (np.minimum(d, 180 - d) * 2 > split_deg) & mask[later] & mask[earlier]
-    return cut
 
 
 def fit_circle(points: np.ndarray) -> tuple[np.ndarray, float]:
@@ -74,19 +68,20 @@ def fit_ball(points: np.ndarray, centre_px, focal_px: float) -> tuple[np.ndarray
     return np.asarray(centre_px, float) + focal_px * v[:2] / v[2], float(radius)
 
 
-def _border_centre(labels: np.ndarray, k: int, box, shape,
+def _border_centre(labels: np.ndarray, k: int, box, origin, shape,
                    focal_px: float | None) -> np.ndarray | None:
     """Centre of region ``k`` (touching the image border) from its outline off the border.
 
-    The ball fitted through the outline if the focal length is known, else the circle. None if the
-    outline is too short, or if the region reaches less than the fitted radius (or 5 px, as a thin
-    cap's fit is unsound) in from the border: a ball whose centre is in the image reaches at least
-    its radius in from it.
+    ``labels`` is the part of the image at ``origin`` (x, y), ``box`` the region's in it.
+    The ball fitted through the outline if the focal length is known, else the circle. None if
+    the outline is too short, or if the region reaches less than the fitted radius (or 5 px, as
+    a thin cap's fit is unsound) in from the border: a ball whose centre is in the image reaches
+    at least its radius in from it.
     """
     x, y, w, h = box
     crop = (labels[y:y + h, x:x + w] == k).astype(np.uint8)
     contours, _ = cv2.findContours(crop, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
-    pts = np.concatenate([c[:, 0, :] for c in contours]) + (x, y)
+    pts = np.concatenate([c[:, 0, :] for c in contours]) + (x + origin[0], y + origin[1])
     height, width = shape
     off = ((pts[:, 0] > 0) & (pts[:, 0] < width - 1) & (pts[:, 1] > 0)
            & (pts[:, 1] < height - 1))
@@ -99,6 +94,16 @@ def _border_centre(labels: np.ndarray, k: int, box, shape,
     return centre if min(w, h) >= max(radius - 1, 5) else None
 
 
+def _whole_image_centre(centroid, area: int, x0: int, y0: int) -> np.ndarray:
+    """OpenCV's centroid of a component of the part of an image at (x0, y0), in the whole.
+
+    OpenCV's centroid is the sum of the pixels' coordinates (an integer) over the area: that
+    sum is recovered exactly and moved, so the centre has the whole image's bits.
+    """
+    return np.array([(round(centroid[0] * area) + area * x0) / area,
+                     (round(centroid[1] * area) + area * y0) / area])
+
+
 def colour_regions(image_rgb: np.ndarray, config: DetectorConfig,
                    focal_px: float | None = None) -> ColourRegions:
     """The bright-colour regions of an RGB uint8 image (see the module's docstring).
@@ -106,37 +111,37 @@ def colour_regions(image_rgb: np.ndarray, config: DetectorConfig,
     ``focal_px``, the camera's focal length, locates balls cut by the border.
     """
     hsv = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2HSV)
-    mask = (hsv[..., 1] >= config.min_saturation * 255) & (hsv[..., 2] >= config.min_value * 255)
-    mask &= ~_hue_cuts(hsv[..., 0], mask, config.hue_split_deg)
-    n, labels, stats, centroids = cv2.connectedComponentsWithStats(
-        mask.astype(np.uint8), connectivity=4, ltype=cv2.CV_32S)
-    height, width = mask.shape
+    height, width = hsv.shape[:2]
+    mask = np.empty((height, width), np.uint8)
+    x0, y0, x1, y1 = box = bright_regions_into(  # levels are whole: >= x is >= ceil(x)
+        hsv, math.ceil(config.min_saturation * 255), math.ceil(config.min_value * 255),
+        config.hue_split_deg, mask)
+    labels = np.zeros((height, width), np.int32)
+    if x1 == 0:
+        return ColourRegions(labels, np.zeros((0, 2)), np.zeros(0), box)
+    # only the box around the bright pixels: OpenCV numbers its components as the whole
+    # image's (by their first pixel, row by row), at a fraction of the cost
+    n, part, stats, centroids = cv2.connectedComponentsWithStats(
+        mask[y0:y1, x0:x1], connectivity=4, ltype=cv2.CV_32S)
     keep, centres, areas = [], [], []
-    for k in range(1, n):
-        x, y, w, h, area = stats[k]
-        if area < config.min_area_px:
+    for k, (x, y, w, h, area) in enumerate(stats.tolist()):
+        if k == 0 or area < config.min_area_px:
             continue
-        centre = centroids[k]
-        if x == 0 or y == 0 or x + w == width or y + h == height:
-            centre = _border_centre(labels, k, (x, y, w, h), mask.shape, focal_px)
+        if x + x0 == 0 or y + y0 == 0 or x0 + x + w == width or y0 + y + h == height:
+            centre = _border_centre(part, k, (x, y, w, h), (x0, y0), mask.shape, focal_px)
             if centre is None or not (-0.5 <= centre[0] <= width - 0.5
                                       and -0.5 <= centre[1] <= height - 0.5):
                 continue
+        else:
+            centre = _whole_image_centre(centroids[k], area, x0, y0)
         keep.append(k)
         centres.append(centre)
         areas.append(float(area))
     relabel = np.zeros(n, np.int32)
     relabel[keep] = np.arange(1, len(keep) + 1)
-    return ColourRegions(relabel[labels], np.array(centres, float).reshape(-1, 2),
-                         np.array(areas, float))
-
-
-def _fractions(flags: np.ndarray, labels: np.ndarray, n: int) -> np.ndarray:
-    """Per region 1..n, the fraction of its pixels where ``flags`` is set."""
-    inside = labels > 0
-    total = np.bincount(labels[inside], minlength=n + 1)[1:]
-    hits = np.bincount(labels[inside & flags], minlength=n + 1)[1:]
-    return hits / np.maximum(total, 1)
+    labels[y0:y1, x0:x1] = relabel[part]
+    return ColourRegions(labels, np.array(centres, float).reshape(-1, 2),
+                         np.array(areas, float), box)
 
 
 class ImageDetector:
@@ -170,16 +175,14 @@ class ImageDetector:
         cfg = self.config
         regions = colour_regions(image_rgb, cfg, self.focal_px)
         gray = cv2.cvtColor(np.ascontiguousarray(image_rgb), cv2.COLOR_RGB2GRAY)
-        n = len(regions)
-        inner = cv2.erode((regions.labels > 0).astype(np.uint8), np.ones((5, 5), np.uint8))
-        inner_labels = regions.labels * inner  # outline excluded: a plain ball has no texture
-        edges = cv2.Canny(gray, *cfg.canny_thresholds) > 0
-        edge = _fractions(edges, inner_labels, n)
-        if self._previous_gray is None or self._previous_gray.shape != gray.shape:
-            motion = np.zeros(n)
-        else:
-            change = cv2.absdiff(gray, self._previous_gray) > cfg.motion_threshold
-            motion = _fractions(change, regions.labels, n)
-        self._previous_gray = gray
+        previous, self._previous_gray = self._previous_gray, gray
+        moved = previous is not None and previous.shape == gray.shape
         h, w = gray.shape
+        if len(regions) == 0:  # nothing to measure (the edges cost as much as all the rest)
+            return Detections(regions.centre_px, regions.area_px, np.zeros(0), np.zeros(0),
+                              (w, h))
+        edges = cv2.Canny(gray, *cfg.canny_thresholds)
+        edge, motion = region_fractions(regions.labels, len(regions), regions.box_px, edges, gray,
+                                        previous if moved else gray, cfg.motion_threshold,
+                                        moved)
         return Detections(regions.centre_px, regions.area_px, edge, motion, (w, h))

@@ -67,12 +67,12 @@ def build_mjcf(world: WorldConfig, n_objects: int) -> str:
         f"    </body>"
         for i in range(n_objects)
     )
-    size = max(cam.width_px, cam.height_px, 640)
+    # the off-screen buffer is the camera's image, no larger: each frame clears all of it
     return f"""<mujoco model="jointattention">
   <compiler angle="degree"/>
   <option gravity="0 0 0"/>
   <visual>
-    <global offwidth="{size}" offheight="{size}"/>
+    <global offwidth="{cam.width_px}" offheight="{cam.height_px}"/>
     <headlight ambient="{_vec([HEADLIGHT_AMBIENT] * 3)}" diffuse="0.25 0.25 0.25" specular="0 0 0"/>
     <quality shadowsize="0" offsamples="{cam.antialias_samples}"
              numslices="{cam.sphere_slices}" numstacks="{cam.sphere_stacks}"/>
