@@ -13,7 +13,7 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["accumulate", "forward", "sgd_rows", "sgd_rows_from", "sgd_update"]
+__all__ = ["accumulate", "face_part", "forward", "sgd_rows", "sgd_rows_from", "sgd_update"]
 
 
 @jit
@@ -61,6 +61,18 @@ def accumulate(x, w1, first_input: int, acc) -> None:
 
 
 @jit
+def face_part(x, w1, acc) -> None:
+    """``acc[j] = x . w1[j, :len(x)]``: the first inputs' part of each hidden unit's input.
+
+    :func:`accumulate` from zero. For a trial's face it is fixed for the trial, as the
+    weights change only at its end.
+    """
+    for j in range(len(acc)):  # element by element: quicker for numba to compile
+        acc[j] = 0.0
+    accumulate(x, w1, 0, acc)
+
+
+@jit
 def forward(acc, b1, w2, b2, h, out) -> None:
     """Hidden units ``h = tanh(acc + b1)`` and outputs ``out = h @ w2 + b2``.
 
@@ -101,8 +113,8 @@ def sgd_rows(shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate: f
     row is that of its own inputs. The same arithmetic as row by row up to rounding; with
     nothing shared, the same bits as one call per row.
     """
-    shared_w1 = np.zeros(len(b1))
-    accumulate(shared, w1, 0, shared_w1)
+    shared_w1 = np.empty(len(b1))
+    face_part(shared, w1, shared_w1)
     sgd_rows_from(shared_w1, shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2, learning_rate,
                   momentum)
 
@@ -112,8 +124,8 @@ def sgd_rows_from(shared_w1, shared, rest, Y, w1, b1, w2, b2, v1, vb1, v2, vb2,
                   learning_rate: float, momentum: float) -> None:
     """:func:`sgd_rows`, given ``shared_w1``: the hidden units' input from the shared part.
 
-    That is ``w1[:, :len(shared)] . shared`` as :func:`accumulate` sums it from zero, which
-    the compiled loop has summed at the trial's start (the weights change only at its end).
+    That is :func:`face_part` of ``shared``, which the compiled loop has summed at the
+    trial's start (the weights change only at its end).
     """
     n_hidden, n_out = w2.shape
     n_s = len(shared)

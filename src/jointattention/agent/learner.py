@@ -20,10 +20,17 @@ import numpy as np
 from .._arrays import rows
 from .._jit import jit
 from ..errors import ArgumentError
-from ._backprop import accumulate, forward, sgd_rows, sgd_rows_from, sgd_update
+from ._backprop import (
+    accumulate,
+    face_part,
+    forward,
+    sgd_rows,
+    sgd_rows_from,
+    sgd_update,
+)
 
-__all__ = ["NO_FACE_SEEN", "FaceStandardiser", "LearningModule", "accumulate", "forward",
-           "sgd_rows", "sgd_rows_from", "sgd_update", "standardise", "welford_update"]
+__all__ = ["NO_FACE_SEEN", "FaceStandardiser", "LearningModule", "accumulate", "face_part",
+           "forward", "sgd_rows", "sgd_rows_from", "sgd_update", "standardise", "welford_update"]
 
 # transform's error before any face (the compiled loops raise it too)
 NO_FACE_SEEN = "faces: the standardiser has seen no face; expected partial_fit before transform"
@@ -111,8 +118,8 @@ class LearningModule:
         n_hidden, n_out = self.w2_.shape
         out, h = np.empty((len(X), n_out)), np.empty(n_hidden)
         for x, o in zip(X, out, strict=True):
-            acc = np.zeros(n_hidden)
-            accumulate(x, self.w1_, 0, acc)
+            acc = np.empty(n_hidden)
+            face_part(x, self.w1_, acc)
             forward(acc, self.b1_, self.w2_, self.b2_, h, o)
         return out
 

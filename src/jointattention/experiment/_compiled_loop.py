@@ -16,7 +16,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.attention import interest_argmax, visual_feedback_rad
 from ..agent.gates import PERFORMANCE, agreement_update
-from ..agent.learner import sgd_rows_from, standardise, welford_update
+from ..agent.learner import face_part, sgd_rows_from, standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall
 from ..agent.moves import learning_samples, random_step, scale_angle_into
 from ..models._population_kernels import population_begin, population_learn
@@ -24,7 +24,7 @@ from ..models.bootstrap import LEARNING_TARGETS
 from ..models.developmental import blur_into, blur_px, caregiver_update
 from ..models.population import PopulationModule
 from ..world.kinematics import separation_rad
-from ._loop_agent import face_part, gate_rate, keep_place, lm_step, places_into
+from ._loop_agent import gate_rate, keep_place, lm_step, places_into
 from ._loop_steps import draw_trial, look, look_arrays
 from .trial import END_FIRED, RUNNING, move_head
 

@@ -4,7 +4,7 @@
 network's command at a head angle (with the face's part of its input summed once a trial), and
 the places the episodic memory and the population code keep from a trial. Each calls the
 kernels the step-by-step agent calls (:mod:`~jointattention.agent.gates`,
-:mod:`~jointattention.agent.learner`, :mod:`~jointattention.agent.memory`,
+:mod:`~jointattention.agent.moves`, :mod:`~jointattention.agent.memory`,
 :mod:`~jointattention.models.population`).
 """
 
@@ -20,12 +20,11 @@ from ..agent.gates import (
     performance_rate,
     sigmoid_rate,
 )
-from ..agent.learner import accumulate, forward
 from ..agent.memory import memory_store
-from ..agent.moves import scale_angle_into, unit_step
+from ..agent.moves import network_command, unit_step
 from ..models.population import line_step
 
-__all__ = ["face_part", "gate_rate", "keep_place", "lm_step", "places_into"]
+__all__ = ["gate_rate", "keep_place", "lm_step", "places_into"]
 
 
 @jit
@@ -49,10 +48,10 @@ def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, p
     """The learning module's command at a head angle (no step if the memory recalled nothing).
 
     As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`):
-    the network's weights, the head's scaling and ``face_acc``, the face's part of the hidden
-    input (:func:`face_part`); ``memory`` is whether the learner is the episodic memory;
-    ``line`` is whether it is the population code, the direction it read out and the trial's
-    start. The arrays come one by one, not in the loop's records: each array taken from a
+    the network's (:func:`~jointattention.agent.moves.network_command`, from ``face_acc``, the
+    face's part of the hidden input); ``memory`` is whether the learner is the episodic
+    memory; ``line`` is whether it is the population code, the direction it read out and the
+    trial's start. The arrays come one by one, not in the loop's records: each array taken from a
     record is counted in and out (two atomic operations), at every step.
     """
     if memory:
@@ -61,23 +60,8 @@ def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, p
         return unit_step(aim[0] - pan, aim[1] - tilt, step_rad)
     if line[0]:
         return line_step(line[2], line[3], line[1], pan, tilt, step_rad)
-    for i in range(len(acc)):  # element by element: quicker for numba to compile
-        acc[i] = face_acc[i]
-    scale_angle_into(pan, tilt, theta_mid_rad, theta_half_rad, scaled, 0)
-    accumulate(scaled, w1, w1.shape[1] - 2, acc)
-    forward(acc, b1, w2, b2, hid, out)
-    return unit_step(out[0], out[1], step_rad)
-
-
-@jit
-def face_part(face_x, w1, out) -> None:
-    """The face's part of the hidden units' input (:func:`accumulate` from zero).
-
-    Into ``out``; fixed for a trial, as the weights change only at its end.
-    """
-    for i in range(len(out)):  # element by element: quicker for numba to compile
-        out[i] = 0.0
-    accumulate(face_x, w1, 0, out)
+    return network_command(face_acc, pan, tilt, w1, b1, w2, b2, theta_mid_rad, theta_half_rad,
+                           step_rad, acc, scaled, hid, out)
 
 
 @jit

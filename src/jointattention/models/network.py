@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.learner import accumulate, forward
-from ..agent.moves import learning_samples, lm_commands_into, scale_angle_into, unit_step
+from ..agent.learner import face_part
+from ..agent.moves import learning_samples, lm_commands_into, network_command, scale_angle_into
 from ..agent.protocol import Outcome
 
 __all__ = ["NetworkModule"]
@@ -50,20 +50,17 @@ class NetworkModule:
 
     def _face_part(self, face_x: np.ndarray) -> np.ndarray:
         """The face's part of the hidden units' input: fixed for a trial (it learns at the end)."""
-        acc = np.zeros(len(self.host.learner.b1_))
-        accumulate(np.ascontiguousarray(face_x, dtype=float), self.host.learner.w1_, 0, acc)
+        acc = np.empty(len(self.host.learner.b1_))
+        face_part(np.ascontiguousarray(face_x, dtype=float), self.host.learner.w1_, acc)
         return acc
 
-    def _command(self, face_part: np.ndarray, theta_rad) -> np.ndarray:
-        h = self.host
-        learner, acc = h.learner, face_part.copy()
-        scaled = np.empty(2)
-        scale_angle_into(float(theta_rad[0]), float(theta_rad[1]), h.theta_mid_rad,
-                         h.theta_half_rad, scaled, 0)
-        accumulate(scaled, learner.w1_, learner.w1_.shape[1] - 2, acc)
-        hidden, out = np.empty(len(acc)), np.empty(2)
-        forward(acc, learner.b1_, learner.w2_, learner.b2_, hidden, out)
-        return np.array(unit_step(out[0], out[1], h.step_rad))
+    def _command(self, face_acc: np.ndarray, theta_rad) -> np.ndarray:
+        h, n_hidden = self.host, len(face_acc)
+        learner = h.learner
+        return np.array(network_command(
+            face_acc, float(theta_rad[0]), float(theta_rad[1]), learner.w1_, learner.b1_,
+            learner.w2_, learner.b2_, h.theta_mid_rad, h.theta_half_rad, h.step_rad,
+            np.empty(n_hidden), np.empty(2), np.empty(n_hidden), np.empty(2)))
 
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
         """A trial starts: the face (standardised by the agent's statistics) is fixed for it."""

@@ -12,7 +12,7 @@ import numpy as np
 
 from .._jit import jit
 from ..errors import ConfigError
-from .kinematics import CENTRED, centring_angles
+from .kinematics import CENTRED, centring_angles, forward_axis
 from .mjcf import HEAD_RADII_M
 from .options import WorldConfig
 
@@ -67,9 +67,8 @@ def place_into(rng, pos, rad, n_fixed, head_pos_m, face_radius_m, region, offset
         for j in range(batch):
             if placed == n:
                 break
-            cand[0] = dist[j] * (math.sin(pan[j]) * math.cos(tilt[j]))
-            cand[1] = dist[j] * (math.cos(pan[j]) * math.cos(tilt[j]))
-            cand[2] = dist[j] * math.sin(tilt[j])
+            f0, f1, f2 = forward_axis(pan[j], tilt[j])  # the direction at that head angle
+            cand[0], cand[1], cand[2] = dist[j] * f0, dist[j] * f1, dist[j] * f2
             cand_half, cand_norm = math.asin(radius[j] / dist[j]), _norm(cand)
             if not (_angle(cand, head_pos_m, cand_norm, head_norm) - cand_half - face_half
                     >= clearance):
