@@ -239,19 +239,28 @@ def test_a_replayed_trial_teaches_as_teaching_it_again():
 @given(seed=st.integers(0, 2**32 - 1), counts=st.lists(st.integers(0, 3), min_size=1, max_size=5))
 @settings(max_examples=40, deadline=None)
 def test_teaching_rows_in_one_pass_each_gives_the_bits_of_one_row_at_a_time(seed, counts):
-    """population_teach_rows (each w1 pass also sums the next row) equals row-by-row teaching."""
-    from jointattention.agent.population import population_teach, population_teach_rows
+    """population_teach_rows (one w1 pass per row, the last also averaging) equals row by row."""
+    from jointattention.agent.population import (
+        average_into,
+        population_teach,
+        population_teach_rows,
+    )
 
     rng = np.random.default_rng(seed)
     X, dirs = rng.normal(size=(len(counts), 9)), rng.uniform(-math.pi, math.pi, (len(counts), 3))
     a, b = (PopulationCode(9, PopulationOptions(n_hidden=6, n_bins=8), np.random.default_rng(seed))
             for _ in range(2))
-    taught = population_teach_rows(X, dirs, np.array(counts), a.kappa, *a.teach_arrays())
+    averaged_a = rng.normal(size=a.w1_.shape)
+    averaged_b = averaged_a.copy()
+    taught = population_teach_rows(X, dirs, np.array(counts), a.kappa, *a.teach_arrays(),
+                                   averaged_a, 0.3)
     for x, d, n in zip(X, dirs, counts, strict=True):
         population_teach(x, d[:n].copy(), b.kappa, *b.teach_arrays())
+    average_into(averaged_b.reshape(-1), b.w1_.reshape(-1), 0.3)
     assert taught == sum(counts)
     for name in ("w1_", "b1_", "w2_", "b2_", "hidden_mean_"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert np.array_equal(averaged_a, averaged_b)
     assert not np.array_equal(a.w1_, PopulationCode(9, PopulationOptions(n_hidden=6, n_bins=8),
                                                     np.random.default_rng(seed)).w1_) \
         or sum(counts) == 0

@@ -25,11 +25,13 @@ EXCESS, RATIO, MODE = 0, 1, 2  # the readouts (population.READOUTS), as codes
 def von_mises_into(psi_rad: float, kappa: float, weight: float, out) -> None:
     """Add ``weight`` times a von Mises bump at ``psi_rad`` (summing to 1 over the units)."""
     n = len(out)
+    bump = np.empty(n)  # each unit's exp once (the sum needs them all before the first share)
     total = 0.0
     for b in range(n):
-        total += math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0))
+        bump[b] = math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0))
+        total += bump[b]
     for b in range(n):
-        out[b] += weight * math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0)) / total
+        out[b] += weight * bump[b] / total
 
 
 @jit
@@ -47,8 +49,30 @@ def _softmax_into(z, p) -> None:
 
 @jit
 def _output_into(h, w2, b2, z) -> None:
-    """The output units' input ``z = w2 h + b2``."""
-    for b in range(len(z)):
+    """The output units' input ``z = w2 h + b2``.
+
+    Each unit's sum runs over the hidden units in order; eight units' sums advance together,
+    so no sum waits on its own last addition.
+    """
+    n, n8 = len(z), len(z) - len(z) % 8
+    for b in range(0, n8, 8):
+        s0, s1, s2, s3 = b2[b], b2[b + 1], b2[b + 2], b2[b + 3]
+        s4, s5, s6, s7 = b2[b + 4], b2[b + 5], b2[b + 6], b2[b + 7]
+        r0, r1, r2, r3 = w2[b], w2[b + 1], w2[b + 2], w2[b + 3]
+        r4, r5, r6, r7 = w2[b + 4], w2[b + 5], w2[b + 6], w2[b + 7]
+        for j in range(len(h)):
+            hj = h[j]
+            s0 += r0[j] * hj
+            s1 += r1[j] * hj
+            s2 += r2[j] * hj
+            s3 += r3[j] * hj
+            s4 += r4[j] * hj
+            s5 += r5[j] * hj
+            s6 += r6[j] * hj
+            s7 += r7[j] * hj
+        z[b], z[b + 1], z[b + 2], z[b + 3] = s0, s1, s2, s3
+        z[b + 4], z[b + 5], z[b + 6], z[b + 7] = s4, s5, s6, s7
+    for b in range(n8, n):
         s = b2[b]
         row = w2[b]
         for j in range(len(h)):
@@ -144,6 +168,20 @@ def _w1_step(x, grad_h, w1, x_next, h_next) -> None:
 
 
 @jit
+def _last_w1_step(x, grad_h, w1, averaged, rate: float) -> None:
+    """``w1 -= outer(x, grad_h)``, and the running average moves toward the new ``w1``.
+
+    :func:`average_into`'s ``a += rate (w - a)`` in the same pass (the same bits).
+    """
+    for i in range(len(x)):
+        xi, row, avg = x[i], w1[i], averaged[i]
+        for j in range(len(grad_h)):
+            w = row[j] - grad_h[j] * xi
+            row[j] = w
+            avg[j] += rate * (w - avg[j])
+
+
+@jit
 def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate: float, h, p,
                       grad_h) -> None:
     """One gradient step on the summed cross-entropy of ``n_taught`` places for input ``x``.
@@ -158,17 +196,20 @@ def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate:
 @jit
 def population_teach_rows(X, directions_rad, counts, kappa: float, w1, b1, w2, b2,
                           learning_rate: float, hidden_mean, hidden_rate: float, h, p, grad_h,
-                          taught) -> int:
+                          taught, averaged_w1, average_rate: float) -> int:
     """One update per row of ``X`` toward its places, in order; returns the places taught.
 
     Row r's places are ``directions_rad[r, :counts[r]]``, each spread by a von Mises bump of
     concentration ``kappa`` (a row without places is skipped); the running mean of the hidden
     units moves toward each input's at ``hidden_rate``. Each update's pass over ``w1`` also
     sums the next row's hidden units (:func:`_w1_step`): one pass per update, not two, with
-    the bits of one row at a time.
+    the bits of one row at a time. With ``averaged_w1`` (else None), the last update's pass
+    also moves that running average of ``w1`` once, at ``average_rate``.
     """
     rows = np.flatnonzero(counts > 0)
     if len(rows) == 0:
+        if averaged_w1 is not None:
+            average_into(averaged_w1.reshape(-1), w1.reshape(-1), average_rate)
         return 0
     h_next = np.empty(len(h))
     population_forward(X[rows[0]], w1, b1, w2, b2, h, p)
@@ -182,7 +223,9 @@ def population_teach_rows(X, directions_rad, counts, kappa: float, w1, b1, w2, b
         _backward_into(taught, float(counts[r]), b1, w2, b2, learning_rate, h, p, grad_h)
         for j in range(len(h)):
             hidden_mean[j] += hidden_rate * (h[j] - hidden_mean[j])
-        if k + 1 == len(rows):
+        if k + 1 == len(rows) and averaged_w1 is not None:
+            _last_w1_step(X[r], grad_h, w1, averaged_w1, average_rate)
+        elif k + 1 == len(rows):
             _w1_step(X[r], grad_h, w1, None, None)
         else:
             h_next[:] = b1
@@ -269,7 +312,8 @@ def population_teach(x, directions_rad, kappa: float, w1, b1, w2, b2, learning_r
     """
     population_teach_rows(x.reshape(1, -1), directions_rad.reshape(1, -1),
                           np.array([len(directions_rad)]), kappa, w1, b1, w2, b2,
-                          learning_rate, hidden_mean, hidden_rate, h, p, grad_h, taught)
+                          learning_rate, hidden_mean, hidden_rate, h, p, grad_h, taught,
+                          None, 0.0)
 
 
 @jit

@@ -220,8 +220,8 @@ def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
                      taught_rad[1:], n_taught[1:])
     a.counters[1] += population_teach_rows(
         X, taught_rad, n_taught, a.kappa, a.w1, a.b1, a.w2, a.b2, a.learning_rate,
-        a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught)
-    average_into(a.averaged_w1.reshape(-1), a.w1.reshape(-1), a.average_rate)
+        a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught, a.averaged_w1,
+        a.average_rate)  # the last update's pass moves averaged_w1
     average_into(a.averaged_b1, a.b1, a.average_rate)
     average_into(a.averaged_w2.reshape(-1), a.w2.reshape(-1), a.average_rate)
     average_into(a.averaged_b2, a.b2, a.average_rate)
