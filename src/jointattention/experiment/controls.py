@@ -34,17 +34,19 @@ def blank_spread_deg(agent, ds: CaregiverDatasets) -> float:
     return float(np.rad2deg(np.sqrt(-2 * np.log(r))))
 
 
-def mirror_flip_share(agent, ds: CaregiverDatasets, min_pan_deg: float = 10.0) -> float:
+def mirror_flip_share(agent, ds: CaregiverDatasets, min_pan_deg: float = 10.0,
+                      commands: np.ndarray | None = None) -> float:
     """The share of data sets whose horizontal command flips sign for the mirrored face.
 
     Among the data sets whose command to the target turns the head by more than
     ``min_pan_deg`` sideways (the side is clear); the mirrored face is the window flipped left
-    to right at the head angle with its pan negated.
+    to right at the head angle with its pan negated. ``commands``: the module's commands at
+    every data set's face (N, 2), if already taken.
     """
     side = np.abs(np.rad2deg(ds.command_rad[:, 0])) > min_pan_deg
     faces, thetas = ds.face[side], ds.theta_face_rad[side]
     mirrored = np.ascontiguousarray(faces[:, :, ::-1])
     flip = thetas * [-1.0, 1.0]
-    pan = agent.lm_commands(faces, thetas)[:, 0]
+    pan = (agent.lm_commands(faces, thetas) if commands is None else commands[side])[:, 0]
     pan_mirrored = agent.lm_commands(mirrored, flip)[:, 0]
     return float(np.mean(np.sign(pan) == -np.sign(pan_mirrored)))

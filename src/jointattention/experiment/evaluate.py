@@ -117,11 +117,15 @@ def oracle_success(ds: CaregiverDatasets, config: Config, n_objects: int, n_tria
                        stream(seed, "evaluate-ceiling", n_objects)) / n_trials
 
 
-def _errors(agent, ds: CaregiverDatasets) -> tuple[float, float, float]:
-    """Median and 90th percentile angle error, and the share of identities above AIM_DEG."""
+def _errors(agent, ds: CaregiverDatasets,
+            outputs: np.ndarray | None = None) -> tuple[float, float, float]:
+    """Median and 90th percentile angle error, and the share of identities above AIM_DEG.
+
+    ``outputs``: the module's outputs at ``ds``'s faces (N, 2), if already taken.
+    """
     if not hasattr(agent, "lm_command"):
         return float("nan"), float("nan"), float("nan")
-    e = angle_errors(agent, ds)
+    e = angle_errors(agent, ds, outputs)
     who = np.zeros(len(ds), int) if ds.caregiver is None else ds.caregiver
     medians = np.array([np.median(e[who == i]) for i in np.unique(who)])
     return (float(np.median(e)), float(np.percentile(e, 90)),

@@ -149,10 +149,13 @@ def measure_held_out(agent, config: Config, n_objects: int) -> np.ndarray:
         if kind in sets:  # else not measured: NaN
             ds = sets[kind]
             out[0, j] = frozen_success(frozen, ds, config, n_objects, h.n_trials, config.seed)
-            out[1:4, j] = _errors(frozen, ds)
-            if hasattr(frozen, "lm_commands"):  # the controls (experiment/controls.py)
-                out[4, j], out[5, j] = blank_spread_deg(frozen, ds), mirror_flip_share(frozen,
-                                                                                       ds)
+            if not hasattr(frozen, "lm_commands"):
+                out[1:4, j] = _errors(frozen, ds)
+                continue
+            commands = frozen.lm_commands(ds.face, ds.theta_face_rad)  # taken once, for both
+            out[1:4, j] = _errors(frozen, ds, commands)
+            out[4, j] = blank_spread_deg(frozen, ds)  # the controls (experiment/controls.py)
+            out[5, j] = mirror_flip_share(frozen, ds, commands=commands)
     return out
 
 

@@ -64,13 +64,14 @@ def _axis_errors_of(u: np.ndarray, ds: CaregiverDatasets) -> tuple[float, float]
     return tuple(float(np.median(np.rad2deg(np.abs(e[:, i])))) for i in (0, 1))
 
 
-def angle_errors(agent, ds: CaregiverDatasets) -> np.ndarray:
+def angle_errors(agent, ds: CaregiverDatasets, outputs: np.ndarray | None = None) -> np.ndarray:
     """Per data set, the angle (deg) from the module's output to the command to the target.
 
     The output is taken at the face (``agent.lm_commands``, or ``agent.lm_command`` one face
-    at a time), the command is the one that centres the target.
+    at a time; or ``outputs``, those outputs already taken), the command is the one that
+    centres the target.
     """
-    return _angle_errors_of(_outputs(agent, ds), ds)
+    return _angle_errors_of(_outputs(agent, ds) if outputs is None else outputs, ds)
 
 
 def _angle_errors_of(out: np.ndarray, ds: CaregiverDatasets) -> np.ndarray:

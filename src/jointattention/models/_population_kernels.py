@@ -77,24 +77,35 @@ def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_
     """The first step from each face (K, pixels) at its head angle (K, 2): ``out`` (K, 2).
 
     A batch of faces at a time shares each pass over ``w1`` (:func:`population_hidden_into`:
-    the same bits as one face at a time); a face the same as the one before (a blank face at
-    many head angles) reuses its features.
+    the same bits as one face at a time). A face the same as the one before (a blank face at
+    many head angles) reuses its features and its hidden units' sums over them: the head
+    angle's two inputs come last, so adding theirs to those sums gives the whole sums' bits.
     """
-    X, H = np.empty((_BATCH, len(w1))), np.empty((_BATCH, len(b1)))
-    features = np.empty(len(w1) - 2)
-    p, z, score = np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
+    n_face = len(w1) - 2  # the inputs before the head angle's
+    X, G = np.empty((_BATCH, len(w1))), np.empty((_BATCH, len(b1)))  # each face's input, sums
+    group = np.empty(_BATCH, np.int64)  # each row's face among the batch's faces
+    features, angle = np.empty(n_face), np.empty(2)
+    h, p, z, score = np.empty(len(b1)), np.empty(len(b2)), np.empty(len(b2)), np.empty(len(b2))
     if readout == EXCESS:
         average_face_into(hidden_mean, w2, b2, z)
     for k0 in range(0, len(faces), _BATCH):
-        n = min(_BATCH, len(faces) - k0)
+        n, m = min(_BATCH, len(faces) - k0), 0
         for k in range(k0, k0 + n):
-            if k == 0 or not np.array_equal(faces[k], faces[k - 1]):  # e.g. a blank face
+            new = k == 0 or not np.array_equal(faces[k], faces[k - 1])
+            if new:  # e.g. not the blank face again
                 features_into(faces[k], spec, features)
-            input_of_features_into(features, thetas[k, 0], thetas[k, 1], spec, mean, m2, n_seen,
-                                   X[k - k0])
-        population_hidden_into(X[:n], w1, b1, H[:n])
+            if new or k == k0:
+                input_of_features_into(features, thetas[k, 0], thetas[k, 1], spec, mean, m2,
+                                       n_seen, X[m])
+                m += 1
+            group[k - k0] = m - 1
+        population_hidden_into(X[:m, :n_face], w1[:n_face], b1, G[:m])
         for k in range(k0, k0 + n):
-            h = H[k - k0]
+            h[:] = G[group[k - k0]]
+            scale_angle_into(thetas[k, 0], thetas[k, 1], spec.theta_mid_rad, spec.theta_half_rad,
+                             angle, 0)
+            for j in range(len(h)):  # the last two inputs, in order
+                h[j] = (h[j] + w1[n_face, j] * angle[0]) + w1[n_face + 1, j] * angle[1]
             population_activate(h, w2, b2, p)
             scores_of_output_into(h, p, w2, hidden_mean, readout, z, score)
             psi, _ = population_readout(score)
