@@ -1,7 +1,7 @@
-"""The population code's compiled kernels (:mod:`.population` is their wrapper).
+"""The population code's compiled forward pass and readout (:mod:`.population` wraps them).
 
-The forward pass, the cross-entropy step, the readout's scores and direction, and the running
-averages: the step-by-step agent and the batched commands call the same ones.
+The hidden and output units, the readout's scores and direction: the step-by-step agent and
+the batched commands call the same ones; :mod:`._population_teaching` holds the learning step.
 """
 
 from __future__ import annotations
@@ -12,26 +12,11 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["EXCESS", "MODE", "RATIO", "average_face_into", "average_into",
-           "population_activate", "population_forward", "population_hidden_into",
-           "population_readout", "population_scores_into", "population_teach",
-           "population_teach_rows", "population_update", "scores_of_output_into",
-           "von_mises_into"]
+__all__ = ["EXCESS", "MODE", "RATIO", "average_face_into", "population_activate",
+           "population_forward", "population_hidden_into", "population_readout",
+           "population_scores_into", "scores_of_output_into"]
 
 EXCESS, RATIO, MODE = 0, 1, 2  # the readouts (population.READOUTS), as codes
-
-
-@jit
-def von_mises_into(psi_rad: float, kappa: float, weight: float, out) -> None:
-    """Add ``weight`` times a von Mises bump at ``psi_rad`` (summing to 1 over the units)."""
-    n = len(out)
-    bump = np.empty(n)  # each unit's exp once (the sum needs them all before the first share)
-    total = 0.0
-    for b in range(n):
-        bump[b] = math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0))
-        total += bump[b]
-    for b in range(n):
-        out[b] += weight * bump[b] / total
 
 
 @jit
@@ -126,116 +111,6 @@ def population_forward(x, w1, b1, w2, b2, h, p) -> None:
 
 
 @jit
-def _backward_into(taught, n_taught: float, b1, w2, b2, learning_rate: float, h, p,
-                   grad_h) -> None:
-    """The output layer's and ``b1``'s step; in ``grad_h`` the step at each unit's input.
-
-    The gradient of the summed cross-entropy of ``n_taught`` places (``taught``: the sum of
-    their spread directions) at the output units' input is ``n_taught p - taught``.
-    """
-    grad_h[:] = 0.0
-    for b in range(len(p)):
-        g = n_taught * p[b] - taught[b]
-        row = w2[b]
-        for j in range(len(h)):
-            grad_h[j] += g * row[j]
-            row[j] -= learning_rate * g * h[j]
-        b2[b] -= learning_rate * g
-    for j in range(len(h)):
-        grad_h[j] = grad_h[j] * (1.0 - h[j] * h[j]) * learning_rate
-        b1[j] -= grad_h[j]
-
-
-@jit
-def _w1_step(x, grad_h, w1, x_next, h_next) -> None:
-    """``w1 -= outer(x, grad_h)``; with ``x_next``, ``h_next += x_next w1`` in the same pass.
-
-    The pass over ``w1`` (the network's bulk) then also sums the next input's hidden units
-    with the new weights, in the order :func:`population_forward` sums them.
-    """
-    if x_next is None:
-        for i in range(len(x)):
-            xi, row = x[i], w1[i]
-            for j in range(len(grad_h)):
-                row[j] -= grad_h[j] * xi
-    else:
-        for i in range(len(x)):
-            xi, xn, row = x[i], x_next[i], w1[i]
-            for j in range(len(grad_h)):
-                w = row[j] - grad_h[j] * xi
-                row[j] = w
-                h_next[j] += w * xn
-
-
-@jit
-def _last_w1_step(x, grad_h, w1, averaged, rate: float) -> None:
-    """``w1 -= outer(x, grad_h)``, and the running average moves toward the new ``w1``.
-
-    :func:`average_into`'s ``a += rate (w - a)`` in the same pass (the same bits).
-    """
-    for i in range(len(x)):
-        xi, row, avg = x[i], w1[i], averaged[i]
-        for j in range(len(grad_h)):
-            w = row[j] - grad_h[j] * xi
-            row[j] = w
-            avg[j] += rate * (w - avg[j])
-
-
-@jit
-def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate: float, h, p,
-                      grad_h) -> None:
-    """One gradient step on the summed cross-entropy of ``n_taught`` places for input ``x``.
-
-    ``taught`` is the sum of their spread directions (:func:`_backward_into`).
-    """
-    population_forward(x, w1, b1, w2, b2, h, p)
-    _backward_into(taught, n_taught, b1, w2, b2, learning_rate, h, p, grad_h)
-    _w1_step(x, grad_h, w1, None, None)
-
-
-@jit
-def population_teach_rows(X, directions_rad, counts, kappa: float, w1, b1, w2, b2,
-                          learning_rate: float, hidden_mean, hidden_rate: float, h, p, grad_h,
-                          taught, averaged_w1, average_rate: float) -> int:
-    """One update per row of ``X`` toward its places, in order; returns the places taught.
-
-    Row r's places are ``directions_rad[r, :counts[r]]``, each spread by a von Mises bump of
-    concentration ``kappa`` (a row without places is skipped); the running mean of the hidden
-    units moves toward each input's at ``hidden_rate``. Each update's pass over ``w1`` also
-    sums the next row's hidden units (:func:`_w1_step`): one pass per update, not two, with
-    the bits of one row at a time. With ``averaged_w1`` (else None), the last update's pass
-    also moves that running average of ``w1`` once, at ``average_rate``.
-    """
-    rows = np.flatnonzero(counts > 0)
-    if len(rows) == 0:
-        if averaged_w1 is not None:
-            average_into(averaged_w1.reshape(-1), w1.reshape(-1), average_rate)
-        return 0
-    h_next = np.empty(len(h))
-    population_forward(X[rows[0]], w1, b1, w2, b2, h, p)
-    n_taught = 0
-    for k in range(len(rows)):
-        r = rows[k]
-        taught[:] = 0.0
-        for d in range(counts[r]):
-            von_mises_into(directions_rad[r, d], kappa, 1.0, taught)
-        n_taught += counts[r]
-        _backward_into(taught, float(counts[r]), b1, w2, b2, learning_rate, h, p, grad_h)
-        for j in range(len(h)):
-            hidden_mean[j] += hidden_rate * (h[j] - hidden_mean[j])
-        if k + 1 == len(rows) and averaged_w1 is not None:
-            _last_w1_step(X[r], grad_h, w1, averaged_w1, average_rate)
-        elif k + 1 == len(rows):
-            _w1_step(X[r], grad_h, w1, None, None)
-        else:
-            h_next[:] = b1
-            _w1_step(X[r], grad_h, w1, X[rows[k + 1]], h_next)
-            h[:] = h_next
-            population_activate(h, w2, b2, p)
-    return n_taught
-
-
-@jit
 def population_readout(score) -> tuple[float, float]:
     """The direction (rad) of the largest ``score`` over the units, and that score.
 
@@ -301,23 +176,3 @@ def scores_of_output_into(h, p, w2, hidden_mean, readout: int, average_p, score)
     else:
         for b in range(len(p)):
             score[b] = p[b] - average_p[b]
-
-
-@jit
-def population_teach(x, directions_rad, kappa: float, w1, b1, w2, b2, learning_rate: float,
-                     hidden_mean, hidden_rate: float, h, p, grad_h, taught) -> None:
-    """One update toward the places found in ``directions_rad`` for input ``x``.
-
-    :func:`population_teach_rows` of one row.
-    """
-    population_teach_rows(x.reshape(1, -1), directions_rad.reshape(1, -1),
-                          np.array([len(directions_rad)]), kappa, w1, b1, w2, b2,
-                          learning_rate, hidden_mean, hidden_rate, h, p, grad_h, taught,
-                          None, 0.0)
-
-
-@jit
-def average_into(averaged, weights, rate: float) -> None:
-    """Move the running averages toward the weights: ``a += rate (w - a)`` (flat arrays)."""
-    for i in range(len(averaged)):
-        averaged[i] += rate * (weights[i] - averaged[i])

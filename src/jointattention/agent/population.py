@@ -19,7 +19,8 @@ direction whose probability for this face most exceeds its probability for the a
 Inputs are the robot's own features of the face window (:mod:`.face_features`) and the head
 angle at the face. The kernels (:func:`population_forward`, :func:`population_teach_rows`,
 :func:`population_scores_into`, :func:`population_readout`, ...) are compiled, in
-:mod:`._population_kernels`; :class:`PopulationCode` is their scikit-learn-style wrapper
+:mod:`._population_kernels` (the forward pass and readout) and :mod:`._population_teaching`
+(the learning step); :class:`PopulationCode` is their scikit-learn-style wrapper
 (``partial_fit`` on inputs and directions, ``predict`` a direction).
 """
 
@@ -35,16 +36,18 @@ from .._fields import Section, param
 from ._population_kernels import (
     EXCESS,
     average_face_into,
-    average_into,
     population_activate,
     population_forward,
     population_hidden_into,
     population_readout,
     population_scores_into,
+    scores_of_output_into,
+)
+from ._population_teaching import (
+    average_into,
     population_teach,
     population_teach_rows,
     population_update,
-    scores_of_output_into,
     von_mises_into,
 )
 
