@@ -77,14 +77,14 @@ def _w1_step(x, grad_h, w1, x_next, h_next) -> None:
 def _last_w1_step(x, grad_h, w1, averaged, rate: float) -> None:
     """``w1 -= outer(x, grad_h)``, and the running average moves toward the new ``w1``.
 
-    :func:`average_into`'s ``a += rate (w - a)`` in the same pass (the same bits).
+    :func:`average_into`'s step in the same pass.
     """
     for i in range(len(x)):
         xi, row, avg = x[i], w1[i], averaged[i]
         for j in range(len(grad_h)):
             w = row[j] - grad_h[j] * xi
             row[j] = w
-            avg[j] += rate * (w - avg[j])
+            avg[j] = _toward(avg[j], w, rate)
 
 
 @jit
@@ -158,4 +158,10 @@ def population_teach(x, directions_rad, kappa: float, w1, b1, w2, b2, learning_r
 def average_into(averaged, weights, rate: float) -> None:
     """Move the running averages toward the weights: ``a += rate (w - a)`` (flat arrays)."""
     for i in range(len(averaged)):
-        averaged[i] += rate * (weights[i] - averaged[i])
+        averaged[i] = _toward(averaged[i], weights[i], rate)
+
+
+@jit
+def _toward(a: float, w: float, rate: float) -> float:
+    """A running average ``a`` moved toward ``w`` (Polyak averaging)."""
+    return a + rate * (w - a)
