@@ -109,7 +109,7 @@ def test_bench_estimates_every_preset():
     learner's (generalise) by their own.
     """
     from jointattention.config import preset_names
-    from jointattention.jobs.bench import preset_estimates
+    from jointattention.jobs.estimates import preset_estimates
 
     rates = {"compiled": 1e5, "python": 1e4, "rendered": 50.0, "memory": 1e4, "rl": 1e4,
              "population": 1e4}
@@ -124,6 +124,20 @@ def test_bench_estimates_every_preset():
     faster_memory = dict((r[0].split(":")[0], r[1]) for r in preset_estimates(
         {**rates, "memory": 2e4}, 2))["preset beyond"]
     assert faster_memory < beyond
+
+
+def test_the_estimates_read_each_rate_by_its_row_s_name_wherever_it_is_printed():
+    """agent_rates finds each kind's rate by its row's name: the bench's order does not matter."""
+    from jointattention.jobs.bench import AGENT_RATE_ROWS
+    from jointattention.jobs.estimates import agent_rates
+
+    rows = [(name, float(i + 1), "steps/s") for i, name in enumerate(AGENT_RATE_ROWS.values())]
+    expected = {kind: float(i + 1) for i, kind in enumerate(AGENT_RATE_ROWS)}
+    extra = [("agent steps, rendered mode, another view", 7.0, "steps/s"), ("a ratio", 3.0, "x")]
+    assert agent_rates(rows) == expected
+    assert agent_rates(extra[:1] + rows[::-1] + extra[1:]) == expected
+    with pytest.raises(KeyError):
+        agent_rates(rows[1:])
 
 
 def test_gaze_refuses_an_unknown_condition(capsys):

@@ -58,23 +58,20 @@ def _cmd_bench(args: argparse.Namespace) -> None:
     from ..config import load_config
     from ..jobs.bench import (
         compile_times,
-        preset_estimates,
         run_agent_benchmark,
         run_env_benchmark,
         run_follow_benchmark,
-        run_preset,
         run_world_benchmarks,
     )
+    from ..jobs.estimates import agent_rates, preset_estimates, run_preset
 
     n_workers = workers(args)
     for preset in args.run:
         load_config(preset)  # an unknown preset is refused before anything runs
     rows = compile_times() + run_world_benchmarks(load_config(args.config).world)
     agent = run_agent_benchmark()
-    rates = dict(zip(("compiled", "python", "rendered", "memory", "rl", "population"),
-                     (r[1] for r in agent[:6]), strict=True))
     rows += run_env_benchmark() + run_follow_benchmark() + agent + preset_estimates(
-        rates, n_workers)
+        agent_rates(agent), n_workers)
     for preset in args.run:
         rows += run_preset(preset, n_workers)
     for name, value, unit in rows:

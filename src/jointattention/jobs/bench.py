@@ -15,8 +15,16 @@ from ..config import WorldConfig
 from ..world.options import FAST_CAMERA
 from .env_bench import run_env_benchmark, with_camera
 
-__all__ = ["compile_times", "preset_estimates", "run_agent_benchmark", "run_env_benchmark",
-           "run_follow_benchmark", "run_preset", "run_world_benchmarks"]
+__all__ = ["AGENT_RATE_ROWS", "compile_times", "run_agent_benchmark", "run_env_benchmark",
+           "run_follow_benchmark", "run_world_benchmarks"]
+
+AGENT_RATE_ROWS = {  # each kind of cell the preset estimates know, and its row
+    "compiled": "agent steps, compiled engine, learning (quick n5-sigmoid)",
+    "python": "agent steps, python engine, learning (same cell)",
+    "rendered": "agent steps, rendered mode + OpenCV, learning (same cell)",
+    "memory": "agent steps, compiled engine, memory learner (beyond memory-n5)",
+    "rl": "agent steps, compiled engine, RL learner (models rl-n5, 1e5 steps)",
+    "population": "agent steps, compiled engine, population learner (quick n5, 1e5 steps)"}
 
 
 def _rate(fn: Callable[[int], object], n: int, repeats: int = 3) -> float:
@@ -167,15 +175,10 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     population = _cell_rate(config, population_cell, n_steps=100_000)
     population_python = _cell_rate(config, population_cell, n_steps=50_000, engine="python")
     step_us, bound_us, trial_us = 1e6 / compiled, _update_us(), _update_us(trial_rows=10)
-    # the first six rows are the rates of the preset estimates, in the order the CLI reads them
-    return [("agent steps, compiled engine, learning (quick n5-sigmoid)", compiled, "steps/s"),
-            ("agent steps, python engine, learning (same cell)", python, "steps/s"),
-            ("agent steps, rendered mode + OpenCV, learning (same cell)", rendered, "steps/s"),
-            ("agent steps, compiled engine, memory learner (beyond memory-n5)", memory,
-             "steps/s"),
-            ("agent steps, compiled engine, RL learner (models rl-n5, 1e5 steps)", rl, "steps/s"),
-            ("agent steps, compiled engine, population learner (quick n5, 1e5 steps)",
-             population, "steps/s"),
+    named = AGENT_RATE_ROWS
+    return [(named["compiled"], compiled, "steps/s"), (named["python"], python, "steps/s"),
+            (named["rendered"], rendered, "steps/s"), (named["memory"], memory, "steps/s"),
+            (named["rl"], rl, "steps/s"), (named["population"], population, "steps/s"),
             ("agent steps, python engine, population learner (same cell, 5e4 steps)",
              population_python, "steps/s"),
             ("agent steps, rendered mode, the view rendered with FAST_CAMERA (quick n5-sigmoid)",
@@ -253,47 +256,3 @@ def compile_times() -> list[tuple[str, float, str]]:
             subprocess.run([sys.executable, "-c", script], env=env, check=True)
             rows.append((name, time.perf_counter() - start, "s"))
     return rows
-
-
-def preset_estimates(rates: dict[str, float], workers: int) -> list[tuple[str, float, str]]:
-    """Estimated wall time of each shipped preset.
-
-    Its agent-steps over ``workers`` processes, each cell at the rate of its engine, perception
-    or learner (``rates``: "compiled", "python", "rendered", "memory", "rl", "population");
-    ``reproduce`` records the measured time (held-out measures and recordings not estimated).
-    """
-    from ..config import load_config, model_options, preset_names
-    from ..experiment.cells import engine_of
-    from ..models.registry import MODELS
-
-    rows = []
-    for name in preset_names():
-        config = load_config(name)
-        exp, minutes = config.experiment, 0.0
-        for c in exp.conditions:
-            kind = "rendered" if exp.perception == "rendered" else engine_of(config, c)
-            options = model_options(config, c)
-            if getattr(options, "learner", "") in ("memory", "population"):
-                kind = options.learner
-            elif MODELS.name_of(options) == "rl":
-                kind = "rl"
-            minutes += exp.n_seeds * exp.n_steps / rates[kind] / 60
-        cells = len(exp.conditions) * exp.n_seeds
-        rounds = np.ceil(cells / workers)  # cells are the unit of parallel work
-        rows.append((f"preset {name}: {cells} cells on {workers} workers (estimate)",
-                     minutes / cells * rounds, "min"))
-    return rows
-
-
-def run_preset(name: str, workers: int) -> list[tuple[str, float, str]]:
-    """Measured wall time of running preset ``name`` from scratch (in a temporary folder)."""
-    import tempfile
-
-    from ..config import load_config
-    from .reproduce import run_experiment
-
-    with tempfile.TemporaryDirectory() as tmp:
-        start = time.perf_counter()
-        run_experiment(load_config(name), tmp, workers=workers)
-        wall = time.perf_counter() - start
-    return [(f"preset {name}: cells on {workers} workers (measured)", wall / 60, "min")]
