@@ -100,12 +100,11 @@ def commands_into(faces, thetas, spec, mean, m2, n_seen, w1, b1, w2, b2, hidden_
                 m += 1
             group[k - k0] = m - 1
         population_hidden_into(X[:m, :n_face], w1[:n_face], b1, G[:m])
-        for k in range(k0, k0 + n):
-            h[:] = G[group[k - k0]]
+        for k in range(k0, k0 + n):  # the sums go on from the face's, over the angle's two
             scale_angle_into(thetas[k, 0], thetas[k, 1], spec.theta_mid_rad, spec.theta_half_rad,
                              angle, 0)
-            for j in range(len(h)):  # the last two inputs, in order
-                h[j] = (h[j] + w1[n_face, j] * angle[0]) + w1[n_face + 1, j] * angle[1]
+            population_hidden_into(angle.reshape((1, 2)), w1[n_face:], G[group[k - k0]],
+                                   h.reshape((1, len(h))))
             population_activate(h, w2, b2, p)
             scores_of_output_into(h, p, w2, hidden_mean, readout, z, score)
             psi, _ = population_readout(score)
