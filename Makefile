@@ -27,9 +27,10 @@ demo: $(BASE)
 	$(BIN)/jointattention reproduce --preset paper --out runs/demo
 	$(BIN)/jointattention report runs/demo
 
+# pytest-xdist spreads the tests over the cores (-n auto; each test keeps to its own folders).
 test: $(STAMP)
 	$(BIN)/ruff check src tests examples docs
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n auto
 
 # The tests of Stable-Baselines3, in a venv of their own: PyTorch stays out of `make test`'s.
 # torch 2.13.0 first: where the machine keeps a CPU build of it (pip's find-links), pip takes
