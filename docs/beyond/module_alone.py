@@ -1,0 +1,84 @@
+"""How fast each learning module learns, apart from the gate that hands it control.
+
+Issue 31 asks for 90% of the final success within 3x10^4 steps. The live success is a mix of
+visual attention (chance) and the module, in the proportion the gate chooses, so it cannot be
+near its final before the module alone is. This script learns cells of the beyond preset's
+world (125 data sets, the sigmoid gate: visual attention drives until about 10^5 steps) and, at
+each 10^4 steps up to 10^5, freezes a copy of the agent, sets its learning time past the
+sigmoid (the gate's rate 1: the module drives every step) and measures its success on 1,000
+trials of the training data sets, as a fraction of the oracle's (4,000 trials): what the module
+would do if the gate handed it everything then.
+
+Modules: the paper's network, the episodic memory and the population code (``learner =
+"population"``, which the beyond preset does not run), at 5 and 10 objects, seeds 0-2.
+
+Run from the repository: ``python docs/beyond/module_alone.py`` (about 3 min on one core); it
+writes ``docs/beyond/module_alone.md``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import numpy as np
+
+from jointattention import load_config
+from jointattention.experiment.cells import datasets_of, run_cell
+from jointattention.experiment.evaluate import freeze, frozen_success, oracle_success
+
+CHECKPOINTS = tuple(range(10_000, 100_001, 10_000))
+SEEDS, N_TRIALS, N_CEILING_TRIALS = (0, 1, 2), 1000, 4000
+SWEEP = {"vf_fallback": "sweep"}
+MODELS = {"paper": {}, "memory": {"learner": "memory", **SWEEP},
+          "population": {"learner": "population", **SWEEP}}
+
+
+def module_alone(agent, config, ds, n_objects: int) -> float:
+    """The frozen ``agent``'s success with the gate's rate at 1 (its learning time past it)."""
+    frozen = freeze(agent)
+    frozen.learning_time_steps = 100 * config.experiment.n_steps
+    assert frozen.gate_rate() > 0.999, "expected the sigmoid gate, handed over by then"
+    return frozen_success(frozen, ds, config, n_objects, N_TRIALS, config.seed)
+
+
+def curve(config, model: dict, n_objects: int, seed: int, ds) -> list[float]:
+    """The module alone's success at each checkpoint of one cell (not yet over the ceiling)."""
+    condition = dataclasses.replace(config.experiment.conditions[0], name="module-alone",
+                                    n_objects=n_objects, model=model)
+    found: dict[int, float] = {}
+
+    def measure(t: int, agent) -> None:
+        found[t] = module_alone(agent, config, ds, n_objects)
+
+    run_cell(config, condition, seed, checkpoints=CHECKPOINTS, on_checkpoint=measure)
+    return [found[t] for t in CHECKPOINTS]
+
+
+def main() -> None:
+    beyond = load_config("beyond")
+    config = dataclasses.replace(beyond, experiment=dataclasses.replace(
+        beyond.experiment, n_steps=CHECKPOINTS[-1]))
+    ds = datasets_of(config)
+    head = " | ".join(f"{t // 10_000}" for t in CHECKPOINTS)
+    rows = [f"| module | objects | {head} |", "|---|---|" + "---|" * len(CHECKPOINTS)]
+    for n_objects in (5, 10):
+        ceiling = oracle_success(ds, config, n_objects, N_CEILING_TRIALS, config.seed)
+        for name, model in MODELS.items():
+            runs = np.array([curve(config, model, n_objects, s, ds) for s in SEEDS]) / ceiling
+            cells = " | ".join(f"{m:.2f} ({lo:.2f}-{hi:.2f})" for m, lo, hi in
+                               zip(runs.mean(0), runs.min(0), runs.max(0), strict=True))
+            rows.append(f"| {name} | {n_objects} | {cells} |")
+            print(rows[-1], flush=True)
+    out = Path(__file__).with_name("module_alone.md")
+    out.write_text(
+        "Each learning module alone (the frozen agent with the gate's rate at 1), learned in "
+        "the beyond preset's world under the sigmoid gate: its success on the training data "
+        "sets as a fraction of the oracle's, at each learning time (columns, in 10^4 steps); "
+        f"mean over seeds {SEEDS[0]}-{SEEDS[-1]} (lowest-highest); written by "
+        "`python docs/beyond/module_alone.py`.\n\n" + "\n".join(rows) + "\n")
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
