@@ -12,7 +12,7 @@ would do if the gate handed it everything then.
 Modules: the paper's network, the episodic memory and the population code (``learner =
 "population"``, which the beyond preset does not run), at 5 and 10 objects, seeds 0-2.
 
-Run from the repository: ``python docs/beyond/module_alone.py`` (about 3 min on one core); it
+Run from the repository: ``python docs/beyond/module_alone.py`` (about 80 s on one core); it
 writes ``docs/beyond/module_alone.md``.
 """
 
