@@ -42,8 +42,10 @@ $(RL_STAMP): pyproject.toml
 	$(RL_BIN)/python -m pip install --quiet -e ".[dev,rl]"
 	touch $(RL_STAMP)
 
+# One thread each: PyTorch trains these small policies faster on one thread than on two, and
+# the tests run side by side (pytest-xdist).
 test-rl: $(RL_STAMP)
-	$(RL_BIN)/python -m pytest -q -m rl
+	OMP_NUM_THREADS=1 $(RL_BIN)/python -m pytest -q -m rl -n auto
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests examples docs
