@@ -9,10 +9,11 @@ sigmoid (the gate's rate 1: the module drives every step) and measures its succe
 trials of the training data sets, as a fraction of the oracle's (4,000 trials): what the module
 would do if the gate handed it everything then.
 
-Modules: the paper's network, the episodic memory and the population code (``learner =
-"population"``, which the beyond preset does not run), at 5 and 10 objects, seeds 0-2.
+Modules: the paper's network, the episodic memory (64 neighbours, the default, and 32, as in
+the preset's fastest cell) and the population code (``learner = "population"``, which the
+beyond preset does not run), at 5 and 10 objects, seeds 0-2.
 
-Run from the repository: ``python docs/beyond/module_alone.py`` (about 80 s on one core); it
+Run from the repository: ``python docs/beyond/module_alone.py`` (about 100 s on one core); it
 writes ``docs/beyond/module_alone.md``.
 """
 
@@ -31,6 +32,7 @@ CHECKPOINTS = tuple(range(10_000, 100_001, 10_000))
 SEEDS, N_TRIALS, N_CEILING_TRIALS = (0, 1, 2), 1000, 4000
 SWEEP = {"vf_fallback": "sweep"}
 MODELS = {"paper": {}, "memory": {"learner": "memory", **SWEEP},
+          "memory, 32 neighbours": {"learner": "memory", **SWEEP, "memory": {"k_nearest": 32}},
           "population": {"learner": "population", **SWEEP}}
 
 
