@@ -2,7 +2,8 @@
 
 Issue 31 asks for 90% of the final success within 3x10^4 steps. The live success is a mix of
 visual attention (chance) and the module, in the proportion the gate chooses, so it cannot be
-near its final before the module alone is. This script learns cells of the beyond preset's
+near its final before the module it has learned so far is. This script measures how fast a
+module learns from visual attention's trials alone. It learns cells of the beyond preset's
 world (125 data sets, the sigmoid gate: visual attention drives until about 10^5 steps) and, at
 each 10^4 steps up to 10^5, freezes a copy of the agent, sets its learning time past the
 sigmoid (the gate's rate 1: the module drives every step) and measures its success on 1,000
