@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import subprocess
 import sys
+import tomllib
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
@@ -23,6 +25,7 @@ from jointattention.config import (
     to_toml,
 )
 from jointattention.errors import ConfigError
+from jointattention.jobs.sweep import load_sweep
 from jointattention.models.bootstrap import BootstrapOptions
 
 
@@ -222,3 +225,17 @@ def test_a_world_object_count_of_version_0_3_is_dropped_warning_if_it_mattered()
         assert load_config({"world": {"objects": {"n_objects": 5}}}) == load_config()
     with pytest.warns(DeprecationWarning, match="world.objects.n_objects = 3 is no longer read"):
         assert load_config({"world": {"objects": {"n_objects": 3}}}) == load_config()
+
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+SWEEP_KEYS = {"base", "set", "grid", "conditions"}
+
+
+@pytest.mark.parametrize("path", sorted(DOCS.rglob("*.toml")),
+                         ids=lambda p: str(p.relative_to(DOCS)))
+def test_every_configuration_and_sweep_spec_in_the_docs_loads(path):
+    """Each TOML file under docs/ loads as the sweep spec or configuration its command takes."""
+    if set(tomllib.loads(path.read_text())) <= SWEEP_KEYS:
+        assert all(c.experiment.conditions for c in load_sweep(path).points.values())
+    else:
+        assert load_config(path).experiment.conditions
