@@ -128,7 +128,7 @@ def population_teach_rows(X, directions_rad, counts, kappa: float, w1, b1, w2, b
         n_taught += counts[r]
         _backward_into(taught, float(counts[r]), b1, w2, b2, learning_rate, h, p, grad_h)
         for j in range(len(h)):
-            hidden_mean[j] += hidden_rate * (h[j] - hidden_mean[j])
+            hidden_mean[j] = _toward(hidden_mean[j], h[j], hidden_rate)
         if k + 1 == len(rows) and averaged_w1 is not None:
             _last_w1_step(X[r], grad_h, w1, averaged_w1, average_rate)
         elif k + 1 == len(rows):
