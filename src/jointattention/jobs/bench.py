@@ -13,6 +13,7 @@ from ..agent.learner import LearningModule, sgd_rows, sgd_update
 from ..agent.vision import ImageDetector
 from ..config import WorldConfig
 from ..world.options import FAST_CAMERA
+from .bounds import RENDERED_ROW, cell_rate, learner_cell_rows, rendered_rows
 from .env_bench import run_env_benchmark, with_camera
 
 __all__ = ["AGENT_RATE_ROWS", "compile_times", "run_agent_benchmark", "run_env_benchmark",
@@ -21,7 +22,7 @@ __all__ = ["AGENT_RATE_ROWS", "compile_times", "run_agent_benchmark", "run_env_b
 AGENT_RATE_ROWS = {  # each kind of cell the preset estimates know, and its row
     "compiled": "agent steps, compiled engine, learning (quick n5-sigmoid)",
     "python": "agent steps, python engine, learning (same cell)",
-    "rendered": "agent steps, rendered mode + OpenCV, the rendered preset's view (0 samples)",
+    "rendered": RENDERED_ROW,
     "memory": "agent steps, compiled engine, memory learner (beyond memory-n5)",
     "rl": "agent steps, compiled engine, RL learner (models rl-n5, 1e5 steps)",
     "population": "agent steps, compiled engine, population learner (quick n5, 1e5 steps)"}
@@ -128,36 +129,29 @@ def run_follow_benchmark(n_frames: int = 30) -> list[tuple[str, float, str]]:
     return rows
 
 
-def _cell_rate(config, condition, **experiment) -> float:
-    """Agent steps per second of one cell of ``config`` with ``experiment``'s fields changed."""
-    from ..experiment.cells import run_cell
-
-    exp = dataclasses.replace(config.experiment, **experiment)
-    start = time.perf_counter()
-    run_cell(dataclasses.replace(config, experiment=exp), condition, 0)
-    return exp.n_steps / (time.perf_counter() - start)
-
 
 def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
     """Agent-steps per second of learning: both engines, rendered mode, memory and RL learners.
 
     The quick preset's 5-object sigmoid cell in both engines, and its first ``rendered_steps``
-    steps in rendered mode (MuJoCo render + OpenCV detection each step) with three views, each
-    beside its bound (:func:`_rendered_rows`); the beyond preset's 5-object memory cell at the
-    paper's scale (its recall grows with the distinct faces kept); the models preset's
-    5-object reinforcement learner (compiled) for 1e5 steps; the population learner for 1e5
-    steps compiled and 5x10^4 step by step. Then one compiled step's time against its bound:
-    one forward and backward pass of the learning module alone, in compiled code; and one
-    update as a trial's updates run (10 that share the face).
+    steps in rendered mode (MuJoCo render + OpenCV detection each step) with three views,
+    each beside its bound (:func:`.bounds.rendered_rows`); the beyond preset's 5-object memory
+    cell at the paper's scale (its recall grows with the distinct faces kept); the models
+    preset's 5-object reinforcement learner (compiled) for 1e5 steps; the population learner
+    for 1e5 steps compiled and 5x10^4 step by step; the memory's and the population code's
+    arithmetic alone, and its share of the cell (:func:`.bounds.learner_cell_rows`).
+    Then one compiled step's time against its bound: one forward and backward pass of the
+    learning module alone, in compiled code; and one update as a trial's updates run (10 that
+    share the face).
     """
     from ..config import load_config
 
     config = load_config("quick")
     cond = next(c for c in config.experiment.conditions if c.name == "n5-sigmoid")
-    _cell_rate(config, cond, n_steps=100)  # load (or compile) the engine outside the timing
-    compiled = _cell_rate(config, cond, engine="compiled")
-    python = _cell_rate(config, cond, engine="python")
-    rendered_rows = _rendered_rows(config, cond, rendered_steps)
+    cell_rate(config, cond, n_steps=100)  # load (or compile) the engine outside the timing
+    compiled = cell_rate(config, cond, engine="compiled")
+    python = cell_rate(config, cond, engine="python")
+    rendered = rendered_rows(config, cond, rendered_steps)
     beyond, models = load_config("beyond"), load_config("models")
     memory_cell = next(c for c in beyond.experiment.conditions if c.name == "memory-n5")
     rl_cell = next(c for c in models.experiment.conditions if c.name == "rl-n5")
@@ -165,16 +159,16 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
                                                        "vf_fallback": "sweep"})
     for warm_config, warm_cell in ((beyond, memory_cell), (models, rl_cell),
                                    (config, population_cell)):  # each loop loaded outside
-        _cell_rate(warm_config, warm_cell, n_steps=100)
-    memory = _cell_rate(beyond, memory_cell)
-    rl = _cell_rate(models, rl_cell, n_steps=100_000)
-    population = _cell_rate(config, population_cell, n_steps=100_000)
-    population_python = _cell_rate(config, population_cell, n_steps=50_000, engine="python")
+        cell_rate(warm_config, warm_cell, n_steps=100)
+    memory, memory_rows = learner_cell_rows(beyond, memory_cell)
+    rl = cell_rate(models, rl_cell, n_steps=100_000)
+    population, population_rows = learner_cell_rows(config, population_cell, 100_000)
+    population_python = cell_rate(config, population_cell, n_steps=50_000, engine="python")
     step_us, bound_us, trial_us = 1e6 / compiled, _update_us(), _update_us(trial_rows=10)
     named = AGENT_RATE_ROWS
     return [(named["compiled"], compiled, "steps/s"), (named["python"], python, "steps/s"),
-            (named["memory"], memory, "steps/s"),
-            (named["rl"], rl, "steps/s"), (named["population"], population, "steps/s"),
+            (named["memory"], memory, "steps/s"), *memory_rows, (named["rl"], rl, "steps/s"),
+            (named["population"], population, "steps/s"), *population_rows,
             ("agent steps, python engine, population learner (same cell, 5e4 steps)",
              population_python, "steps/s"),
             ("population learner: compiled / python engine", population / population_python,
@@ -183,53 +177,14 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
             ("compiled, paper's learner / memory learner (the recall's cost)", compiled / memory,
              "x"),
             ("compiled / rendered (the rendered preset's view)",
-             compiled / rendered_rows[0][1], "x"),
+             compiled / rendered[0][1], "x"),
             ("one compiled step (mean over the cell)", step_us, "us"),
             ("bound: one forward + backward pass, 752-7-2, compiled", bound_us, "us"),
             ("one update of a trial's 10 (the face shared, summed in closed form)", trial_us,
              "us"),
-            ("step / bound", step_us / bound_us, "x")] + rendered_rows
+            ("step / bound", step_us / bound_us, "x")] + rendered
 
 
-def _rendered_rows(config, cond, n_steps: int) -> list[tuple[str, float, str]]:
-    """The rendered agent's steps/s in ``cond`` of ``config`` for each view, and its bound.
-
-    The views: the rendered preset's (no multisampling; the rate its estimate takes), the
-    world's (4 samples) and ``FAST_CAMERA``. Each rate is beside its bound, a view rendered and
-    detected alone (:func:`_view_rate`), and their ratio.
-    """
-    from ..config import load_config
-
-    views = ((AGENT_RATE_ROWS["rendered"], load_config("rendered").world),
-             ("agent steps, rendered mode, the world's view (4 samples; quick n5-sigmoid)",
-              config.world),
-             ("agent steps, rendered mode, the view rendered with FAST_CAMERA (quick n5-sigmoid)",
-              with_camera(config.world, **FAST_CAMERA)))
-    rows = []
-    for name, world in views:
-        rate = _cell_rate(dataclasses.replace(config, world=world), cond, n_steps=n_steps,
-                          perception="rendered", engine="python")
-        bound = _view_rate(world)
-        rows += [(name, rate, "steps/s"),
-                 ("  bound: one view rendered and detected alone", bound, "frames/s"),
-                 ("  agent / bound", rate / bound, "x")]
-    return rows
-
-
-def _view_rate(world: WorldConfig, n_frames: int = 200) -> float:
-    """Views per second of the rendered agent's perception alone: render one, detect in it.
-
-    The bound of a rendered step (the agent's and the trial's Python cost nothing here): the
-    5-object world of ``world`` at head angles drawn over its range.
-    """
-    from ..world.simulator import World
-
-    with World(world, seed=0) as view:
-        thetas = view.kinematics.clip(np.random.default_rng(0).uniform(-1, 1, (n_frames, 2)))
-        detector = ImageDetector(focal_px=view.kinematics.focal_px)
-        view.render()  # start the GL context outside the timing
-        return _rate(lambda i: (view.set_head_angle(thetas[i]), detector.detect(view.render())),
-                     n_frames)
 
 
 def _update_us(trial_rows: int = 1, n: int = 20000) -> float:

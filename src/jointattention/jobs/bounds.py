@@ -1,0 +1,207 @@
+"""The bench's bounds beside its rates: what a cell could reach if only its core cost time.
+
+A rendered step renders the robot's view and detects in it; its bound is one view rendered
+and detected alone (:func:`rendered_rows`). A learning cell of the memory or the population
+learner spends a step of the compiled loop on the world (scene, projection, detection) and its
+trial's bookkeeping, and once per trial on the learning module: at the trial's start the
+module reads the face (the memory's code and recall; the population code's features and
+forward pass), and at the end of a trial the evaluator fired on it learns (the memory keeps
+each place; the population code is taught, with its replayed trials). Both are timed alone, in
+compiled loops, on the state the cell ended with, so the bench can print what share of the
+cell's time the module's arithmetic is: the rest is the loop around it
+(:func:`learner_cell_rows`).
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import time
+
+import numpy as np
+
+from .._jit import jit
+from ..agent.memory import face_code_into, memory_recall, memory_store
+from ..agent.vision import ImageDetector
+from ..config import WorldConfig
+from ..models._population_kernels import population_begin, population_learn
+from ..world.options import FAST_CAMERA
+from .env_bench import with_camera
+
+__all__ = ["RENDERED_ROW", "cell_rate", "learner_cell_rows", "rendered_rows"]
+
+# the rate the rendered preset's estimate takes (bench.AGENT_RATE_ROWS)
+RENDERED_ROW = "agent steps, rendered mode + OpenCV, the rendered preset's view (0 samples)"
+
+
+@jit
+def _memory_starts(faces, projection, codes, counts, links, aims, base, n_stored, n_codes,
+                   lo_rad, cell_rad, k_nearest, radius_rad) -> float:
+    """A trial's start, once per face: its code and the recall (MemoryModule.begin)."""
+    code, out, total = np.empty(projection.shape[1]), np.empty(2), 0.0
+    for i in range(len(faces)):
+        face_code_into(faces[i], projection, code)
+        support, _ = memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes,
+                                   lo_rad, cell_rad, k_nearest, radius_rad, out)
+        total += support
+    return total
+
+
+@jit
+def _memory_keeps(codes_in, places, codes, counts, links, aims, base, n_stored, n_codes,
+                  lo_rad, cell_rad) -> int:
+    """Each place kept with its face's code (MemoryModule.learn); the places kept."""
+    for i in range(len(places)):
+        n_codes = memory_store(codes_in[i], places[i, 0], places[i, 1], codes, counts, links,
+                               aims, base, n_stored, n_codes, lo_rad, cell_rad)
+        n_stored += 1
+    return n_stored
+
+
+@jit
+def _population_trials(a, faces, thetas, places, replay_rng, learn: bool) -> float:
+    """A trial's start for each face (PopulationModule.begin), and with ``learn`` its end."""
+    total = 0.0
+    for i in range(len(faces)):
+        total += population_begin(a, faces[i], thetas[i, 0], thetas[i, 1], learn)
+        if learn:
+            population_learn(a, places[i:i + 1], faces[i], thetas[i, 0], thetas[i, 1],
+                             replay_rng)
+    return total
+
+
+def _best_s(fn, state, repeats: int = 3) -> float:
+    """Seconds of the fastest of ``repeats`` calls ``fn(copy of state)`` (copied untimed)."""
+    best = np.inf
+    for _ in range(repeats):
+        own = copy.deepcopy(state)
+        start = time.perf_counter()
+        fn(own)
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
+def _memory_us(module, faces: np.ndarray) -> tuple[float, float]:
+    """Microseconds of a trial's start and of keeping one place, on copies of ``module``."""
+    memory = module.memory
+    n = min(memory.n_stored_, len(memory.aims_), 4 * len(faces))
+    codes = np.stack([memory.code(f) for f in faces[np.arange(n) % len(faces)]])
+    places = memory.aims_[:n].copy()
+    args = (memory.lo_rad, memory.cell_rad)
+
+    def starts(m, faces=faces):
+        _memory_starts(faces, m.projection, *m.kept_arrays(), *args, m.options.k_nearest,
+                       m.radius_rad)
+
+    def keeps(m, n=n):
+        _memory_keeps(codes[:n], places[:n], *m.kept_arrays(), *args)
+
+    starts(memory, faces[:1])  # each loop compiled (or loaded) outside the timing
+    keeps(copy.deepcopy(memory), 1)
+    return _best_s(starts, memory) / len(faces) * 1e6, _best_s(keeps, memory) / n * 1e6
+
+
+def _population_us(module, faces, thetas, places) -> tuple[float, float]:
+    """Microseconds of a trial's start and of its end, on copies of ``module``."""
+
+    def trials(m, learn, faces=faces):
+        _population_trials(m.arrays(), faces, thetas, places, np.random.default_rng(0), learn)
+
+    trials(copy.deepcopy(module), True, faces[:1])  # compiled (or loaded) outside the timing
+    start_s = _best_s(lambda m: trials(m, False), module)
+    both_s = _best_s(lambda m: trials(m, True), module)
+    return start_s / len(faces) * 1e6, (both_s - start_s) / len(faces) * 1e6
+
+
+def learner_cell_rows(config, condition, n_steps: int | None = None
+                      ) -> tuple[float, list[tuple[str, float, str]]]:
+    """The cell's steps/s, and rows of its module's arithmetic and its share of the cell.
+
+    ``condition`` of ``config`` learns ``n_steps`` (default: the configuration's) with the
+    memory or the population learner, in the compiled engine; its module is then timed alone
+    (:func:`_memory_us` or :func:`_population_us`) on the data sets' faces.
+    """
+    from ..experiment.cells import datasets_of, run_cell
+
+    exp = dataclasses.replace(config.experiment, **({} if n_steps is None else
+                                                    {"n_steps": n_steps}))
+    config, ended = dataclasses.replace(config, experiment=exp), []
+    start = time.perf_counter()
+    records = run_cell(config, condition, 0, checkpoints=[exp.n_steps],
+                       on_checkpoint=lambda t, agent: ended.append(agent))
+    cell_s = time.perf_counter() - start
+    module, ds = ended[-1].module, datasets_of(config)
+    faces = np.ascontiguousarray(ds.face.reshape(len(ds), -1), dtype=float)
+    n_trials, n_fired = len(records["end"]), int((records["end"] == 0).sum())
+    if hasattr(module, "memory"):
+        start_us, keep_us = _memory_us(module, faces)
+        end_us = keep_us * module.memory.n_stored_ / max(n_fired, 1)  # its places, each kept
+        start, end = "its code and recall", "each place kept"
+    else:
+        thetas = np.ascontiguousarray(ds.theta_face_rad, dtype=float)
+        places = np.ascontiguousarray(thetas + ds.command_rad)
+        start_us, end_us = _population_us(module, faces, thetas, places)
+        start, end = "features, forward pass", "taught, and its replayed trials"
+    module_s = (n_trials * start_us + n_fired * end_us) / 1e6
+    return exp.n_steps / cell_s, [
+        (f"  bound: the module alone, a trial's start ({start})", start_us, "us"),
+        (f"  bound: the module alone, a learning trial's end ({end})", end_us, "us"),
+        ("  the module's arithmetic (at the cell's end) / the cell's time", module_s / cell_s,
+         "x")]
+
+
+def cell_rate(config, condition, **experiment) -> float:
+    """Agent steps per second of one cell of ``config`` with ``experiment``'s fields changed."""
+    from ..experiment.cells import run_cell
+
+    exp = dataclasses.replace(config.experiment, **experiment)
+    start = time.perf_counter()
+    run_cell(dataclasses.replace(config, experiment=exp), condition, 0)
+    return exp.n_steps / (time.perf_counter() - start)
+
+
+def rendered_rows(config, cond, n_steps: int) -> list[tuple[str, float, str]]:
+    """The rendered agent's steps/s in ``cond`` of ``config`` for each view, and its bound.
+
+    The views: the rendered preset's (no multisampling; the rate its estimate takes), the
+    world's (4 samples) and ``FAST_CAMERA``. Each rate is beside its bound, a view rendered and
+    detected alone (:func:`_view_rate`), and their ratio.
+    """
+    from ..config import load_config
+
+    views = ((RENDERED_ROW, load_config("rendered").world),
+             ("agent steps, rendered mode, the world's view (4 samples; quick n5-sigmoid)",
+              config.world),
+             ("agent steps, rendered mode, the view rendered with FAST_CAMERA (quick n5-sigmoid)",
+              with_camera(config.world, **FAST_CAMERA)))
+    rows = []
+    for name, world in views:
+        rate = cell_rate(dataclasses.replace(config, world=world), cond, n_steps=n_steps,
+                         perception="rendered", engine="python")
+        bound = _view_rate(world)
+        rows += [(name, rate, "steps/s"),
+                 ("  bound: one view rendered and detected alone", bound, "frames/s"),
+                 ("  agent / bound", rate / bound, "x")]
+    return rows
+
+
+def _view_rate(world: WorldConfig, n_frames: int = 200) -> float:
+    """Views per second of the rendered agent's perception alone: render one, detect in it.
+
+    The bound of a rendered step (the agent's and the trial's Python cost nothing here): the
+    5-object world of ``world`` at head angles drawn over its range.
+    """
+    from ..world.simulator import World
+
+    with World(world, seed=0) as view:
+        thetas = view.kinematics.clip(np.random.default_rng(0).uniform(-1, 1, (n_frames, 2)))
+        detector = ImageDetector(focal_px=view.kinematics.focal_px)
+        view.render()  # start the GL context outside the timing
+        best = np.inf
+        for _ in range(3):
+            start = time.perf_counter()
+            for theta in thetas:
+                view.set_head_angle(theta)
+                detector.detect(view.render())
+            best = min(best, time.perf_counter() - start)
+        return n_frames / best
