@@ -60,7 +60,8 @@ def test_the_population_bound_reads_out_what_the_module_reads_out():
 
 
 @pytest.mark.parametrize(("preset", "condition"), [
-    ("beyond", "memory-n5"), ("quick", {"learner": "population", "vf_fallback": "sweep"})])
+    ("beyond", "memory-n5"), ("quick", {"learner": "population", "vf_fallback": "sweep"}),
+    ("models", "rl-n5")])
 def test_the_bench_prints_each_learner_s_bound_and_its_share_of_the_cell(preset, condition):
     """Each learner's rows: a start and an end in microseconds, and a share of the cell's time."""
     config = load_config(preset)

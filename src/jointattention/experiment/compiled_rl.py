@@ -18,7 +18,7 @@ from ._compiled_loop import COLUMNS
 from ._loop_inputs import LoopWorld, placed, trial_records
 from ._rl_loop import NO_FACE_STATISTICS, RLRobot, RLState, run_rl_trials
 
-__all__ = ["RLCell"]
+__all__ = ["RLCell", "loop_robot", "loop_state"]
 
 
 class RLCell:
@@ -36,18 +36,8 @@ class RLCell:
                  shuffle: np.random.Generator, max_trials: int):
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
-        o, faces = agent.options, agent.faces
-        self._robot = RLRobot(
-            float(agent.mechanisms.d_th_px(world.width_px)), int(agent.mechanisms.max_steps),
-            np.ascontiguousarray(agent.steps_rad), float(faces.min_std), float(o.temperature),
-            float(o.face_reward), float(o.face_habituation), float(o.object_reward),
-            float(o.place_habituation), float(o.place_recovery), float(o.gamma),
-            float(o.learning_rate_shift), float(o.learning_rate_stay),
-            agent.lo_rad, float(agent.cell_rad),
-            bool(agent.learning))
-        self._state = RLState(agent.W_, agent.b_, agent.q_stay_, agent.place_habituation_,
-                              *faces.statistics(world.faces.shape[1]),
-                              np.array([agent.learning_time_steps, faces.n_seen_, 0]))
+        self._robot = loop_robot(agent, world.width_px)
+        self._state = loop_state(agent, world.faces.shape[1])
         self._records = np.zeros((len(COLUMNS), max_trials), dtype=np.int64)
 
     def run_until(self, learning_time_steps: int) -> None:
@@ -63,3 +53,22 @@ class RLCell:
     def records(self) -> dict[str, np.ndarray]:
         """The trial records so far (:data:`~.trial.RECORD`)."""
         return trial_records(self._records[:, : self._state.counters[2]])
+
+
+def loop_robot(agent: RLAgent, width_px: int) -> RLRobot:
+    """The agent's options and mechanisms as the loop takes them, for images ``width_px`` wide."""
+    o, faces = agent.options, agent.faces
+    return RLRobot(
+        float(agent.mechanisms.d_th_px(width_px)), int(agent.mechanisms.max_steps),
+        np.ascontiguousarray(agent.steps_rad), float(faces.min_std), float(o.temperature),
+        float(o.face_reward), float(o.face_habituation), float(o.object_reward),
+        float(o.place_habituation), float(o.place_recovery), float(o.gamma),
+        float(o.learning_rate_shift), float(o.learning_rate_stay), agent.lo_rad,
+        float(agent.cell_rad), bool(agent.learning))
+
+
+def loop_state(agent: RLAgent, n_pixels: int) -> RLState:
+    """The agent's own learned arrays (changed in place) and counters, as the loop takes them."""
+    return RLState(agent.W_, agent.b_, agent.q_stay_, agent.place_habituation_,
+                   *agent.faces.statistics(n_pixels),
+                   np.array([agent.learning_time_steps, agent.faces.n_seen_, 0]))

@@ -138,8 +138,8 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     each beside its bound (:func:`.bounds.rendered_rows`); the beyond preset's 5-object memory
     cell at the paper's scale (its recall grows with the distinct faces kept); the models
     preset's 5-object reinforcement learner (compiled) for 1e5 steps; the population learner
-    for 1e5 steps compiled and 5x10^4 step by step; the memory's and the population code's
-    arithmetic alone, and its share of the cell (:func:`.bounds.learner_cell_rows`).
+    for 1e5 steps compiled and 5x10^4 step by step; each of these three learners' arithmetic
+    alone, and its share of the cell (:func:`.bounds.learner_cell_rows`).
     Then one compiled step's time against its bound: one forward and backward pass of the
     learning module alone, in compiled code; and one update as a trial's updates run (10 that
     share the face).
@@ -161,13 +161,14 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
                                    (config, population_cell)):  # each loop loaded outside
         cell_rate(warm_config, warm_cell, n_steps=100)
     memory, memory_rows = learner_cell_rows(beyond, memory_cell)
-    rl = cell_rate(models, rl_cell, n_steps=100_000)
+    rl, rl_rows = learner_cell_rows(models, rl_cell, 100_000)
     population, population_rows = learner_cell_rows(config, population_cell, 100_000)
     population_python = cell_rate(config, population_cell, n_steps=50_000, engine="python")
     step_us, bound_us, trial_us = 1e6 / compiled, _update_us(), _update_us(trial_rows=10)
     named = AGENT_RATE_ROWS
     return [(named["compiled"], compiled, "steps/s"), (named["python"], python, "steps/s"),
             (named["memory"], memory, "steps/s"), *memory_rows, (named["rl"], rl, "steps/s"),
+            *rl_rows,
             (named["population"], population, "steps/s"), *population_rows,
             ("agent steps, python engine, population learner (same cell, 5e4 steps)",
              population_python, "steps/s"),

@@ -1,14 +1,15 @@
 """The bench's bounds beside its rates: what a cell could reach if only its core cost time.
 
 A rendered step renders the robot's view and detects in it; its bound is one view rendered
-and detected alone (:func:`rendered_rows`). A learning cell of the memory or the population
-learner spends a step of the compiled loop on the world (scene, projection, detection) and its
-trial's bookkeeping, and once per trial on the learning module: at the trial's start the
-module reads the face (the memory's code and recall; the population code's features and
-forward pass), and at the end of a trial the evaluator fired on it learns (the memory keeps
-each place; the population code is taught, with its replayed trials). Both are timed alone, in
-compiled loops, on the state the cell ended with, so the bench can print what share of the
-cell's time the module's arithmetic is: the rest is the loop around it
+and detected alone (:func:`rendered_rows`). A learning cell of the memory, the population or
+the reinforcement learner spends a step of the compiled loop on the world (scene, projection,
+detection) and its trial's bookkeeping, and once per trial on the learning module: at the
+trial's start the module reads the face (the memory's code and recall; the population code's
+features and forward pass; the values of the face's shifts), and at the end of a trial the
+evaluator fired on it learns (the memory keeps each place; the population code is taught,
+with its replayed trials; the reinforcement learner updates at every trial's end). Both are
+timed alone, in compiled loops, on the state the cell ended with, so the bench can print what
+share of the cell's time the module's arithmetic is: the rest is the loop around it
 (:func:`learner_cell_rows`).
 """
 
@@ -21,10 +22,13 @@ import time
 import numpy as np
 
 from .._jit import jit
+from ..agent.learner import standardise, welford_update
 from ..agent.memory import face_code_into, memory_recall, memory_store
 from ..agent.vision import ImageDetector
 from ..config import WorldConfig
 from ..models._population_kernels import population_begin, population_learn
+from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
+from ..models.rl import RLAgent
 from ..world.options import FAST_CAMERA
 from .env_bench import with_camera
 
@@ -113,13 +117,55 @@ def _population_us(module, faces, thetas, places) -> tuple[float, float]:
     return start_s / len(faces) * 1e6, (both_s - start_s) / len(faces) * 1e6
 
 
+@jit
+def _rl_trials(faces, places, robot, state, choice_rng, learn: bool) -> float:
+    """A trial's start for each face (RLAgent.begin_trial), and with ``learn`` its end.
+
+    The end: the evaluator fired at the face's target after one shift of 3 steps.
+    """
+    n_dir, c, total = len(robot.steps_rad), state.counters, 0.0
+    x, q, cdf = np.empty(faces.shape[1]), np.empty(n_dir), np.empty(n_dir)
+    p_stay = np.empty(len(state.q_stay))
+    for i in range(len(faces)):
+        if learn:
+            c[1] += 1
+            welford_update(faces[i], state.mean, state.m2, c[1])
+        standardise(faces[i], state.mean, state.m2, c[1], robot.min_std, x)
+        rl_values_into(x, state.w, state.b, q)
+        rl_choice_odds(q, state.q_stay, robot.temperature, cdf, p_stay)
+        shift = max(rl_choose(choice_rng.random(), p_stay[0], cdf), 0)
+        total += shift
+        if learn:
+            rl_learn(True, places[i, 0], places[i, 1], 0, shift, 3, x, q, state.w, state.b,
+                     state.q_stay, state.habituation, robot.lo_rad, robot.cell_rad,
+                     robot.face_reward, robot.face_habituation, robot.object_reward,
+                     robot.place_habituation, robot.place_recovery, robot.gamma,
+                     robot.learning_rate_shift, robot.learning_rate_stay)
+    return total
+
+
+def _rl_us(agent, faces, places, width_px: int) -> tuple[float, float]:
+    """Microseconds of a trial's start and of its end, on copies of ``agent``."""
+    from ..experiment.compiled_rl import loop_robot, loop_state
+
+    def trials(a, learn, faces=faces):
+        _rl_trials(faces, places, loop_robot(a, width_px), loop_state(a, faces.shape[1]),
+                   np.random.default_rng(0), learn)
+
+    trials(copy.deepcopy(agent), True, faces[:1])  # compiled (or loaded) outside the timing
+    start_s = _best_s(lambda a: trials(a, False), agent)
+    both_s = _best_s(lambda a: trials(a, True), agent)
+    return start_s / len(faces) * 1e6, (both_s - start_s) / len(faces) * 1e6
+
+
 def learner_cell_rows(config, condition, n_steps: int | None = None
                       ) -> tuple[float, list[tuple[str, float, str]]]:
     """The cell's steps/s, and rows of its module's arithmetic and its share of the cell.
 
     ``condition`` of ``config`` learns ``n_steps`` (default: the configuration's) with the
-    memory or the population learner, in the compiled engine; its module is then timed alone
-    (:func:`_memory_us` or :func:`_population_us`) on the data sets' faces.
+    memory, the population or the reinforcement learner, in the compiled engine; its module is
+    then timed alone (:func:`_memory_us`, :func:`_population_us` or :func:`_rl_us`) on the
+    data sets' faces.
     """
     from ..experiment.cells import datasets_of, run_cell
 
@@ -130,19 +176,23 @@ def learner_cell_rows(config, condition, n_steps: int | None = None
     records = run_cell(config, condition, 0, checkpoints=[exp.n_steps],
                        on_checkpoint=lambda t, agent: ended.append(agent))
     cell_s = time.perf_counter() - start
-    module, ds = ended[-1].module, datasets_of(config)
+    agent, ds = ended[-1], datasets_of(config)
     faces = np.ascontiguousarray(ds.face.reshape(len(ds), -1), dtype=float)
-    n_trials, n_fired = len(records["end"]), int((records["end"] == 0).sum())
-    if hasattr(module, "memory"):
-        start_us, keep_us = _memory_us(module, faces)
-        end_us = keep_us * module.memory.n_stored_ / max(n_fired, 1)  # its places, each kept
+    thetas = np.ascontiguousarray(ds.theta_face_rad, dtype=float)
+    places = np.ascontiguousarray(thetas + ds.command_rad)
+    n_trials, n_learned = len(records["end"]), int((records["end"] == 0).sum())
+    if isinstance(agent, RLAgent):  # it learns at every trial's end, fired or not
+        start_us, end_us = _rl_us(agent, faces, places, config.world.camera.width_px)
+        start, end, n_learned = "values of the face", "the updates", n_trials
+    elif hasattr(agent.module, "memory"):
+        memory = agent.module.memory
+        start_us, keep_us = _memory_us(agent.module, faces)
+        end_us = keep_us * memory.n_stored_ / max(n_learned, 1)  # its places, each kept
         start, end = "its code and recall", "each place kept"
     else:
-        thetas = np.ascontiguousarray(ds.theta_face_rad, dtype=float)
-        places = np.ascontiguousarray(thetas + ds.command_rad)
-        start_us, end_us = _population_us(module, faces, thetas, places)
+        start_us, end_us = _population_us(agent.module, faces, thetas, places)
         start, end = "features, forward pass", "taught, and its replayed trials"
-    module_s = (n_trials * start_us + n_fired * end_us) / 1e6
+    module_s = (n_trials * start_us + n_learned * end_us) / 1e6
     return exp.n_steps / cell_s, [
         (f"  bound: the module alone, a trial's start ({start})", start_us, "us"),
         (f"  bound: the module alone, a learning trial's end ({end})", end_us, "us"),
