@@ -129,7 +129,6 @@ def run_follow_benchmark(n_frames: int = 30) -> list[tuple[str, float, str]]:
     return rows
 
 
-
 def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, str]]:
     """Agent-steps per second of learning: both engines, rendered mode, memory and RL learners.
 
@@ -184,8 +183,6 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
             ("one update of a trial's 10 (the face shared, summed in closed form)", trial_us,
              "us"),
             ("step / bound", step_us / bound_us, "x")] + rendered
-
-
 
 
 def _update_us(trial_rows: int = 1, n: int = 20000) -> float:
