@@ -15,23 +15,28 @@ from jointattention.experiment.cells import run_cell
 from jointattention.jobs.bounds import _memory_starts, _population_trials, learner_cell_rows
 
 
-def _learned(preset: str, condition: dict | str, n_steps: int):
-    """A cell of ``preset`` after ``n_steps`` of learning: its config, condition and agent."""
-    config = load_config(preset)
-    exp = dataclasses.replace(config.experiment, n_steps=n_steps)
-    config = dataclasses.replace(config, experiment=exp)
+def _condition(config, condition: dict | str):
+    """The preset's condition of that name, or its first with ``condition`` as the model."""
+    conditions = config.experiment.conditions
     if isinstance(condition, str):
-        cond = next(c for c in exp.conditions if c.name == condition)
-    else:
-        cond = dataclasses.replace(exp.conditions[0], model=condition)
+        return next(c for c in conditions if c.name == condition)
+    return dataclasses.replace(conditions[0], model=condition)
+
+
+def _learned(preset: str, condition: dict | str, n_steps: int):
+    """The agent of a cell of ``preset`` after ``n_steps`` of learning."""
+    config = load_config(preset)
+    config = dataclasses.replace(
+        config, experiment=dataclasses.replace(config.experiment, n_steps=n_steps))
     ended = []
-    run_cell(config, cond, 0, checkpoints=[n_steps], on_checkpoint=lambda t, a: ended.append(a))
-    return config, cond, ended[-1]
+    run_cell(config, _condition(config, condition), 0, checkpoints=[n_steps],
+             on_checkpoint=lambda t, a: ended.append(a))
+    return ended[-1]
 
 
 def test_the_memory_bound_recalls_what_the_memory_recalls():
     """The timed start loop's recalls are the module's: the same supports, face by face."""
-    _, _, agent = _learned("beyond", "memory-n5", 4000)
+    agent = _learned("beyond", "memory-n5", 4000)
     memory, ds = agent.module.memory, default_datasets()
     faces = np.ascontiguousarray(ds.face.reshape(len(ds), -1)[:20], dtype=float)
     assert memory.n_stored_ > 0
@@ -44,7 +49,7 @@ def test_the_memory_bound_recalls_what_the_memory_recalls():
 def test_the_population_bound_reads_out_what_the_module_reads_out():
     """The timed loop's directions are the module's own, for each face (nothing skipped)."""
     model = {"learner": "population", "vf_fallback": "sweep"}
-    _, _, agent = _learned("quick", model, 3000)
+    agent = _learned("quick", model, 3000)
     ds = default_datasets()
     faces = np.ascontiguousarray(ds.face.reshape(len(ds), -1)[:10], dtype=float)
     thetas = np.ascontiguousarray(ds.theta_face_rad[:10], dtype=float)
@@ -65,9 +70,6 @@ def test_the_population_bound_reads_out_what_the_module_reads_out():
 def test_the_bench_prints_each_learner_s_bound_and_its_share_of_the_cell(preset, condition):
     """Each learner's rows: a start and an end in microseconds, and a share of the cell's time."""
     config = load_config(preset)
-    exp = config.experiment
-    cond = (next(c for c in exp.conditions if c.name == condition) if isinstance(condition, str)
-            else dataclasses.replace(exp.conditions[0], model=condition))
-    rate, rows = learner_cell_rows(config, cond, 3000)
+    rate, rows = learner_cell_rows(config, _condition(config, condition), 3000)
     assert rate > 0 and [unit for _, _, unit in rows] == ["us", "us", "x"]
     assert all(math.isfinite(v) and v > 0 for _, v, _ in rows)

@@ -105,16 +105,25 @@ def _memory_us(module, faces: np.ndarray) -> tuple[float, float]:
     return _best_s(starts, memory) / len(faces) * 1e6, _best_s(keeps, memory) / n * 1e6
 
 
+def _start_and_end_us(trials, state, faces) -> tuple[float, float]:
+    """Microseconds of a trial's start and of its end, each face once.
+
+    ``trials(copy of state, learn, faces)`` runs the starts alone, then starts and ends; the
+    end's time is the difference.
+    """
+    trials(copy.deepcopy(state), True, faces[:1])  # compiled (or loaded) outside the timing
+    start_s = _best_s(lambda s: trials(s, False, faces), state)
+    both_s = _best_s(lambda s: trials(s, True, faces), state)
+    return start_s / len(faces) * 1e6, (both_s - start_s) / len(faces) * 1e6
+
+
 def _population_us(module, faces, thetas, places) -> tuple[float, float]:
     """Microseconds of a trial's start and of its end, on copies of ``module``."""
 
-    def trials(m, learn, faces=faces):
+    def trials(m, learn, faces):
         _population_trials(m.arrays(), faces, thetas, places, np.random.default_rng(0), learn)
 
-    trials(copy.deepcopy(module), True, faces[:1])  # compiled (or loaded) outside the timing
-    start_s = _best_s(lambda m: trials(m, False), module)
-    both_s = _best_s(lambda m: trials(m, True), module)
-    return start_s / len(faces) * 1e6, (both_s - start_s) / len(faces) * 1e6
+    return _start_and_end_us(trials, module, faces)
 
 
 @jit
@@ -148,14 +157,11 @@ def _rl_us(agent, faces, places, width_px: int) -> tuple[float, float]:
     """Microseconds of a trial's start and of its end, on copies of ``agent``."""
     from ..experiment.compiled_rl import loop_robot, loop_state
 
-    def trials(a, learn, faces=faces):
+    def trials(a, learn, faces):
         _rl_trials(faces, places, loop_robot(a, width_px), loop_state(a, faces.shape[1]),
                    np.random.default_rng(0), learn)
 
-    trials(copy.deepcopy(agent), True, faces[:1])  # compiled (or loaded) outside the timing
-    start_s = _best_s(lambda a: trials(a, False), agent)
-    both_s = _best_s(lambda a: trials(a, True), agent)
-    return start_s / len(faces) * 1e6, (both_s - start_s) / len(faces) * 1e6
+    return _start_and_end_us(trials, agent, faces)
 
 
 def learner_cell_rows(config, condition, n_steps: int | None = None
