@@ -42,7 +42,8 @@ def test_the_memory_bound_recalls_what_the_memory_recalls():
     assert memory.n_stored_ > 0
     expected = sum(memory.recall(memory.code(f))[1] for f in faces)
     total = _memory_starts(faces, memory.projection, *memory.kept_arrays(), memory.lo_rad,
-                           memory.cell_rad, memory.options.k_nearest, memory.radius_rad)
+                           memory.cell_rad, memory.options.k_nearest, memory.radius_rad,
+                           *memory.left_arrays())
     assert total == pytest.approx(expected, rel=1e-12) and expected > 0
 
 

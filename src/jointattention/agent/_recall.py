@@ -1,12 +1,14 @@
 """The episodic memory's recall, its costly parts (:func:`.memory.memory_recall`).
 
-Which trials are near a face (:func:`weighted_kth` over the distinct face codes, then
-:func:`near_slots` from each code's list of trials), and how many near places agree with each
-(:func:`votes_into`). The lists (``links``, one row each): ``CODE_OF[slot]``, the slot's code;
-``NEXT``/``PREV[slot]``, the code's next and previous slot in slot order (-1: none);
-``HEAD[u]``, code u's first slot; ``LAST[u]``, its slot written last in this lap of the
-ring (-1: none yet). The ring writes slots in increasing order, so a new slot of u goes right
-after ``LAST[u]``: before it, u's slots of this lap; after it, those of the last lap.
+The base rate's grid (:func:`cell_of`, :func:`count_around`), how far a face is from each
+distinct face code (:func:`code_distances_into`), which trials are near it
+(:func:`weighted_kth` over the codes, then :func:`near_slots` from each code's list of trials),
+and how many near places agree with each (:func:`votes_into`). The lists (``links``, one row
+each): ``CODE_OF[slot]``, the slot's code; ``NEXT``/``PREV[slot]``, the code's next and
+previous slot in slot order (-1: none); ``HEAD[u]``, code u's first slot; ``LAST[u]``, its slot
+written last in this lap of the ring (-1: none yet). The ring writes slots in increasing order,
+so a new slot of u goes right after ``LAST[u]``: before it, u's slots of this lap; after it,
+those of the last lap.
 """
 
 from __future__ import annotations
@@ -15,8 +17,8 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["CODE_OF", "link", "near_slots", "new_lap", "no_links", "unlink", "votes_into",
-           "weighted_kth"]
+__all__ = ["CODE_OF", "cell_of", "code_distances_into", "count_around", "link", "near_slots",
+           "new_lap", "no_links", "unlink", "votes_into", "weighted_kth"]
 
 CODE_OF, NEXT, PREV, HEAD, LAST = range(5)  # the rows of links
 
@@ -26,6 +28,25 @@ def no_links(capacity: int) -> np.ndarray:
     links = np.full((5, capacity), -1, np.int64)
     links[CODE_OF] = 0
     return links
+
+
+@jit
+def cell_of(pan_rad, tilt_rad, lo_rad, cell_rad, shape) -> tuple[int, int]:
+    """The base-rate grid's cell of a place (the edge cells take the places beyond)."""
+    i = min(max(int((pan_rad - lo_rad[0]) / cell_rad), 0), shape[0] - 1)
+    j = min(max(int((tilt_rad - lo_rad[1]) / cell_rad), 0), shape[1] - 1)
+    return i, j
+
+
+@jit
+def count_around(pan_rad, tilt_rad, grid, lo_rad, cell_rad, by) -> None:
+    """Add ``by`` to the grid cells within the voting radius (two cells) of a place."""
+    ci, cj = cell_of(pan_rad, tilt_rad, lo_rad, cell_rad, grid.shape)
+    for di in range(-2, 3):
+        for dj in range(-2, 3):
+            i, j = ci + di, cj + dj
+            if di * di + dj * dj <= 4 and 0 <= i < grid.shape[0] and 0 <= j < grid.shape[1]:
+                grid[i, j] += by
 
 
 @jit
@@ -213,3 +234,24 @@ def votes_into(near, weight, aims, radius_rad: float, votes) -> None:
                 b = near[order[o]]
                 count += (aims[b, 0] - pa) ** 2 + (aims[b, 1] - ta) ** 2 < r2
         votes[a] = sums[count]
+
+
+_TILE_CODES = 128  # codes measured against every face of a batch while they are in cache
+
+
+@jit
+def code_distances_into(queries, codes, n_codes: int, d2) -> None:
+    """``d2[q, u]``: the squared distance from face code ``queries[q]`` to ``codes[:, u]``.
+
+    Each sum runs over the code's entries in order, whatever the batch (the same bits as one
+    face alone); a tile of codes serves every face of the batch before the next is read.
+    """
+    for u0 in range(0, n_codes, _TILE_CODES):
+        u1 = min(u0 + _TILE_CODES, n_codes)
+        for q in range(len(queries)):
+            row_d2 = d2[q, u0:u1]
+            row_d2[:] = 0.0
+            for j in range(queries.shape[1]):
+                cj, row = queries[q, j], codes[j, u0:u1]
+                for u in range(u1 - u0):
+                    row_d2[u] += (row[u] - cj) ** 2

@@ -24,10 +24,23 @@ import numpy as np
 from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
-from ._recall import CODE_OF, link, near_slots, new_lap, no_links, unlink, votes_into, weighted_kth
+from ._left_out import leave_out, left_out_of, near_any
+from ._recall import (
+    CODE_OF,
+    cell_of,
+    code_distances_into,
+    count_around,
+    link,
+    near_slots,
+    new_lap,
+    no_links,
+    unlink,
+    votes_into,
+    weighted_kth,
+)
 
 __all__ = ["EpisodicMemory", "MemoryOptions", "code_distances_into", "face_code_into",
-           "memory_recall", "memory_store", "no_links", "recall_at_distances"]
+           "left_out_of", "memory_recall", "memory_store", "no_links", "recall_at_distances"]
 
 
 @dataclass(frozen=True)
@@ -49,6 +62,9 @@ class MemoryOptions(Section):
         choices=("attended", "in_view"))
     capacity: int = param(
         20_000, "trials kept; the oldest is forgotten when it is full", lo=1, hi=10_000_000)
+    leave_out_empty: bool = param(
+        False, "leave a place out of a face's recalls once the head reached it (within a step) "
+        "with no object near the view's centre: a data set's target does not move")
 
 
 @jit
@@ -63,24 +79,6 @@ def face_code_into(face, projection, out) -> None:
         fi, row = face[i], projection[i]
         for j in range(len(out)):
             out[j] += row[j] * fi
-
-
-@jit
-def _cell_of(pan_rad, tilt_rad, lo_rad, cell_rad, shape) -> tuple[int, int]:
-    i = min(max(int((pan_rad - lo_rad[0]) / cell_rad), 0), shape[0] - 1)
-    j = min(max(int((tilt_rad - lo_rad[1]) / cell_rad), 0), shape[1] - 1)
-    return i, j
-
-
-@jit
-def _count_around(pan_rad, tilt_rad, grid, lo_rad, cell_rad, by) -> None:
-    """Add ``by`` to the grid cells within the voting radius (two cells) of a place."""
-    ci, cj = _cell_of(pan_rad, tilt_rad, lo_rad, cell_rad, grid.shape)
-    for di in range(-2, 3):
-        for dj in range(-2, 3):
-            i, j = ci + di, cj + dj
-            if di * di + dj * dj <= 4 and 0 <= i < grid.shape[0] and 0 <= j < grid.shape[1]:
-                grid[i, j] += by
 
 
 @jit
@@ -104,7 +102,7 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, ba
     """
     slot, code_of = n_stored % len(aims), links[CODE_OF]
     if n_stored >= len(aims):
-        _count_around(aims[slot, 0], aims[slot, 1], base, lo_rad, cell_rad, -1.0)
+        count_around(aims[slot, 0], aims[slot, 1], base, lo_rad, cell_rad, -1.0)
         counts[code_of[slot]] -= 1
         unlink(links, slot)
     if slot == 0:
@@ -126,34 +124,13 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, ba
     counts[u] += 1
     link(links, slot, u)
     aims[slot, 0], aims[slot, 1] = aim_pan_rad, aim_tilt_rad
-    _count_around(aim_pan_rad, aim_tilt_rad, base, lo_rad, cell_rad, 1.0)
+    count_around(aim_pan_rad, aim_tilt_rad, base, lo_rad, cell_rad, 1.0)
     return n_codes
-
-
-_TILE_CODES = 128  # codes measured against every face of a batch while they are in cache
-
-
-@jit
-def code_distances_into(queries, codes, n_codes: int, d2) -> None:
-    """``d2[q, u]``: the squared distance from face code ``queries[q]`` to ``codes[:, u]``.
-
-    Each sum runs over the code's entries in order, whatever the batch (the same bits as one
-    face alone); a tile of codes serves every face of the batch before the next is read.
-    """
-    for u0 in range(0, n_codes, _TILE_CODES):
-        u1 = min(u0 + _TILE_CODES, n_codes)
-        for q in range(len(queries)):
-            row_d2 = d2[q, u0:u1]
-            row_d2[:] = 0.0
-            for j in range(queries.shape[1]):
-                cj, row = queries[q, j], codes[j, u0:u1]
-                for u in range(u1 - u0):
-                    row_d2[u] += (row[u] - cj) ** 2
 
 
 @jit
 def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_rad,
-                  cell_rad, k_nearest, radius_rad, out) -> tuple[float, float]:
+                  cell_rad, k_nearest, radius_rad, left_out, out) -> tuple[float, float]:
     """The place recalled for a face code, into ``out``; returns its support and its evidence.
 
     The trials of the k nearest face codes (ties included) vote, each with the weight
@@ -163,18 +140,19 @@ def memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes, lo_
     winner's neighbours are averaged (weighted) into ``out``. Its excess over the base rate is
     its evidence, in trials (the face's own trials weigh 1 each), and the support is the
     evidence as a fraction of the weight recalled (0: nothing beyond chance; 1: all agree);
-    (-1, 0) with no memory. Distances are measured once per distinct code
-    (:func:`memory_store`, :func:`code_distances_into`).
+    (-1, 0) with no memory. The places within ``radius_rad`` of ``left_out`` (m, 2) do not
+    win (:mod:`._left_out`); (-1, 0) if none is left. Distances are measured once per
+    distinct code (:func:`memory_store`, :func:`code_distances_into`).
     """
     d2 = np.empty((1, n_codes))  # no codes while nothing is kept: recall_at_distances says so
     code_distances_into(code.reshape(1, len(code)), codes, n_codes, d2)
     return recall_at_distances(d2[0], counts, links, aims, base, n_stored, n_codes, lo_rad,
-                               cell_rad, k_nearest, radius_rad, out)
+                               cell_rad, k_nearest, radius_rad, left_out, out)
 
 
 @jit
 def recall_at_distances(d2u, counts, links, aims, base, n_stored, n_codes, lo_rad, cell_rad,
-                        k_nearest, radius_rad, out) -> tuple[float, float]:
+                        k_nearest, radius_rad, left_out, out) -> tuple[float, float]:
     """:func:`memory_recall` of a face code whose distances to the codes are ``d2u``."""
     n = min(n_stored, len(aims))
     if n == 0:
@@ -191,10 +169,14 @@ def recall_at_distances(d2u, counts, links, aims, base, n_stored, n_codes, lo_ra
     votes_into(near, weight, aims, radius_rad, votes)
     best, best_a = -np.inf, 0
     for a in range(n_near):
-        ci, cj = _cell_of(aims[near[a], 0], aims[near[a], 1], lo_rad, cell_rad, base.shape)
+        if len(left_out) and near_any(aims[near[a], 0], aims[near[a], 1], left_out, r2):
+            continue
+        ci, cj = cell_of(aims[near[a], 0], aims[near[a], 1], lo_rad, cell_rad, base.shape)
         excess = votes[a] - total * base[ci, cj] / n
         if excess > best:  # the first of equal votes
             best, best_a = excess, a
+    if best == -np.inf:  # every place near a face's left-out ones
+        return -1.0, 0.0
     pa, ta = aims[near[best_a], 0], aims[near[best_a], 1]
     s0 = s1 = kept = 0.0
     for b in range(n_near):
@@ -220,7 +202,9 @@ class EpisodicMemory:
     the first ``n_codes_`` columns: (code length, capacity), entry-major so that a recall
     measures every code at once), ``counts_`` (trials per code), ``links_`` (each trial's code,
     and each code's trials in slot order: :mod:`._recall`), ``base_`` (the base-rate grid),
-    ``n_stored_`` (trials kept so far, forgotten ones included).
+    ``n_stored_`` (trials kept so far, forgotten ones included); with ``leave_out_empty``,
+    ``left_codes_`` and ``left_aims_`` (the places left out of a face's recalls, with its code:
+    :mod:`._left_out`) and ``n_left_`` (places left out so far).
     """
 
     def __init__(self, n_in: int, options: MemoryOptions, limits_rad, rng: np.random.Generator):
@@ -236,7 +220,10 @@ class EpisodicMemory:
         self.links_ = no_links(options.capacity)
         self.aims_ = np.zeros((options.capacity, 2))
         self.base_ = np.zeros(tuple(shape))
-        self.n_stored_ = self.n_codes_ = 0
+        self.n_stored_ = self.n_codes_ = self.n_left_ = 0
+        n_left = options.capacity if options.leave_out_empty else 1  # 1: the kernels' types
+        self.left_codes_ = np.zeros((options.code_dims, n_left))
+        self.left_aims_ = np.zeros((n_left, 2))
 
     @property
     def radius_rad(self) -> float:
@@ -262,6 +249,24 @@ class EpisodicMemory:
         return (self.codes_, self.counts_, self.links_, self.aims_, self.base_,
                 self.n_stored_, self.n_codes_)
 
+    def left_arrays(self) -> tuple:
+        """The places left out of faces' recalls as the kernels take them, with ``n_left_``."""
+        return self.left_codes_, self.left_aims_, self.n_left_
+
+    def left_out(self, code: np.ndarray) -> np.ndarray:
+        """The places left out of a face code's recalls, (m, 2)."""
+        code = floats("code", code, (self.options.code_dims,))
+        return left_out_of(code, *self.left_arrays())
+
+    def leave_out(self, code: np.ndarray, aim_rad) -> None:
+        """Leave a place (pan, tilt) out of a face code's recalls (``leave_out_empty``)."""
+        if not self.options.leave_out_empty:
+            raise ValueError("leave_out: this memory leaves nothing out; expected "
+                             "memory.leave_out_empty = true")
+        code, aim_rad = floats("code", code, (self.options.code_dims,)), angles("aim_rad", aim_rad)
+        self.n_left_ = leave_out(code, float(aim_rad[0]), float(aim_rad[1]),
+                                 *self.left_arrays())
+
     def recall(self, code: np.ndarray) -> tuple[np.ndarray | None, float]:
         """The place recalled for a face code and its support; (None, -1) with no memory."""
         aim, support, _ = self.recall_evidence(code)
@@ -272,7 +277,7 @@ class EpisodicMemory:
         code, out = floats("code", code, (self.options.code_dims,)), np.empty(2)
         support, evidence = memory_recall(code, *self.kept_arrays(), self.lo_rad,
                                           self.cell_rad, self.options.k_nearest,
-                                          self.radius_rad, out)
+                                          self.radius_rad, self.left_out(code), out)
         return (None if support < 0 else out), support, evidence
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> EpisodicMemory:

@@ -14,10 +14,11 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
+from ..agent._left_out import empty_arrival, leave_out
 from ..agent.attention import interest_argmax, visual_feedback_rad
 from ..agent.gates import PERFORMANCE, agreement_update
 from ..agent.learner import face_part, sgd_rows_from, standardise, welford_update
-from ..agent.memory import face_code_into, memory_recall
+from ..agent.memory import face_code_into, left_out_of, memory_recall
 from ..agent.moves import learning_samples, random_step, scale_angle_into
 from ..models._population_kernels import population_begin, population_learn
 from ..models.bootstrap import LEARNING_TARGETS
@@ -104,9 +105,10 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             evidence = cached_aim[shown, 2]
         elif memory is not None:
             face_code_into(face, memory.projection, code)
+            left_out = left_out_of(code, memory.left_codes, memory.left_aims, c[6])
             support, evidence = memory_recall(
                 code, memory.codes, memory.counts, memory.links, memory.aims, memory.base, c[4],
-                c[5], memory.lo_rad, memory.cell_rad, memory.k, memory.radius_rad, aim)
+                c[5], memory.lo_rad, memory.cell_rad, memory.k, memory.radius_rad, left_out, aim)
             recalled = support >= 0
             if n_cached:
                 cached[shown] = 1 if recalled else 2
@@ -140,7 +142,12 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                                           arrays)
             if end != RUNNING:
                 break
-            # the agent acts (BootstrapAgent.act)
+            # the agent acts (BootstrapAgent.act; first MemoryModule.observe)
+            if (memory is not None and memory.leave_out_empty and robot.learning and recalled
+                    and empty_arrival(aim[0], aim[1], pan, tilt, robot.step_rad, centre[:m], cx,
+                                      cy, memory.radius_rad / robot.gain_rad_per_px)):
+                c[6] = leave_out(code, aim[0], aim[1], memory.left_codes, memory.left_aims, c[6])
+                recalled, evidence = False, 0.0
             module = trial_module
             if module < 0:
                 rate = gate_rate(robot, c[0], agreement[0], evidence)

@@ -79,7 +79,8 @@ class LoopState(NamedTuple):
     vb2: np.ndarray
     mean: np.ndarray
     m2: np.ndarray
-    counters: np.ndarray  # learning time, faces seen, updates, records, trials kept, codes
+    counters: np.ndarray  # learning time, faces seen, updates, records, trials kept, codes,
+    # places left out
     agreement: np.ndarray  # (1,): the performance gate's measure
     caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving
 
@@ -102,6 +103,9 @@ class LoopMemory(NamedTuple):
     links: np.ndarray
     aims: np.ndarray
     base: np.ndarray
+    leave_out_empty: bool  # leave out a recalled place found empty (agent/_left_out.py)
+    left_codes: np.ndarray
+    left_aims: np.ndarray
 
 
 class LoopDevelopment(NamedTuple):

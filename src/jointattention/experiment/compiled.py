@@ -81,7 +81,8 @@ def _loop_memory(memory) -> LoopMemory | None:
         return None
     return LoopMemory(memory.projection, memory.lo_rad, float(memory.cell_rad),
                       int(memory.options.k_nearest), float(memory.radius_rad),
-                      memory.options.keep == "in_view", *memory.kept_arrays()[:5])
+                      memory.options.keep == "in_view", *memory.kept_arrays()[:5],
+                      memory.options.leave_out_empty, *memory.left_arrays()[:2])
 
 
 class CompiledCell:
@@ -124,7 +125,7 @@ class CompiledCell:
         self._population = (agent.module.arrays()
                             if isinstance(agent.module, PopulationModule) else None)
         self._module_rng = getattr(agent.module, "replay_rng", agent.move_rng)  # a stand-in
-        kept = (0, 0) if memory is None else memory.kept_arrays()[5:]
+        kept = (0, 0, 0) if memory is None else (*memory.kept_arrays()[5:], memory.n_left_)
         self._state = LoopState(
             learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
             *faces.statistics(world.faces.shape[1]),
@@ -150,8 +151,8 @@ class CompiledCell:
         if self._population is not None:
             self.agent.module.sync(self._population)
         if hasattr(self.agent.module, "memory"):
-            self.agent.module.memory.n_stored_, self.agent.module.memory.n_codes_ = (
-                int(c[4]), int(c[5]))
+            memory = self.agent.module.memory
+            memory.n_stored_, memory.n_codes_, memory.n_left_ = int(c[4]), int(c[5]), int(c[6])
 
     def records(self) -> dict[str, np.ndarray]:
         """The trial records so far (:data:`~.trial.RECORD`)."""

@@ -23,7 +23,7 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.learner import standardise, welford_update
-from ..agent.memory import face_code_into, memory_recall, memory_store
+from ..agent.memory import face_code_into, left_out_of, memory_recall, memory_store
 from ..agent.vision import ImageDetector
 from ..config import WorldConfig
 from ..models._population_kernels import population_begin, population_learn
@@ -40,13 +40,15 @@ RENDERED_ROW = "agent steps, rendered mode + OpenCV, the rendered preset's view 
 
 @jit
 def _memory_starts(faces, projection, codes, counts, links, aims, base, n_stored, n_codes,
-                   lo_rad, cell_rad, k_nearest, radius_rad) -> float:
+                   lo_rad, cell_rad, k_nearest, radius_rad, left_codes, left_aims,
+                   n_left) -> float:
     """A trial's start, once per face: its code and the recall (MemoryModule.begin)."""
     code, out, total = np.empty(projection.shape[1]), np.empty(2), 0.0
     for i in range(len(faces)):
         face_code_into(faces[i], projection, code)
+        left_out = left_out_of(code, left_codes, left_aims, n_left)
         support, _ = memory_recall(code, codes, counts, links, aims, base, n_stored, n_codes,
-                                   lo_rad, cell_rad, k_nearest, radius_rad, out)
+                                   lo_rad, cell_rad, k_nearest, radius_rad, left_out, out)
         total += support
     return total
 
@@ -95,7 +97,7 @@ def _memory_us(module, faces: np.ndarray) -> tuple[float, float]:
 
     def starts(m, faces=faces):
         _memory_starts(faces, m.projection, *m.kept_arrays(), *args, m.options.k_nearest,
-                       m.radius_rad)
+                       m.radius_rad, *m.left_arrays())
 
     def keeps(m, n=n):
         _memory_keeps(codes[:n], places[:n], *m.kept_arrays(), *args)

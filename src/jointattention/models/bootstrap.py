@@ -2,8 +2,7 @@
 
 The agent wires visual attention, self-evaluation, the gate and a learning module, which it
 composes (:data:`MODULES`): the paper's network (:mod:`.network`), an episodic memory
-(:mod:`.memory`) or a population code (:mod:`.population`). Its options are the ``[model]``
-section with ``kind = "bootstrap"``.
+(:mod:`.memory`) or a population code (:mod:`.population`). Options: ``[model]``.
 """
 
 from __future__ import annotations
@@ -264,6 +263,7 @@ class BootstrapAgent(NetworkState):
     def act(self, det: Detections, theta_rad) -> tuple[np.ndarray, str]:
         """One step: the gate picks VF or LM; returns (dtheta, module that moved the head)."""
         o = self.options
+        self.module.observe(det, theta_rad)  # before the gate: it may take the recalled place
         module = self._trial_module or (LM if self.gate_rng.random() < self.gate_rate() else VF)
         target = most_interesting(det, self.mechanisms.interest_weights) if module == VF else None
         if module == VF and target is None:

@@ -15,10 +15,13 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
+from ..agent._left_out import empty_arrival
+from ..agent.detections import Detections
 from ..agent.memory import (
     EpisodicMemory,
     code_distances_into,
     face_code_into,
+    left_out_of,
     recall_at_distances,
 )
 from ..agent.moves import random_step, unit_step
@@ -32,13 +35,14 @@ _BATCH = 32  # faces whose distances are measured in one pass over the codes
 
 @jit
 def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, base,
-                         n_stored, n_codes, lo_rad, cell_rad, k_nearest, radius_rad, step_rad,
-                         out) -> None:
+                         n_stored, n_codes, lo_rad, cell_rad, k_nearest, radius_rad, left_codes,
+                         left_aims, n_left, step_rad, out) -> None:
     """One step toward the place recalled for each face window (K, pixels), into ``out``.
 
     From each head angle ``thetas`` (K, 2); no step for a face with no place recalled. A face
     whose code is the one before's (e.g. a blank face at many head angles) is not recalled
-    again: the recall depends on the code alone. The distances of a batch of faces are
+    again: the recall depends on the code alone (and the places left out of its recalls). The
+    distances of a batch of faces are
     measured together (:func:`code_distances_into`: the same bits as one by one).
     """
     n_code = projection.shape[1]
@@ -60,9 +64,10 @@ def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, 
         i = 0
         for r in range(r0, r1):
             if i < n_new and new[i] == r - r0:
+                left_out = left_out_of(batch[r - r0], left_codes, left_aims, n_left)
                 support, _ = recall_at_distances(d2[i], counts, links, aims, base, n_stored,
                                                  n_codes, lo_rad, cell_rad, k_nearest,
-                                                 radius_rad, aim)
+                                                 radius_rad, left_out, aim)
                 i += 1
             if support < 0:
                 out[r, 0], out[r, 1] = 0.0, 0.0
@@ -111,6 +116,23 @@ class MemoryModule:
         self._aim_rad, self.support_, self.evidence_ = self.memory.recall_evidence(
             self._face_code)
 
+    def observe(self, det: Detections, theta_rad) -> None:
+        """Leave the recalled place out of the face's recalls if the head found it empty.
+
+        With ``memory.leave_out_empty``, while learning (:mod:`~jointattention.agent._left_out`):
+        the trial then has no recalled place, and no evidence for the gate.
+        """
+        aim, host = self._aim_rad, self.host
+        if aim is None or not (host.learning and host.options.memory.leave_out_empty):
+            return
+        w, h = det.image_size_px
+        radius_px = self.memory.radius_rad / host.mechanisms.vf_gain_rad_per_px
+        if empty_arrival(aim[0], aim[1], float(theta_rad[0]), float(theta_rad[1]),
+                         host.step_rad, np.asarray(det.centre_px, dtype=float).reshape(-1, 2),
+                         (w - 1) / 2, (h - 1) / 2, radius_px):
+            self.memory.leave_out(self._face_code, aim)
+            self._aim_rad, self.support_, self.evidence_ = None, -1.0, 0.0
+
     def step(self, theta_rad) -> np.ndarray:
         """A step toward the recalled place; a random step while nothing is kept."""
         if self._aim_rad is None:
@@ -146,7 +168,7 @@ class MemoryModule:
         recall_commands_into(np.ascontiguousarray(faces, dtype=float),
                              np.ascontiguousarray(thetas, dtype=float), m.projection,
                              *m.kept_arrays(), m.lo_rad, m.cell_rad, m.options.k_nearest,
-                             m.radius_rad, self.host.step_rad, out)
+                             m.radius_rad, *m.left_arrays(), self.host.step_rad, out)
         return out
 
     def saved_arrays(self) -> dict[str, np.ndarray]:

@@ -67,6 +67,9 @@ class NetworkModule:
         self._face_x = self.host.faces.transform(face)
         self._face_acc = self._face_part(self._face_x)
 
+    def observe(self, det, theta_rad) -> None:
+        """Nothing: the module makes nothing of a step's view (see the memory's)."""
+
     def step(self, theta_rad) -> np.ndarray:
         """The module's command at a head angle during the trial."""
         return self._command(self._face_acc, theta_rad)

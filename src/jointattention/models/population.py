@@ -167,6 +167,9 @@ class PopulationModule:
                                                float(theta_rad[1]), self.host.learning)
         self.sync(a)
 
+    def observe(self, det, theta_rad) -> None:
+        """Nothing: the module makes nothing of a step's view (see the memory's)."""
+
     def step(self, theta_rad) -> np.ndarray:
         """A step along the line from the face in the direction read out."""
         s = self._theta_start

@@ -1,0 +1,85 @@
+"""Places the episodic memory leaves out of a face's recalls (``memory.leave_out_empty``).
+
+A data set's target does not move. So when the head reaches the place the memory recalled
+for a face (within one step of it) and no object is near the view's centre (within the voting
+radius, in pixels through Eq. 2's gain), that place is not the face's target: the memory
+leaves it out of that face's recalls from then on, and the place that agrees most among the
+others is recalled instead (:func:`~.memory.recall_at_distances`). Everything it uses is the
+robot's own: its recall, its head angle and its detections.
+
+The places are kept with the face's code in a ring as long as the memory's capacity (the
+oldest forgotten first), and a face finds its own by its exact code: a face that recurs pixel
+for pixel, as a data set's does. A face seen through noise seldom recurs exactly, and then
+nothing is left out.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._jit import jit
+
+__all__ = ["empty_arrival", "leave_out", "left_out_of", "near_any"]
+
+
+@jit
+def empty_arrival(aim_pan_rad, aim_tilt_rad, pan_rad, tilt_rad, step_rad, centre_px, cx, cy,
+                  radius_px) -> bool:
+    """Whether the head is within a step of the recalled place with no object near the centre.
+
+    ``centre_px`` (m, 2): the detected objects' centres; ``(cx, cy)``: the view's centre.
+    """
+    if (pan_rad - aim_pan_rad) ** 2 + (tilt_rad - aim_tilt_rad) ** 2 >= step_rad * step_rad:
+        return False
+    r2 = radius_px * radius_px
+    for i in range(len(centre_px)):
+        if (centre_px[i, 0] - cx) ** 2 + (centre_px[i, 1] - cy) ** 2 < r2:
+            return False
+    return True
+
+
+@jit
+def leave_out(code, pan_rad, tilt_rad, left_codes, left_aims, n_left: int) -> int:
+    """Leave a place out of the recalls of face ``code``; returns the places left out so far.
+
+    Slot ``n_left % capacity`` of ``left_codes`` (code length, capacity: entry-major, as the
+    memory's codes) and ``left_aims`` (capacity, 2), forgetting the oldest when full.
+    """
+    slot = n_left % len(left_aims)
+    for j in range(len(code)):
+        left_codes[j, slot] = code[j]
+    left_aims[slot, 0], left_aims[slot, 1] = pan_rad, tilt_rad
+    return n_left + 1
+
+
+@jit
+def _is_code(left_codes, slot: int, code) -> bool:
+    for j in range(len(code)):  # noqa: SIM110 (numba compiles no generator in all())
+        if left_codes[j, slot] != code[j]:
+            return False
+    return True
+
+
+@jit
+def left_out_of(code, left_codes, left_aims, n_left: int) -> np.ndarray:
+    """The places left out of face ``code``'s recalls, (m, 2)."""
+    n = min(n_left, len(left_aims))
+    mine = np.empty(n, np.int64)
+    m = 0
+    for s in range(n):
+        if left_codes[0, s] == code[0] and _is_code(left_codes, s, code):
+            mine[m] = s
+            m += 1
+    out = np.empty((m, 2))
+    for i in range(m):
+        out[i, 0], out[i, 1] = left_aims[mine[i], 0], left_aims[mine[i], 1]
+    return out
+
+
+@jit
+def near_any(pan_rad, tilt_rad, places, r2) -> bool:
+    """Whether a place is closer than ``sqrt(r2)`` to any of ``places`` (m, 2)."""
+    for i in range(len(places)):
+        if (pan_rad - places[i, 0]) ** 2 + (tilt_rad - places[i, 1]) ** 2 < r2:
+            return True
+    return False
