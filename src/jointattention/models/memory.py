@@ -7,7 +7,9 @@ the caregiver's face, the place to look at; its command is one step from the hea
 that place. A trial the evaluator ends is kept as (face code, place): the place is the attended
 object's (``object_direction``: the final head angle plus the visual controller's command that
 centres it) or the final head angle (``final_direction``); with ``memory.keep = "in_view"`` (the
-default) every other object in the last image is kept too, at its place.
+default) every other object in the last image is kept too, at its place. With
+``memory.leave_out_empty``, a recalled place that the head reaches and finds empty is left out
+of that face's recalls (:meth:`MemoryModule.observe`, :mod:`~jointattention.agent._left_out`).
 """
 
 from __future__ import annotations
@@ -42,8 +44,8 @@ def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, 
     From each head angle ``thetas`` (K, 2); no step for a face with no place recalled. A face
     whose code is the one before's (e.g. a blank face at many head angles) is not recalled
     again: the recall depends on the code alone (and the places left out of its recalls). The
-    distances of a batch of faces are
-    measured together (:func:`code_distances_into`: the same bits as one by one).
+    distances of a batch of faces are measured together (:func:`code_distances_into`: the
+    same bits as one by one).
     """
     n_code = projection.shape[1]
     batch, last, aim = np.empty((_BATCH, n_code)), np.empty(n_code), np.empty(2)
