@@ -16,6 +16,7 @@ from jointattention.agent.gates import EvidenceGate, SigmoidGate
 from jointattention.agent.memory import EpisodicMemory, MemoryOptions
 from jointattention.agent.protocol import Body
 from jointattention.config import AgentConfig, ConditionConfig, Config, ExperimentConfig
+from jointattention.errors import ArgumentError
 from jointattention.models.bootstrap import BootstrapOptions
 
 LIMITS = ((-1.0, 1.0), (-0.7, 0.6))
@@ -68,7 +69,7 @@ def test_another_face_still_recalls_a_place_left_out_of_one_face():
 def test_a_memory_that_leaves_nothing_out_refuses_to_with_one_line():
     """leave_out on a memory without the option is a clear error, not a silent no-op."""
     memory = EpisodicMemory(12, MemoryOptions(), LIMITS, np.random.default_rng(0))
-    with pytest.raises(ValueError, match=r"expected memory\.leave_out_empty = true"):
+    with pytest.raises(ArgumentError, match=r"expected memory\.leave_out_empty = true"):
         memory.leave_out(np.zeros(32), (0.0, 0.0))
 
 

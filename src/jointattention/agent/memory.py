@@ -24,6 +24,7 @@ import numpy as np
 from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
+from ..errors import ArgumentError
 from ._left_out import leave_out, left_out_of, near_any
 from ._recall import (
     CODE_OF,
@@ -261,8 +262,8 @@ class EpisodicMemory:
     def leave_out(self, code: np.ndarray, aim_rad) -> None:
         """Leave a place (pan, tilt) out of a face code's recalls (``leave_out_empty``)."""
         if not self.options.leave_out_empty:
-            raise ValueError("leave_out: this memory leaves nothing out; expected "
-                             "memory.leave_out_empty = true")
+            raise ArgumentError("leave_out: this memory leaves nothing out; expected "
+                                "memory.leave_out_empty = true")
         code, aim_rad = floats("code", code, (self.options.code_dims,)), angles("aim_rad", aim_rad)
         self.n_left_ = leave_out(code, float(aim_rad[0]), float(aim_rad[1]),
                                  *self.left_arrays())
