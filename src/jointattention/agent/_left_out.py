@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
+from ._recall import same_code
 
 __all__ = ["empty_arrival", "leave_out", "left_out_of", "near_any"]
 
@@ -31,11 +32,7 @@ def empty_arrival(aim_pan_rad, aim_tilt_rad, pan_rad, tilt_rad, step_rad, centre
     """
     if (pan_rad - aim_pan_rad) ** 2 + (tilt_rad - aim_tilt_rad) ** 2 >= step_rad * step_rad:
         return False
-    r2 = radius_px * radius_px
-    for i in range(len(centre_px)):
-        if (centre_px[i, 0] - cx) ** 2 + (centre_px[i, 1] - cy) ** 2 < r2:
-            return False
-    return True
+    return not near_any(cx, cy, centre_px, radius_px * radius_px)
 
 
 @jit
@@ -53,21 +50,13 @@ def leave_out(code, pan_rad, tilt_rad, left_codes, left_aims, n_left: int) -> in
 
 
 @jit
-def _is_code(left_codes, slot: int, code) -> bool:
-    for j in range(len(code)):  # noqa: SIM110 (numba compiles no generator in all())
-        if left_codes[j, slot] != code[j]:
-            return False
-    return True
-
-
-@jit
 def left_out_of(code, left_codes, left_aims, n_left: int) -> np.ndarray:
     """The places left out of face ``code``'s recalls, (m, 2)."""
     n = min(n_left, len(left_aims))
     mine = np.empty(n, np.int64)
     m = 0
     for s in range(n):
-        if left_codes[0, s] == code[0] and _is_code(left_codes, s, code):
+        if same_code(left_codes[:, s], code):
             mine[m] = s
             m += 1
     out = np.empty((m, 2))

@@ -1,6 +1,7 @@
 """The episodic memory's recall, its costly parts (:func:`.memory.memory_recall`).
 
-The base rate's grid (:func:`cell_of`, :func:`count_around`), how far a face is from each
+The base rate's grid (:func:`cell_of`, :func:`count_around`), whether two face codes are
+the same (:func:`same_code`), how far a face is from each
 distinct face code (:func:`code_distances_into`), which trials are near it
 (:func:`weighted_kth` over the codes, then :func:`near_slots` from each code's list of trials),
 and how many near places agree with each (:func:`votes_into`). The lists (``links``, one row
@@ -18,7 +19,7 @@ import numpy as np
 from .._jit import jit
 
 __all__ = ["CODE_OF", "cell_of", "code_distances_into", "count_around", "link", "near_slots",
-           "new_lap", "no_links", "unlink", "votes_into", "weighted_kth"]
+           "new_lap", "no_links", "same_code", "unlink", "votes_into", "weighted_kth"]
 
 CODE_OF, NEXT, PREV, HEAD, LAST = range(5)  # the rows of links
 
@@ -47,6 +48,15 @@ def count_around(pan_rad, tilt_rad, grid, lo_rad, cell_rad, by) -> None:
             i, j = ci + di, cj + dj
             if di * di + dj * dj <= 4 and 0 <= i < grid.shape[0] and 0 <= j < grid.shape[1]:
                 grid[i, j] += by
+
+
+@jit
+def same_code(a, b) -> bool:
+    """Whether two face codes are equal, entry by entry (a column of entry-major codes too)."""
+    for j in range(len(a)):  # noqa: SIM110 (a plain loop: numba compiles no generator in all())
+        if a[j] != b[j]:
+            return False
+    return True
 
 
 @jit

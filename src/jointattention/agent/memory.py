@@ -35,6 +35,7 @@ from ._recall import (
     near_slots,
     new_lap,
     no_links,
+    same_code,
     unlink,
     votes_into,
     weighted_kth,
@@ -83,14 +84,6 @@ def face_code_into(face, projection, out) -> None:
 
 
 @jit
-def _same(a, b) -> bool:
-    for j in range(len(a)):  # noqa: SIM110 (a plain loop: numba compiles no generator in all())
-        if a[j] != b[j]:
-            return False
-    return True
-
-
-@jit
 def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, base, n_stored,
                  n_codes, lo_rad, cell_rad) -> int:
     """Keep a trial (face code, place) in slot ``n_stored % capacity``, forgetting its last.
@@ -109,12 +102,12 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, ba
     if slot == 0:
         new_lap(links, n_codes)
     u = code_of[slot - 1] if n_stored > 0 else 0  # a trial's places share its face
-    if not (n_stored > 0 and counts[u] > 0 and _same(codes[:, u], code)):
+    if not (n_stored > 0 and counts[u] > 0 and same_code(codes[:, u], code)):
         u, free = -1, -1
         for v in range(n_codes):
             if counts[v] == 0:
                 free = v if free < 0 else free
-            elif _same(codes[:, v], code):
+            elif same_code(codes[:, v], code):
                 u = v
                 break
         if u < 0:

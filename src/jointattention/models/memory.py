@@ -127,11 +127,11 @@ class MemoryModule:
         aim, host = self._aim_rad, self.host
         if aim is None or not (host.learning and host.options.memory.leave_out_empty):
             return
-        w, h = det.image_size_px
+        cx, cy = det.image_centre_px
         radius_px = self.memory.radius_rad / host.mechanisms.vf_gain_rad_per_px
         if empty_arrival(aim[0], aim[1], float(theta_rad[0]), float(theta_rad[1]),
-                         host.step_rad, np.asarray(det.centre_px, dtype=float).reshape(-1, 2),
-                         (w - 1) / 2, (h - 1) / 2, radius_px):
+                         host.step_rad, np.asarray(det.centre_px, dtype=float), cx, cy,
+                         radius_px):
             self.memory.leave_out(self._face_code, aim)
             self._aim_rad, self.support_, self.evidence_ = None, -1.0, 0.0
 
