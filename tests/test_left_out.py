@@ -104,8 +104,8 @@ def test_a_recalled_place_is_never_near_a_place_left_out(seed, n_left):
     if aim is not None:
         gaps = np.linalg.norm(memory.left_out(code) - aim, axis=1)
         assert (gaps >= memory.radius_rad).all()
-    else:
-        assert n_left > 0 and (support, evidence) == (-1.0, 0.0)
+    else:  # every place left out (-1, 0), or the best one below the base rate
+        assert support < 0 and evidence <= 0.0
 
 
 def _det(centres) -> Detections:
