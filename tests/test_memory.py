@@ -102,6 +102,7 @@ def test_options_the_memory_cannot_run_are_refused_with_one_line():
         BootstrapOptions(learner="population", gate=EvidenceGate())
 
 
+@settings(deadline=None)  # the first example may compile the kernel
 @given(st.floats(0, 1e4), st.floats(0, 1e4), st.floats(0, 100), st.floats(1e-3, 100))
 def test_the_evidence_rate_rises_from_the_floor_toward_one(a, b, floor, half):
     """Rate 0 up to the floor, 1/2 at half beyond it, below 1, never falling as evidence grows."""
@@ -125,6 +126,7 @@ def test_the_evidence_gate_hands_a_face_found_often_to_the_memory():
     assert agent.gate_rate() == 0
 
 
+@settings(deadline=None)  # the first example may compile the kernel
 @given(st.floats(0, 1), st.floats(0, 1), st.floats(1, 89), st.floats(0.6, 1))
 def test_the_performance_rate_is_a_clipped_rising_line_from_chance(a, b, agree_deg, full):
     """Rate 0 at chance agreement, 1 at full, in [0, 1], never falling as agreement rises."""
@@ -198,6 +200,7 @@ def _is_recalled(aim, support, ref_aims) -> bool:
     return any(np.allclose(aim, ref, rtol=0, atol=1e-12) for ref in ref_aims)
 
 
+@settings(deadline=None)  # the first example may compile the kernel
 @given(faces=st.lists(st.integers(0, 5), min_size=1, max_size=80),
        capacity=st.integers(1, 30), k=st.integers(1, 12), seed=st.integers(0, 2**16))
 def test_recall_over_distinct_codes_is_the_recall_over_every_trial(faces, capacity, k, seed):
@@ -223,6 +226,7 @@ def test_recall_over_distinct_codes_is_the_recall_over_every_trial(faces, capaci
         assert _is_recalled(aim, support, ref_aim)
 
 
+@settings(deadline=None)  # the first example may compile the kernel
 @given(n=st.integers(32, 400), spread=st.floats(0.001, 1.0), seed=st.integers(0, 2**16))
 @example(n=32, spread=0.046875, seed=32)  # two places tie but for rounding (CI found it)
 def test_the_counted_votes_of_a_face_seen_often_are_the_scan_over_every_trial(n, spread, seed):
