@@ -10,13 +10,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jointattention import run_cell
-from jointattention.agent._left_out import empty_arrival, leave_out, left_out_of
+from jointattention.agent._left_out import empty_arrival, leave_out, left_out_of, passed_over_into
 from jointattention.agent.detections import Detections
 from jointattention.agent.gates import EvidenceGate, SigmoidGate
 from jointattention.agent.memory import EpisodicMemory, MemoryOptions
 from jointattention.agent.protocol import Body
 from jointattention.config import AgentConfig, ConditionConfig, Config, ExperimentConfig
-from jointattention.errors import ArgumentError
+from jointattention.errors import ArgumentError, ConfigError
 from jointattention.models.bootstrap import BootstrapOptions
 
 LIMITS = ((-1.0, 1.0), (-0.7, 0.6))
@@ -139,15 +139,65 @@ def test_the_agent_leaves_out_a_recalled_place_only_while_learning():
         assert (agent.module.evidence_ == 0.0) == learning
 
 
+def test_passing_over_without_leaving_out_is_refused_with_one_line():
+    """pass_over_left_out needs leave_out_empty: a configuration error naming both."""
+    with pytest.raises(ConfigError, match=r"pass_over_left_out.*leave_out_empty = true"):
+        MemoryOptions(pass_over_left_out=True)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10_000), n_left=st.integers(0, 4))
+def test_attention_passes_over_exactly_the_objects_at_places_left_out(seed, n_left):
+    """A detection is passed over iff Eq. 2 puts it within the radius of a place left out."""
+    rng = np.random.default_rng(seed)
+    gain, radius, pan, tilt = 0.003, 0.035, rng.uniform(-0.5, 0.5), rng.uniform(-0.3, 0.3)
+    centres = rng.uniform((0, 0), (320, 240), (8, 2))
+    places = np.column_stack([pan + gain * (centres[:, 0] - 159.5),
+                              tilt - gain * (centres[:, 1] - 119.5)])
+    left = places[:n_left] + rng.uniform(-1.2, 1.2, (n_left, 2)) * radius  # near or not
+    out = np.ones(8, dtype=bool)
+    passed_over_into(centres, 159.5, 119.5, gain, pan, tilt, left, radius, out)
+    d = np.linalg.norm(places[:, None] - left[None], axis=2) if n_left else np.full((8, 1), 9.0)
+    assert np.array_equal(out, (d < radius).any(axis=1))
+
+
+def _passing_over_agent(pass_over: bool):
+    """An agent that always picks VF, with (0.1, 0.05) left out of face arange(12)'s recalls."""
+    options = BootstrapOptions(
+        learner="memory", vf_fallback="sweep", gate=SigmoidGate(midpoint_steps=1e9),
+        memory=MemoryOptions(leave_out_empty=True, pass_over_left_out=pass_over))
+    agent = options.build(AgentConfig(), BODY, np.random.default_rng(0))
+    agent.module.memory.leave_out(agent.module.memory.code(np.arange(12.0)), (0.1, 0.05))
+    agent.begin_trial(np.arange(12.0).reshape(3, 4), (0.0, 0.0))
+    return agent
+
+
+def test_visual_attention_passes_over_an_object_at_a_place_left_out_while_learning():
+    """The most salient object lies at the place left out: attention takes the other one."""
+    gain = AgentConfig().vf_gain_rad_per_px
+    at_left_out = (160.0 + 0.1 / gain, 120.0 - 0.05 / gain)
+    det = Detections(np.array([at_left_out, (60.0, 200.0)]), np.array([50.0, 10.0]),
+                     np.zeros(2), np.zeros(2), (321, 241))
+    for pass_over, learning, attended in ((True, True, 1), (True, False, 0), (False, True, 0)):
+        agent = _passing_over_agent(pass_over)
+        agent.learning = learning
+        d_theta, module = agent.act(det, (0.0, 0.0))
+        expected = gain * (det.centre_px[attended] - (160.0, 120.0)) * (1, -1)
+        assert module == "vf" and np.allclose(d_theta, expected), (pass_over, learning)
+
+
 CONFIG = Config(model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),
                 experiment=ExperimentConfig(n_steps=4000, n_seeds=1, conditions=(
                     ConditionConfig(name="leave-out", n_objects=10, model=LEAVE_OUT),
                     ConditionConfig(name="leave-out-forgets", n_objects=5, model={
                         **LEAVE_OUT, "gate_per": "trial",
-                        "memory": {"leave_out_empty": True, "capacity": 30}}))))
+                        "memory": {"leave_out_empty": True, "capacity": 30}}),
+                    ConditionConfig(name="pass-over", n_objects=10, model={
+                        **LEAVE_OUT, "memory": {"leave_out_empty": True,
+                                                "pass_over_left_out": True}}))))
 
 
-@pytest.mark.parametrize("name", ["leave-out", "leave-out-forgets"])
+@pytest.mark.parametrize("name", ["leave-out", "leave-out-forgets", "pass-over"])
 def test_both_engines_leave_out_the_same_places_and_run_the_same_trials(name):
     """The compiled engine's records and places left out are the python engine's, bit for bit."""
     ends = {}

@@ -11,6 +11,11 @@ The places are kept with the face's code in a ring as long as the memory's capac
 oldest forgotten first), and a face finds its own by its exact code: a face that recurs pixel
 for pixel, as a data set's does. A face seen through noise seldom recurs exactly, and then
 nothing is left out.
+
+With ``memory.pass_over_left_out``, visual attention also passes over an object that lies at a
+place left out of the face's recalls (:func:`passed_over_into`): the target is never there, so
+the object is a distractor. A face whose target lies far from the distractors, which visual
+attention alone seldom reaches, is then searched beyond the places already found wanting.
 """
 
 from __future__ import annotations
@@ -19,8 +24,9 @@ import numpy as np
 
 from .._jit import jit
 from ._recall import same_code
+from .attention import visual_feedback_rad
 
-__all__ = ["empty_arrival", "leave_out", "left_out_of", "near_any"]
+__all__ = ["empty_arrival", "leave_out", "left_out_of", "near_any", "passed_over_into"]
 
 
 @jit
@@ -72,3 +78,19 @@ def near_any(pan_rad, tilt_rad, places, r2) -> bool:
         if (pan_rad - places[i, 0]) ** 2 + (tilt_rad - places[i, 1]) ** 2 < r2:
             return True
     return False
+
+
+@jit
+def passed_over_into(centre_px, cx, cy, gain_rad_per_px, pan_rad, tilt_rad, left_out,
+                     radius_rad, out) -> None:
+    """Which detections visual attention passes over: ``out[i]``, a bool per detection.
+
+    A detection's place is the head angle plus Eq. 2's step to it (``centre_px`` (m, 2), the
+    view's centre ``(cx, cy)``); it is passed over if it lies within ``radius_rad`` of one of
+    the face's places ``left_out`` (k, 2).
+    """
+    r2 = radius_rad * radius_rad
+    for i in range(len(centre_px)):
+        d_pan, d_tilt = visual_feedback_rad(centre_px[i, 0], centre_px[i, 1], cx, cy,
+                                            gain_rad_per_px)
+        out[i] = near_any(pan_rad + d_pan, tilt_rad + d_tilt, left_out, r2)

@@ -1,8 +1,8 @@
 """The episodic memory's recall, its costly parts (:func:`.memory.memory_recall`).
 
-The base rate's grid (:func:`cell_of`, :func:`count_around`), whether two face codes are
-the same (:func:`same_code`), how far a face is from each
-distinct face code (:func:`code_distances_into`), which trials are near it
+The face code (:func:`face_code_into`), the base rate's grid (:func:`cell_of`,
+:func:`count_around`), whether two face codes are the same (:func:`same_code`), how far a
+face is from each distinct face code (:func:`code_distances_into`), which trials are near it
 (:func:`weighted_kth` over the codes, then :func:`near_slots` from each code's list of trials),
 and how many near places agree with each (:func:`votes_into`). The lists (``links``, one row
 each): ``CODE_OF[slot]``, the slot's code; ``NEXT``/``PREV[slot]``, the code's next and
@@ -18,8 +18,8 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["CODE_OF", "cell_of", "code_distances_into", "count_around", "link", "near_slots",
-           "new_lap", "no_links", "same_code", "unlink", "votes_into", "weighted_kth"]
+__all__ = ["CODE_OF", "cell_of", "code_distances_into", "count_around", "face_code_into", "link",
+           "near_slots", "new_lap", "no_links", "same_code", "unlink", "votes_into", "weighted_kth"]
 
 CODE_OF, NEXT, PREV, HEAD, LAST = range(5)  # the rows of links
 
@@ -48,6 +48,20 @@ def count_around(pan_rad, tilt_rad, grid, lo_rad, cell_rad, by) -> None:
             i, j = ci + di, cj + dj
             if di * di + dj * dj <= 4 and 0 <= i < grid.shape[0] and 0 <= j < grid.shape[1]:
                 grid[i, j] += by
+
+
+@jit
+def face_code_into(face, projection, out) -> None:
+    """``out = face @ projection``: the face window's compact code.
+
+    ``projection`` is (pixels, code length): each entry of the code sums over the pixels in
+    order, all entries at once along a row (the loop vectorises).
+    """
+    out[:] = 0.0
+    for i in range(len(face)):
+        fi, row = face[i], projection[i]
+        for j in range(len(out)):
+            out[j] += row[j] * fi
 
 
 @jit

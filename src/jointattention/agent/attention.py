@@ -24,10 +24,17 @@ __all__ = [
 
 
 @jit
-def interest_argmax(colour_area_px, edge, motion, a1, a2, a3) -> int:
-    """Eq. 1: i_trg = argmax_i (a1 f_col + a2 f_edge + a3 f_mot); -1 if nothing is seen."""
+def interest_argmax(colour_area_px, edge, motion, a1, a2, a3, passed_over=None) -> int:
+    """Eq. 1: i_trg = argmax_i (a1 f_col + a2 f_edge + a3 f_mot); -1 if nothing is seen.
+
+    The objects flagged in ``passed_over`` (a bool per object, or None) are not candidates
+    (a place left out of the face's recalls, ``memory.pass_over_left_out``); -1 if no other is
+    seen.
+    """
     best, best_i = -np.inf, -1
     for i in range(len(colour_area_px)):
+        if passed_over is not None and passed_over[i]:
+            continue
         score = a1 * colour_area_px[i] + a2 * edge[i] + a3 * motion[i]
         if best_i < 0 or score > best:  # the first of equal scores, as numpy's argmax
             best, best_i = score, i
@@ -58,11 +65,14 @@ def _floats(a) -> np.ndarray:
     return np.ascontiguousarray(a, dtype=float)
 
 
-def most_interesting(det: Detections, weights) -> int | None:
-    """Eq. 1 on a detector's report (:func:`interest_argmax`); None if nothing is seen."""
+def most_interesting(det: Detections, weights, passed_over=None) -> int | None:
+    """Eq. 1 on a detector's report (:func:`interest_argmax`); None if nothing is seen.
+
+    ``passed_over``: a bool per detection, those not to attend (or None).
+    """
     a1, a2, a3 = (float(w) for w in weights)
     i = interest_argmax(_floats(det.colour_area_px), _floats(det.edge), _floats(det.motion),
-                        a1, a2, a3)
+                        a1, a2, a3, passed_over)
     return None if i < 0 else i
 
 

@@ -24,13 +24,14 @@ import numpy as np
 from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
-from ..errors import ArgumentError
+from ..errors import ArgumentError, ConfigError
 from ._left_out import leave_out, left_out_of, near_any
 from ._recall import (
     CODE_OF,
     cell_of,
     code_distances_into,
     count_around,
+    face_code_into,
     link,
     near_slots,
     new_lap,
@@ -67,20 +68,15 @@ class MemoryOptions(Section):
     leave_out_empty: bool = param(
         False, "leave a place out of a face's recalls once the head reached it (within a step) "
         "with no object near the view's centre: a data set's target does not move")
+    pass_over_left_out: bool = param(
+        False, "visual attention passes over an object at a place left out of the face's "
+        "recalls (it is not the target); needs leave_out_empty")
 
-
-@jit
-def face_code_into(face, projection, out) -> None:
-    """``out = face @ projection``: the face window's compact code.
-
-    ``projection`` is (pixels, code length): each entry of the code sums over the pixels in
-    order, all entries at once along a row (the loop vectorises).
-    """
-    out[:] = 0.0
-    for i in range(len(face)):
-        fi, row = face[i], projection[i]
-        for j in range(len(out)):
-            out[j] += row[j] * fi
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.pass_over_left_out and not self.leave_out_empty:
+            raise ConfigError("memory.pass_over_left_out = true: expected "
+                              "memory.leave_out_empty = true (it passes over the places left out)")
 
 
 @jit

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..agent._left_out import empty_arrival, leave_out
+from ..agent._left_out import empty_arrival, leave_out, passed_over_into
 from ..agent.attention import interest_argmax, visual_feedback_rad
 from ..agent.gates import PERFORMANCE, agreement_update
 from ..agent.learner import face_part, sgd_rows_from, standardise, welford_update
@@ -64,6 +64,8 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
     arrays = look_arrays(n)
     centre, seen_area, seen_edge, motion = arrays[1], arrays[2], arrays[3], np.zeros(n)
+    no_objects, passed_over = np.zeros(n, np.bool_), np.zeros(n, np.bool_)  # attention's
+    no_places = np.empty((0, 2))  # a face's places left out, before any
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, angles_x = np.empty(n_hidden), np.empty(2), np.empty((robot.max_steps, 2))
     n_code = n_cached = 0
@@ -98,7 +100,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                       seen_face)
             face = seen_face
         # the agent begins (BootstrapAgent.begin_trial, MemoryModule.begin)
-        recalled, evidence = False, 0.0
+        recalled, evidence, mine = False, 0.0, no_places  # mine: the face's places left out
         if memory is not None and n_cached and cached[shown]:
             recalled = cached[shown] == 1
             aim[0], aim[1] = cached_aim[shown, 0], cached_aim[shown, 1]
@@ -109,7 +111,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             support, evidence = memory_recall(
                 code, memory.codes, memory.counts, memory.links, memory.aims, memory.base, c[4],
                 c[5], memory.lo_rad, memory.cell_rad, memory.k, memory.radius_rad, left_out, aim)
-            recalled = support >= 0
+            recalled, mine = support >= 0, left_out
             if n_cached:
                 cached[shown] = 1 if recalled else 2
                 cached_aim[shown, 0], cached_aim[shown, 1] = aim[0], aim[1]
@@ -148,13 +150,19 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                                       cy, memory.radius_rad / robot.gain_rad_per_px)):
                 c[6] = leave_out(code, aim[0], aim[1], memory.left_codes, memory.left_aims, c[6])
                 recalled, evidence = False, 0.0
+                mine = left_out_of(code, memory.left_codes, memory.left_aims, c[6])
             module = trial_module
             if module < 0:
                 rate = gate_rate(robot, c[0], agreement[0], evidence)
                 module = _LM if gate_rng.random() < rate else _VF
             i = -1
             if module == _VF:
-                i = interest_argmax(seen_area[:m], seen_edge[:m], motion[:m], a1, a2, a3)
+                passed = no_objects[:m]
+                if memory is not None and memory.pass_over and robot.learning:
+                    passed = passed_over[:m]
+                    passed_over_into(centre[:m], cx, cy, robot.gain_rad_per_px, pan, tilt, mine,
+                                     memory.radius_rad, passed)
+                i = interest_argmax(seen_area[:m], seen_edge[:m], motion[:m], a1, a2, a3, passed)
                 if i < 0:
                     module = _LM if robot.vf_fallback_lm else _RANDOM
             if module == _VF:

@@ -106,6 +106,7 @@ class LoopMemory(NamedTuple):
     leave_out_empty: bool  # leave out a recalled place found empty (agent/_left_out.py)
     left_codes: np.ndarray
     left_aims: np.ndarray
+    pass_over: bool  # visual attention passes over objects at places left out
 
 
 class LoopDevelopment(NamedTuple):

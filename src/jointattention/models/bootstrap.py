@@ -175,8 +175,7 @@ class BootstrapAgent(NetworkState):
         self.agreement_ = 0.0  # a measured gate's measure (Gate.measured)
         self._trial_module: str | None = None
         self._last_module: str | None = None
-        self._thetas: list[np.ndarray] = []
-        self._steps: list[np.ndarray] = []
+        self._thetas, self._steps = [], []  # the trial's head angles and steps, (2,) each
         self.module = MODULES[options.learner](self, rng)
 
     @property
@@ -263,9 +262,10 @@ class BootstrapAgent(NetworkState):
     def act(self, det: Detections, theta_rad) -> tuple[np.ndarray, str]:
         """One step: the gate picks VF or LM; returns (dtheta, module that moved the head)."""
         o = self.options
-        self.module.observe(det, theta_rad)  # before the gate: it may take the recalled place
+        passed_over = self.module.observe(det, theta_rad)  # before the gate: MemoryModule.observe
         module = self._trial_module or (LM if self.gate_rng.random() < self.gate_rate() else VF)
-        target = most_interesting(det, self.mechanisms.interest_weights) if module == VF else None
+        target = (most_interesting(det, self.mechanisms.interest_weights, passed_over)
+                  if module == VF else None)
         if module == VF and target is None:
             module = LM if o.vf_fallback == "lm" else RANDOM
         if module == VF:

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..agent._left_out import empty_arrival
+from ..agent._left_out import empty_arrival, passed_over_into
 from ..agent.detections import Detections
 from ..agent.memory import (
     EpisodicMemory,
@@ -104,6 +104,7 @@ class MemoryModule:
         self.memory = EpisodicMemory(body.face_size_px[0] * body.face_size_px[1],
                                      host.options.memory, body.joint_limits_rad, code_rng)
         self.support_, self.evidence_ = -1.0, 0.0
+        self._left_out = None  # the current face's places left out (fetched as needed)
 
     def _toward(self, aim_rad, theta_rad) -> np.ndarray:
         """One step toward the recalled place; no step without one."""
@@ -117,23 +118,36 @@ class MemoryModule:
         self._face_code = self.memory.code(face)
         self._aim_rad, self.support_, self.evidence_ = self.memory.recall_evidence(
             self._face_code)
+        self._left_out = None
 
-    def observe(self, det: Detections, theta_rad) -> None:
-        """Leave the recalled place out of the face's recalls if the head found it empty.
+    def observe(self, det: Detections, theta_rad) -> np.ndarray | None:
+        """Leave the recalled place out if the head found it empty; what attention passes over.
 
-        With ``memory.leave_out_empty``, while learning (:mod:`~jointattention.agent._left_out`):
-        the trial then has no recalled place, and no evidence for the gate.
+        While learning (:mod:`~jointattention.agent._left_out`): with ``memory.leave_out_empty``
+        the trial then has no recalled place, and no evidence for the gate; with
+        ``memory.pass_over_left_out`` the answer flags the detections at the face's places left
+        out (None: attention may take any).
         """
-        aim, host = self._aim_rad, self.host
-        if aim is None or not (host.learning and host.options.memory.leave_out_empty):
-            return
+        aim, host, options = self._aim_rad, self.host, self.host.options.memory
+        if not host.learning:
+            return None
         cx, cy = det.image_centre_px
-        radius_px = self.memory.radius_rad / host.mechanisms.vf_gain_rad_per_px
-        if empty_arrival(aim[0], aim[1], float(theta_rad[0]), float(theta_rad[1]),
-                         host.step_rad, np.asarray(det.centre_px, dtype=float), cx, cy,
-                         radius_px):
+        centre_px, gain = np.asarray(det.centre_px, dtype=float), host.mechanisms.vf_gain_rad_per_px
+        pan, tilt = float(theta_rad[0]), float(theta_rad[1])
+        if aim is not None and options.leave_out_empty and empty_arrival(
+                aim[0], aim[1], pan, tilt, host.step_rad, centre_px, cx, cy,
+                self.memory.radius_rad / gain):
             self.memory.leave_out(self._face_code, aim)
             self._aim_rad, self.support_, self.evidence_ = None, -1.0, 0.0
+            self._left_out = None
+        if not options.pass_over_left_out:
+            return None
+        if self._left_out is None:  # the face's places left out, fetched once until one more
+            self._left_out = self.memory.left_out(self._face_code)
+        passed = np.zeros(len(centre_px), dtype=bool)
+        passed_over_into(centre_px, cx, cy, gain, pan, tilt, self._left_out,
+                         self.memory.radius_rad, passed)
+        return passed
 
     def step(self, theta_rad) -> np.ndarray:
         """A step toward the recalled place; a random step while nothing is kept."""

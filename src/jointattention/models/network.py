@@ -68,7 +68,7 @@ class NetworkModule:
         self._face_acc = self._face_part(self._face_x)
 
     def observe(self, det, theta_rad) -> None:
-        """Nothing: the module makes nothing of a step's view (see the memory's)."""
+        """Nothing: the module makes nothing of a step's view, and attention may take any."""
 
     def step(self, theta_rad) -> np.ndarray:
         """The module's command at a head angle during the trial."""

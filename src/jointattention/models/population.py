@@ -168,7 +168,7 @@ class PopulationModule:
         self.sync(a)
 
     def observe(self, det, theta_rad) -> None:
-        """Nothing: the module makes nothing of a step's view (see the memory's)."""
+        """Nothing: the module makes nothing of a step's view, and attention may take any."""
 
     def step(self, theta_rad) -> np.ndarray:
         """A step along the line from the face in the direction read out."""
