@@ -10,7 +10,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jointattention import run_cell
-from jointattention.agent._left_out import empty_arrival, leave_out, left_out_of, passed_over_into
+from jointattention.agent._left_out import (
+    drop_left_out_from,
+    empty_arrival,
+    leave_out,
+    left_out_of,
+    passed_over_into,
+)
 from jointattention.agent.detections import Detections
 from jointattention.agent.gates import EvidenceGate, SigmoidGate
 from jointattention.agent.memory import EpisodicMemory, MemoryOptions
@@ -139,10 +145,24 @@ def test_the_agent_leaves_out_a_recalled_place_only_while_learning():
         assert (agent.module.evidence_ == 0.0) == learning
 
 
-def test_passing_over_without_leaving_out_is_refused_with_one_line():
-    """pass_over_left_out needs leave_out_empty: a configuration error naming both."""
-    with pytest.raises(ConfigError, match=r"pass_over_left_out.*leave_out_empty = true"):
-        MemoryOptions(pass_over_left_out=True)
+@pytest.mark.parametrize("name", ["pass_over_left_out", "drop_left_out"])
+def test_acting_on_places_left_out_without_leaving_out_is_refused_with_one_line(name):
+    """pass_over_left_out and drop_left_out need leave_out_empty: an error naming both."""
+    with pytest.raises(ConfigError, match=rf"{name}.*leave_out_empty = true"):
+        MemoryOptions(**{name: True})
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 10_000), n=st.integers(0, 6), n_left=st.integers(0, 3))
+def test_dropping_keeps_exactly_the_places_away_from_those_left_out_in_order(seed, n, n_left):
+    """drop_left_out_from leaves, in front and in order, the places outside every radius."""
+    rng = np.random.default_rng(seed)
+    places, radius = rng.uniform(-0.5, 0.5, (8, 2)), 0.1
+    left = places[rng.integers(0, 8, n_left)] + rng.uniform(-0.15, 0.15, (n_left, 2))
+    expected = [p.copy() for p in places[:n]
+                if not (n_left and (np.linalg.norm(left - p, axis=1) < radius).any())]
+    kept = drop_left_out_from(places, n, left, radius)
+    assert kept == len(expected) and np.array_equal(places[:kept], np.reshape(expected, (-1, 2)))
 
 
 @settings(max_examples=60, deadline=None)
@@ -194,10 +214,13 @@ CONFIG = Config(model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, w
                         "memory": {"leave_out_empty": True, "capacity": 30}}),
                     ConditionConfig(name="pass-over", n_objects=10, model={
                         **LEAVE_OUT, "memory": {"leave_out_empty": True,
-                                                "pass_over_left_out": True}}))))
+                                                "pass_over_left_out": True}}),
+                    ConditionConfig(name="pass-over-drop", n_objects=10, model={
+                        **LEAVE_OUT, "memory": {"leave_out_empty": True, "pass_over_left_out": True,
+                                                "drop_left_out": True}}))))
 
 
-@pytest.mark.parametrize("name", ["leave-out", "leave-out-forgets", "pass-over"])
+@pytest.mark.parametrize("name", ["leave-out", "leave-out-forgets", "pass-over", "pass-over-drop"])
 def test_both_engines_leave_out_the_same_places_and_run_the_same_trials(name):
     """The compiled engine's records and places left out are the python engine's, bit for bit."""
     ends = {}

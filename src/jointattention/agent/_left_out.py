@@ -16,6 +16,8 @@ With ``memory.pass_over_left_out``, visual attention also passes over an object 
 place left out of the face's recalls (:func:`passed_over_into`): the target is never there, so
 the object is a distractor. A face whose target lies far from the distractors, which visual
 attention alone seldom reaches, is then searched beyond the places already found wanting.
+With ``memory.drop_left_out`` the memory does not keep such a place when the evaluator fires
+(:func:`drop_left_out_from`): it would only be a distractor's vote.
 """
 
 from __future__ import annotations
@@ -26,7 +28,8 @@ from .._jit import jit
 from ._recall import same_code
 from .attention import visual_feedback_rad
 
-__all__ = ["empty_arrival", "leave_out", "left_out_of", "near_any", "passed_over_into"]
+__all__ = ["drop_left_out_from", "empty_arrival", "leave_out", "left_out_of", "near_any",
+           "passed_over_into"]
 
 
 @jit
@@ -94,3 +97,17 @@ def passed_over_into(centre_px, cx, cy, gain_rad_per_px, pan_rad, tilt_rad, left
         d_pan, d_tilt = visual_feedback_rad(centre_px[i, 0], centre_px[i, 1], cx, cy,
                                             gain_rad_per_px)
         out[i] = near_any(pan_rad + d_pan, tilt_rad + d_tilt, left_out, r2)
+
+
+@jit
+def drop_left_out_from(places, n: int, left_out, radius_rad) -> int:
+    """Drop those of the first ``n`` ``places`` (rows, 2) within ``radius_rad`` of ``left_out``.
+
+    The others move to the front, in order; returns how many they are.
+    """
+    r2, kept = radius_rad * radius_rad, 0
+    for i in range(n):
+        if not near_any(places[i, 0], places[i, 1], left_out, r2):
+            places[kept, 0], places[kept, 1] = places[i, 0], places[i, 1]
+            kept += 1
+    return kept

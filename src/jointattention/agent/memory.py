@@ -71,12 +71,16 @@ class MemoryOptions(Section):
     pass_over_left_out: bool = param(
         False, "visual attention passes over an object at a place left out of the face's "
         "recalls (it is not the target); needs leave_out_empty")
+    drop_left_out: bool = param(
+        False, "keep no place found at a trial's end that lies at a place left out of the "
+        "face's recalls (it is a distractor's); needs leave_out_empty")
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.pass_over_left_out and not self.leave_out_empty:
-            raise ConfigError("memory.pass_over_left_out = true: expected "
-                              "memory.leave_out_empty = true (it passes over the places left out)")
+        for name in ("pass_over_left_out", "drop_left_out"):
+            if getattr(self, name) and not self.leave_out_empty:
+                raise ConfigError(f"memory.{name} = true: expected memory.leave_out_empty = "
+                                  "true (it acts on the places left out)")
 
 
 @jit

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..agent._left_out import empty_arrival, leave_out, passed_over_into
+from ..agent._left_out import drop_left_out_from, empty_arrival, leave_out, passed_over_into
 from ..agent.attention import interest_argmax, visual_feedback_rad
 from ..agent.gates import PERFORMANCE, agreement_update
 from ..agent.learner import face_part, sgd_rows_from, standardise, welford_update
@@ -218,6 +218,8 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         if learns and memory is not None:  # MemoryModule.learn
             n_places = places_into(place, centre[:m], seen, memory.in_view, pan, tilt, cx, cy,
                                    robot.gain_rad_per_px, places)
+            if memory.drop_left_out:
+                n_places = drop_left_out_from(places, n_places, mine, memory.radius_rad)
             for i in range(n_places):
                 c[5] = keep_place(code, places[i, 0], places[i, 1], memory, c)
         elif learns and population is not None:  # PopulationModule.learn

@@ -107,6 +107,7 @@ class LoopMemory(NamedTuple):
     left_codes: np.ndarray
     left_aims: np.ndarray
     pass_over: bool  # visual attention passes over objects at places left out
+    drop_left_out: bool  # nor does the memory keep their places
 
 
 class LoopDevelopment(NamedTuple):

@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._jit import jit
-from ..agent._left_out import empty_arrival, passed_over_into
+from ..agent._left_out import drop_left_out_from, empty_arrival, passed_over_into
 from ..agent.detections import Detections
 from ..agent.memory import (
     EpisodicMemory,
@@ -163,16 +163,21 @@ class MemoryModule:
         """Keep the trial's place; returns the number of places kept.
 
         With ``memory.keep = "in_view"`` the places of the other objects in the last image are
-        kept too, after the attended one's.
+        kept too, after the attended one's; with ``memory.drop_left_out`` none that lies at a
+        place left out of the face's recalls.
         """
-        host = self.host
-        self.memory.store(self._face_code, host.aim_of(outcome))
-        if host.options.memory.keep == "attended":
-            return 1
-        others = [i for i in range(len(outcome.detections)) if i != outcome.seen]
-        for i in others:
-            self.memory.store(self._face_code, host.place_of(outcome, i))
-        return 1 + len(others)
+        host, options = self.host, self.host.options.memory
+        places = [host.aim_of(outcome)]
+        if options.keep == "in_view":
+            places += [host.place_of(outcome, i) for i in range(len(outcome.detections))
+                       if i != outcome.seen]
+        places, n = np.array(places, dtype=float), len(places)
+        if options.drop_left_out:
+            n = drop_left_out_from(places, n, self.memory.left_out(self._face_code),
+                                   self.memory.radius_rad)
+        for place in places[:n]:
+            self.memory.store(self._face_code, place)
+        return n
 
     def command(self, face: np.ndarray, theta_rad: np.ndarray) -> np.ndarray:
         """The command for a checked flat face window and head angle (zero with no memory)."""
