@@ -207,7 +207,7 @@ def learner_cell_rows(config, condition, n_steps: int | None = None
     n_trials, n_learned = len(records["end"]), int((records["end"] == 0).sum())
     if isinstance(agent, RLAgent):  # it learns at every trial's end, fired or not
         start_us, end_us = _rl_us(agent, faces, places, config.world.camera.width_px)
-        start, end, n_learned = "values of the face", "the updates", n_trials
+        start, end, n_learned = "values of the face", "face statistics, updates", n_trials
     elif hasattr(agent.module, "memory"):
         memory = agent.module.memory
         start_us, keep_us = _memory_us(agent.module, faces)
