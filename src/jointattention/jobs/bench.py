@@ -133,7 +133,7 @@ def run_agent_benchmark(rendered_steps: int = 2000) -> list[tuple[str, float, st
     """Agent-steps per second of learning: both engines, rendered mode, memory and RL learners.
 
     The quick preset's 5-object sigmoid cell in both engines, and its first ``rendered_steps``
-    steps in rendered mode (MuJoCo render + OpenCV detection each step) with three views,
+    steps in rendered mode (MuJoCo render + OpenCV detection each step) with two views,
     each beside its bound (:func:`.bounds.rendered_rows`); the beyond preset's 5-object memory
     cell at the paper's scale (its recall grows with the distinct faces kept); the models
     preset's 5-object reinforcement learner (compiled) for 1e5 steps; the population learner
