@@ -130,6 +130,21 @@ def test_the_head_finds_the_recalled_place_empty_only_there_and_with_nothing_nea
     assert not empty_arrival(0.3, 0.1, 0.4, 0.1, step, np.empty((0, 2)), 160, 120, r)
 
 
+def test_recalling_again_goes_on_to_the_face_s_next_place_with_its_evidence():
+    """With recall_again, the place found empty (A) gives way at once to the next (B)."""
+    for again in (True, False):
+        options = dataclasses.replace(OPTIONS, memory=MemoryOptions(
+            leave_out_empty=True, recall_again=again))
+        agent = options.build(AgentConfig(), BODY, np.random.default_rng(0))
+        agent.module.memory, _, (a, b, _) = _two_places_memory()
+        agent.begin_trial(np.arange(12.0).reshape(3, 4), (0.0, 0.0))
+        assert np.allclose(agent.module._aim_rad, a)
+        agent.act(_det([]), a)  # the head reached A: nothing there
+        aim, evidence = agent.module._aim_rad, agent.module.evidence_
+        assert agent.module.memory.n_left_ == 1
+        assert (np.allclose(aim, b) and evidence > 0) if again else (aim is None and evidence == 0)
+
+
 def test_the_agent_leaves_out_a_recalled_place_only_while_learning():
     """MemoryModule.observe: the place goes, and the trial's evidence with it; frozen, nothing."""
     for learning in (True, False):
@@ -146,9 +161,9 @@ def test_the_agent_leaves_out_a_recalled_place_only_while_learning():
         assert (agent.module.evidence_ == 0.0) == learning
 
 
-@pytest.mark.parametrize("name", ["pass_over_left_out", "drop_left_out"])
+@pytest.mark.parametrize("name", ["pass_over_left_out", "drop_left_out", "recall_again"])
 def test_acting_on_places_left_out_without_leaving_out_is_refused_with_one_line(name):
-    """pass_over_left_out and drop_left_out need leave_out_empty: an error naming both."""
+    """pass_over_left_out, drop_left_out and recall_again need leave_out_empty: one error."""
     with pytest.raises(ConfigError, match=rf"{name}.*leave_out_empty = true"):
         MemoryOptions(**{name: True})
 
@@ -218,10 +233,14 @@ CONFIG = Config(model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, w
                                                 "pass_over_left_out": True}}),
                     ConditionConfig(name="pass-over-drop", n_objects=10, model={
                         **LEAVE_OUT, "memory": {"leave_out_empty": True, "pass_over_left_out": True,
-                                                "drop_left_out": True}}))))
+                                                "drop_left_out": True}}),
+                    ConditionConfig(name="recall-again", n_objects=10, model={
+                        **LEAVE_OUT, "memory": {"leave_out_empty": True, "pass_over_left_out": True,
+                                                "recall_again": True}}))))
 
 
-@pytest.mark.parametrize("name", ["leave-out", "leave-out-forgets", "pass-over", "pass-over-drop"])
+@pytest.mark.parametrize("name", ["leave-out", "leave-out-forgets", "pass-over", "pass-over-drop",
+                                  "recall-again"])
 def test_both_engines_leave_out_the_same_places_and_run_the_same_trials(name):
     """The compiled engine's records and places left out are the python engine's, bit for bit."""
     ends = {}
@@ -241,11 +260,13 @@ def test_both_engines_leave_out_the_same_places_and_run_the_same_trials(name):
     assert np.array_equal(mc.left_codes_, mp.left_codes_)
 
 
-def test_passing_over_and_dropping_change_the_cells_that_the_engines_agree_on():
-    """The parity cells exercise both options: each changes the trials of the one before."""
+@pytest.mark.parametrize("names", [("leave-out", "pass-over", "pass-over-drop"),
+                                   ("pass-over", "recall-again")])
+def test_passing_over_dropping_and_recalling_again_change_the_cells_the_engines_agree_on(names):
+    """The parity cells exercise each option: each changes the trials of the cell before."""
     config = dataclasses.replace(CONFIG, experiment=dataclasses.replace(
         CONFIG.experiment, engine="compiled"))
-    cells = [run_cell(config, c, 0) for c in config.experiment.conditions
-             if c.name in ("leave-out", "pass-over", "pass-over-drop")]
+    cells = [run_cell(config, next(c for c in config.experiment.conditions if c.name == n), 0)
+             for n in names]
     for before, after in itertools.pairwise(cells):
         assert not np.array_equal(before["attended"], after["attended"])

@@ -74,10 +74,13 @@ class MemoryOptions(Section):
     drop_left_out: bool = param(
         False, "keep no place found at a trial's end that lies at a place left out of the "
         "face's recalls (it is a distractor's); needs leave_out_empty")
+    recall_again: bool = param(
+        False, "once a place is left out, recall the face's next place at once: the trial goes "
+        "on toward it, with its evidence for the gate; needs leave_out_empty")
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        for name in ("pass_over_left_out", "drop_left_out"):
+        for name in ("pass_over_left_out", "drop_left_out", "recall_again"):
             if getattr(self, name) and not self.leave_out_empty:
                 raise ConfigError(f"memory.{name} = true: expected memory.leave_out_empty = "
                                   "true (it acts on the places left out)")

@@ -150,8 +150,14 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                                       cy, memory.radius_rad / robot.gain_rad_per_px)):
                 c[6] = leave_out(code, aim[0], aim[1], memory.left_codes, memory.left_aims, c[6])
                 recalled, evidence = False, 0.0
-                if memory.pass_over or memory.drop_left_out:  # only they read the places again
+                if memory.pass_over or memory.drop_left_out or memory.recall_again:
                     mine = left_out_of(code, memory.left_codes, memory.left_aims, c[6])
+                if memory.recall_again:  # MemoryModule.begin_again
+                    support, evidence = memory_recall(
+                        code, memory.codes, memory.counts, memory.links, memory.aims,
+                        memory.base, c[4], c[5], memory.lo_rad, memory.cell_rad, memory.k,
+                        memory.radius_rad, mine, aim)
+                    recalled = support >= 0
             module = trial_module
             if module < 0:
                 rate = gate_rate(robot, c[0], agreement[0], evidence)

@@ -108,6 +108,7 @@ class LoopMemory(NamedTuple):
     left_aims: np.ndarray
     pass_over: bool  # visual attention passes over objects at places left out
     drop_left_out: bool  # nor does the memory keep their places
+    recall_again: bool  # a place left out, the face's next place is recalled at once
 
 
 class LoopDevelopment(NamedTuple):

@@ -83,7 +83,8 @@ def _loop_memory(memory) -> LoopMemory | None:
                       int(memory.options.k_nearest), float(memory.radius_rad),
                       memory.options.keep == "in_view", *memory.kept_arrays()[:5],
                       memory.options.leave_out_empty, *memory.left_arrays()[:2],
-                      memory.options.pass_over_left_out, memory.options.drop_left_out)
+                      memory.options.pass_over_left_out, memory.options.drop_left_out,
+                      memory.options.recall_again)
 
 
 class CompiledCell:

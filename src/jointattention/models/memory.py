@@ -120,11 +120,17 @@ class MemoryModule:
             self._face_code)
         self._left_out = None
 
+    def begin_again(self) -> None:
+        """Recall the place for the trial's face again (after a place was left out)."""
+        self._aim_rad, self.support_, self.evidence_ = self.memory.recall_evidence(
+            self._face_code)
+
     def observe(self, det: Detections, theta_rad) -> np.ndarray | None:
         """Leave the recalled place out if the head found it empty; what attention passes over.
 
         While learning (:mod:`~jointattention.agent._left_out`): with ``memory.leave_out_empty``
-        the trial then has no recalled place, and no evidence for the gate; with
+        the trial then has no recalled place, and no evidence for the gate (with
+        ``memory.recall_again``, the face's next place and its evidence); with
         ``memory.pass_over_left_out`` the answer flags the detections at the face's places left
         out (None: attention may take any).
         """
@@ -139,6 +145,8 @@ class MemoryModule:
                 self.memory.radius_rad / gain):
             self.memory.leave_out(self._face_code, aim)
             self._aim_rad, self.support_, self.evidence_ = None, -1.0, 0.0
+            if options.recall_again:  # the next place, the one left out no longer winning
+                self.begin_again()
             self._left_out = None
         if not options.pass_over_left_out:
             return None
