@@ -181,3 +181,22 @@ def test_a_recorded_run_measures_new_poses_of_its_own_caregivers(needs_gl, tmp_p
     assert not set(map(repr, caregivers_of(sets["unseen caregivers"], world))) & set(
         map(repr, trained))
     assert len(list((tmp_path / "datasets").glob("*.npz"))) == 3  # each recorded once, kept
+
+
+def test_held_out_errors_are_measured_on_the_probes_data_sets_of_a_large_kind(model):
+    """Beyond probe_datasets a kind's errors are those of its probed sets; its success is not."""
+    from jointattention.experiment.evaluate import _errors, freeze
+    from jointattention.experiment.held_out import measure_held_out
+    from jointattention.experiment.probes import probe_sets
+
+    # 300: the 400 unseen caregivers' sets are probed; the 125 training and 250 new poses' not
+    some = load_config({**QUICK, "experiment": {**QUICK["experiment"], "probe_datasets": 300}})
+    every = load_config({**QUICK, "experiment": {**QUICK["experiment"], "probe_datasets": 0}})
+    unseen = held_out_sets(some)["unseen caregivers"]
+    out_some, out_every = (measure_held_out(model.agent, c, 3) for c in (some, every))
+    frozen = freeze(model.agent)
+    assert np.array_equal(out_some[1:4, 2], _errors(frozen, probe_sets(unseen, 300, some.seed)))
+    assert np.array_equal(out_every[1:4, 2], _errors(frozen, unseen))
+    assert not np.array_equal(out_some[1:4, 2], out_every[1:4, 2])
+    assert out_some[0, 2] == out_every[0, 2]  # success: trials drawn from all its sets
+    assert np.array_equal(out_some[:, :2], out_every[:, :2], equal_nan=True)

@@ -116,8 +116,9 @@ class ExperimentConfig(Section):
         4000, "trials of the oracle that measure each object count's ceiling", lo=1,
         hi=10**7)
     probe_datasets: int = param(
-        2000, "data sets the learning module's error is measured on at each bin's end: all, "
-        "or this many drawn once from the run's seed if there are more (0: all)", lo=0,
+        2000, "data sets the learning module's error is measured on at each bin's end, and "
+        "each held-out kind's errors and controls: all, or this many drawn once from the "
+        "run's seed if there are more (0: all)", lo=0,
         hi=10**7)
     held_out: HeldOutConfig = HeldOutConfig()
     conditions: tuple[ConditionConfig, ...] = param(

@@ -22,6 +22,7 @@ from ..errors import ConfigError, DatasetError
 from .cells import datasets_of, run_cell
 from .controls import blank_spread_deg, mirror_flip_share
 from .evaluate import _errors, freeze, frozen_success
+from .probes import probe_sets
 from .recorded import recorded_file
 
 __all__ = ["KINDS", "MEASURES", "checkpoint_steps", "final_held_out", "held_out_datasets",
@@ -136,7 +137,9 @@ def measure_held_out(agent, config: Config, n_objects: int) -> np.ndarray:
     """The :data:`MEASURES` of the frozen ``agent`` on each kind: (len(MEASURES), len(KINDS)).
 
     ``experiment.held_out.n_trials`` trials per kind, drawn from the run's seed (the same
-    trials for every cell and checkpoint). A model with no ``learning`` switch cannot be
+    trials for every cell and checkpoint). The errors and the controls are measured on at most
+    ``experiment.probe_datasets`` of a kind's data sets (:func:`~.probes.probe_sets`; for the
+    training sets, those the probes measure). A model with no ``learning`` switch cannot be
     frozen: it is not measured (all NaN), since its trials would change what it learned.
     """
     h = config.experiment.held_out
@@ -149,6 +152,7 @@ def measure_held_out(agent, config: Config, n_objects: int) -> np.ndarray:
         if kind in sets:  # else not measured: NaN
             ds = sets[kind]
             out[0, j] = frozen_success(frozen, ds, config, n_objects, h.n_trials, config.seed)
+            ds = probe_sets(ds, config.experiment.probe_datasets, config.seed)  # the errors'
             if not hasattr(frozen, "lm_commands"):
                 out[1:4, j] = _errors(frozen, ds)
                 continue
