@@ -1,6 +1,6 @@
 """Rendered mode against fast mode on a short run: writes modes.png and modes.md here.
 
-Run first (about 5 min on 2 cores):
+Run first (about 4 min on 2 cores):
     jointattention reproduce --preset rendered --out runs/rendered
 then:
     python docs/rendered/compare_modes.py [runs/rendered] [--fast-seeds 10]
