@@ -12,14 +12,16 @@ from jointattention.cli import main
 from jointattention.config import load_config
 from jointattention.datasets import default_datasets, load
 from jointattention.errors import ConfigError, FileError
-from jointattention.experiment.evaluate import evaluate, evaluate_agent
+from jointattention.experiment.evaluate import _errors, evaluate, evaluate_agent, freeze
 from jointattention.experiment.held_out import (
     KINDS,
     MEASURES,
     checkpoint_steps,
     held_out_sets,
+    measure_held_out,
     shipped_held_out,
 )
+from jointattention.experiment.probes import probe_sets
 from jointattention.experiment.results import cell_path, load_cell, save_cell
 from jointattention.experiment.training import train
 from jointattention.jobs.reproduce import reproduce
@@ -185,10 +187,6 @@ def test_a_recorded_run_measures_new_poses_of_its_own_caregivers(needs_gl, tmp_p
 
 def test_held_out_errors_are_measured_on_the_probes_data_sets_of_a_large_kind(model):
     """Beyond probe_datasets a kind's errors are those of its probed sets; its success is not."""
-    from jointattention.experiment.evaluate import _errors, freeze
-    from jointattention.experiment.held_out import measure_held_out
-    from jointattention.experiment.probes import probe_sets
-
     # 300: the 400 unseen caregivers' sets are probed; the 125 training and 250 new poses' not
     some = load_config({**QUICK, "experiment": {**QUICK["experiment"], "probe_datasets": 300}})
     every = load_config({**QUICK, "experiment": {**QUICK["experiment"], "probe_datasets": 0}})

@@ -18,14 +18,14 @@ from ..agent._left_out import drop_left_out_from, empty_arrival, leave_out, pass
 from ..agent.attention import interest_argmax, visual_feedback_rad
 from ..agent.gates import PERFORMANCE, agreement_update
 from ..agent.learner import face_part, sgd_rows_from, standardise, welford_update
-from ..agent.memory import face_code_into, left_out_of, memory_recall
+from ..agent.memory import face_code_into, left_out_of
 from ..agent.moves import learning_samples, random_step, scale_angle_into
 from ..models._population_kernels import population_begin, population_learn
 from ..models.bootstrap import LEARNING_TARGETS
 from ..models.developmental import blur_into, blur_px, caregiver_update
 from ..models.population import PopulationModule
 from ..world.kinematics import separation_rad
-from ._loop_agent import gate_rate, keep_place, lm_step, places_into
+from ._loop_agent import gate_rate, keep_place, lm_step, places_into, recall_place
 from ._loop_steps import draw_trial, look, look_arrays
 from .trial import END_FIRED, RUNNING, move_head
 
@@ -108,9 +108,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         elif memory is not None:
             face_code_into(face, memory.projection, code)
             left_out = left_out_of(code, memory.left_codes, memory.left_aims, c[6])
-            support, evidence = memory_recall(
-                code, memory.codes, memory.counts, memory.links, memory.aims, memory.base, c[4],
-                c[5], memory.lo_rad, memory.cell_rad, memory.k, memory.radius_rad, left_out, aim)
+            support, evidence = recall_place(code, memory, c, left_out, aim)
             recalled, mine = support >= 0, left_out
             if n_cached:
                 cached[shown] = 1 if recalled else 2
@@ -149,15 +147,13 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                     and empty_arrival(aim[0], aim[1], pan, tilt, robot.step_rad, centre[:m], cx,
                                       cy, memory.radius_rad / robot.gain_rad_per_px)):
                 c[6] = leave_out(code, aim[0], aim[1], memory.left_codes, memory.left_aims, c[6])
-                recalled, evidence = False, 0.0
                 if memory.pass_over or memory.drop_left_out or memory.recall_again:
                     mine = left_out_of(code, memory.left_codes, memory.left_aims, c[6])
                 if memory.recall_again:  # MemoryModule.begin_again
-                    support, evidence = memory_recall(
-                        code, memory.codes, memory.counts, memory.links, memory.aims,
-                        memory.base, c[4], c[5], memory.lo_rad, memory.cell_rad, memory.k,
-                        memory.radius_rad, mine, aim)
+                    support, evidence = recall_place(code, memory, c, mine, aim)
                     recalled = support >= 0
+                else:
+                    recalled, evidence = False, 0.0
             module = trial_module
             if module < 0:
                 rate = gate_rate(robot, c[0], agreement[0], evidence)

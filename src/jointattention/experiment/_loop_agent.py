@@ -20,11 +20,11 @@ from ..agent.gates import (
     performance_rate,
     sigmoid_rate,
 )
-from ..agent.memory import memory_store
+from ..agent.memory import memory_recall, memory_store
 from ..agent.moves import network_command, unit_step
 from ..models.population import line_step
 
-__all__ = ["gate_rate", "keep_place", "lm_step", "places_into"]
+__all__ = ["gate_rate", "keep_place", "lm_step", "places_into", "recall_place"]
 
 
 @jit
@@ -62,6 +62,17 @@ def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, p
         return line_step(line[2], line[3], line[1], pan, tilt, step_rad)
     return network_command(face_acc, pan, tilt, w1, b1, w2, b2, theta_mid_rad, theta_half_rad,
                            step_rad, acc, scaled, hid, out)
+
+
+@jit
+def recall_place(code, memory, c, left_out, aim) -> tuple[float, float]:
+    """:func:`~jointattention.agent.memory.memory_recall` of a face code, into ``aim``.
+
+    Its support and evidence; the places ``left_out`` (m, 2) do not win.
+    """
+    return memory_recall(code, memory.codes, memory.counts, memory.links, memory.aims,
+                         memory.base, c[4], c[5], memory.lo_rad, memory.cell_rad, memory.k,
+                         memory.radius_rad, left_out, aim)
 
 
 @jit

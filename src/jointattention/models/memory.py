@@ -116,8 +116,7 @@ class MemoryModule:
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
         """Recall the place for the caregiver's face."""
         self._face_code = self.memory.code(face)
-        self._aim_rad, self.support_, self.evidence_ = self.memory.recall_evidence(
-            self._face_code)
+        self.begin_again()
         self._left_out = None
 
     def begin_again(self) -> None:
@@ -144,9 +143,10 @@ class MemoryModule:
                 aim[0], aim[1], pan, tilt, host.step_rad, centre_px, cx, cy,
                 self.memory.radius_rad / gain):
             self.memory.leave_out(self._face_code, aim)
-            self._aim_rad, self.support_, self.evidence_ = None, -1.0, 0.0
             if options.recall_again:  # the next place, the one left out no longer winning
                 self.begin_again()
+            else:
+                self._aim_rad, self.support_, self.evidence_ = None, -1.0, 0.0
             self._left_out = None
         if not options.pass_over_left_out:
             return None
