@@ -170,6 +170,23 @@ def test_a_second_process_loads_the_compiled_engine_from_the_cache():
     assert out == ["1", "0"]
 
 
+
+def test_kernels_call_kernels_without_the_wrapper_for_python():
+    """A kernel's callers call its wrapperless twin; from Python the kernel itself runs alike."""
+    import numba
+
+    from jointattention.world.kinematics import rotation_into, rotation_matrix
+
+    twin = numba.typeof(rotation_into).dispatcher
+    assert twin is not rotation_into
+    assert twin.targetoptions["no_cpython_wrapper"]
+    assert not rotation_into.targetoptions.get("no_cpython_wrapper", False)
+    by_kernel = rotation_matrix(0.3, -0.2)  # calls the twin (or loads it so from the cache)
+    by_python = np.empty((3, 3))
+    rotation_into(0.3, -0.2, by_python)
+    assert np.array_equal(by_kernel, by_python)
+
+
 KIN = HeadKinematics.from_config(Config().world)
 points = st.tuples(st.floats(-0.6, 0.6), st.floats(0.2, 1.2), st.floats(-0.5, 0.5))
 angles = st.tuples(st.floats(-1.0, 1.0), st.floats(-0.7, 0.6))
