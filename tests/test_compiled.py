@@ -187,6 +187,21 @@ def test_kernels_call_kernels_without_the_wrapper_for_python():
     assert np.array_equal(by_kernel, by_python)
 
 
+
+def test_a_constant_argument_compiles_no_version_of_its_own():
+    """A kernel called with a constant (``0``) and with a variable compiles one machine code."""
+    import numba
+    from numba.core import types
+
+    from jointattention.agent._backprop import accumulate
+
+    twin = numba.typeof(accumulate).dispatcher
+    vector, matrix = types.float64[::1], types.float64[:, ::1]
+    for first_input in (types.literal(0), types.int64):
+        twin.get_call_template((vector, matrix, first_input, vector), {})
+    assert twin.signatures == [(vector, matrix, types.int64, vector)]
+
+
 KIN = HeadKinematics.from_config(Config().world)
 points = st.tuples(st.floats(-0.6, 0.6), st.floats(0.2, 1.2), st.floats(-0.5, 0.5))
 angles = st.tuples(st.floats(-1.0, 1.0), st.floats(-0.7, 0.6))
