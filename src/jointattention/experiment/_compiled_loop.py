@@ -26,7 +26,7 @@ from ..models.developmental import blur_into, blur_px, caregiver_update
 from ..models.population import PopulationModule
 from ..world.kinematics import separation_rad
 from ._loop_agent import gate_rate, keep_place, lm_step, places_into, recall_place
-from ._loop_steps import draw_trial, look, look_arrays
+from ._loop_steps import draw_trial, look, look_arrays, look_camera
 from .trial import END_FIRED, RUNNING, move_head
 
 __all__ = ["COLUMNS", "run_trials"]
@@ -62,7 +62,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     n_hidden = len(state.b1)
     cx, cy = (world.width_px - 1) / 2, (world.height_px - 1) / 2
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
-    arrays = look_arrays(n)
+    arrays, camera = look_arrays(n), look_camera(world, robot.d_th_px)
     centre, seen_area, seen_edge, motion = arrays[1], arrays[2], arrays[3], np.zeros(n)
     no_objects, passed_over = np.zeros(n, np.bool_), np.zeros(n, np.bool_)  # attention's
     no_places = np.empty((0, 2))  # a face's places left out, before any
@@ -137,9 +137,8 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         last_module = -1
         limit_hit = False
         while True:
-            m, seen, end, attended = look(world, obj_pos, obj_rad, edge, pan, tilt,
-                                          robot.d_th_px, limit_hit, n_steps, robot.max_steps,
-                                          arrays)
+            m, seen, end, attended = look(obj_pos, obj_rad, edge, pan, tilt, camera, limit_hit,
+                                          n_steps, robot.max_steps, arrays)
             if end != RUNNING:
                 break
             # the agent acts (BootstrapAgent.act; first MemoryModule.observe)

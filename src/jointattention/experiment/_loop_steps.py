@@ -15,7 +15,7 @@ from ..world.fast import detect_into, draw_index, draw_objects
 from ..world.kinematics import rotation_into
 from .trial import END_FIRED, end_after_look
 
-__all__ = ["draw_trial", "look", "look_arrays"]
+__all__ = ["draw_trial", "look", "look_arrays", "look_camera"]
 
 
 @jit
@@ -26,6 +26,16 @@ def look_arrays(n: int):
     """
     return (np.empty((3, 3)), np.empty((n, 2)), np.empty(n), np.empty(n),
             np.empty(n, dtype=np.int64))
+
+
+@jit
+def look_camera(world, d_th_px: float):
+    """What a look needs of the camera: (offset_m, focal_px, width_px, height_px, d_th_px).
+
+    Taken from ``world`` once per loop: each array a compiled call is handed is counted in and
+    out (two atomic operations), and the world holds seven.
+    """
+    return world.offset_m, world.focal_px, world.width_px, world.height_px, d_th_px
 
 
 @jit
@@ -44,20 +54,20 @@ def draw_trial(world, trials_rng, shuffle_rng, obj_pos, obj_rad, edge) -> tuple[
 
 
 @jit
-def look(world, obj_pos, obj_rad, edge, pan, tilt, d_th_px, limit_hit, n_steps, max_steps,
+def look(obj_pos, obj_rad, edge, pan, tilt, camera, limit_hit, n_steps, max_steps,
          arrays) -> tuple[int, int, int, int]:
     """One look at head angle (pan, tilt): (detections, the centre's, the end, the attended).
 
-    The detections (how many) fill ``arrays`` (:func:`look_arrays`); the centre's is the
-    detection within ``d_th_px`` of the image centre (Eq. 3; -1 if none); the end is
-    :func:`~.trial.end_after_look`'s; the attended is the experimenter's id of the object the
-    evaluator fired on (-1 if it did not).
+    ``camera`` is :func:`look_camera`'s. The detections (how many) fill ``arrays``
+    (:func:`look_arrays`); the centre's is the detection within the camera's ``d_th_px`` of the
+    image centre (Eq. 3; -1 if none); the end is :func:`~.trial.end_after_look`'s; the attended
+    is the experimenter's id of the object the evaluator fired on (-1 if it did not).
     """
+    offset_m, focal_px, width_px, height_px, d_th_px = camera
     rot, centre, seen_area, seen_edge, ids = arrays
     rotation_into(pan, tilt, rot)
-    m = detect_into(obj_pos, obj_rad, edge, rot, world.offset_m, world.focal_px,
-                    world.width_px, world.height_px, centre, seen_area, seen_edge, ids)
-    seen = attended_index(centre[:m], (world.width_px - 1) / 2, (world.height_px - 1) / 2,
-                          d_th_px)
+    m = detect_into(obj_pos, obj_rad, edge, rot, offset_m, focal_px, width_px, height_px,
+                    centre, seen_area, seen_edge, ids)
+    seen = attended_index(centre[:m], (width_px - 1) / 2, (height_px - 1) / 2, d_th_px)
     end = end_after_look(seen, limit_hit, n_steps, max_steps)
     return m, seen, end, ids[seen] if end == END_FIRED else -1

@@ -15,7 +15,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.learner import standardise, welford_update
 from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
-from ._loop_steps import draw_trial, look, look_arrays
+from ._loop_steps import draw_trial, look, look_arrays, look_camera
 from .trial import END_FIRED, RUNNING, move_head
 
 __all__ = ["NO_FACE_STATISTICS", "RLRobot", "RLState", "run_rl_trials"]
@@ -66,7 +66,7 @@ def run_rl_trials(until_steps, max_trials, world, robot, state, trials_rng, shuf
     """
     n, n_pix = world.n_objects, world.faces.shape[1]
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
-    arrays = look_arrays(n)
+    arrays, camera = look_arrays(n), look_camera(world, robot.d_th_px)
     n_dir = len(robot.steps_rad)
     x, q, cdf = np.empty(n_pix), np.empty(n_dir), np.empty(n_dir)
     p_stay = np.empty(len(state.q_stay))
@@ -93,8 +93,8 @@ def run_rl_trials(until_steps, max_trials, world, robot, state, trials_rng, shuf
         n_steps, n_lm, end, attended = 0, 0, -1, -1
         limit_hit = False
         while True:
-            _, _, end, attended = look(world, obj_pos, obj_rad, edge, pan, tilt, robot.d_th_px,
-                                       limit_hit, n_steps, robot.max_steps, arrays)
+            _, _, end, attended = look(obj_pos, obj_rad, edge, pan, tilt, camera, limit_hit,
+                                       n_steps, robot.max_steps, arrays)
             if end != RUNNING:
                 break
             # the agent acts (RLAgent.act)

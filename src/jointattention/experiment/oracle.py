@@ -13,7 +13,7 @@ import numpy as np
 
 from .._jit import jit
 from ..agent.protocol import LM, Outcome
-from ._loop_steps import draw_trial, look, look_arrays
+from ._loop_steps import draw_trial, look, look_arrays, look_camera
 from .trial import RUNNING, move_head
 
 __all__ = ["OracleAgent", "oracle_step", "oracle_trials"]
@@ -60,6 +60,7 @@ def oracle_trials(world, theta_target_rad, rng, step_rad, d_th_px, max_steps, n_
     n = world.n_objects
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
     arrays, lim, wins = look_arrays(n), world.limits_rad, 0
+    camera = look_camera(world, d_th_px)
     for _ in range(n_trials):
         k, target, _ = draw_trial(world, rng, rng, obj_pos, obj_rad, edge)
         if target < 0:
@@ -67,8 +68,8 @@ def oracle_trials(world, theta_target_rad, rng, step_rad, d_th_px, max_steps, n_
         pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
         n_steps, limit_hit = 0, False
         while True:
-            _, _, end, attended = look(world, obj_pos, obj_rad, edge, pan, tilt, d_th_px,
-                                       limit_hit, n_steps, max_steps, arrays)
+            _, _, end, attended = look(obj_pos, obj_rad, edge, pan, tilt, camera, limit_hit,
+                                       n_steps, max_steps, arrays)
             if end != RUNNING:
                 break
             d_pan, d_tilt = oracle_step(theta_target_rad[k, 0], theta_target_rad[k, 1], pan,
