@@ -32,8 +32,8 @@ def look_arrays(n: int):
 def look_camera(world, d_th_px: float):
     """What a look needs of the camera: (offset_m, focal_px, width_px, height_px, d_th_px).
 
-    Taken from ``world`` once per loop: each array a compiled call is handed is counted in and
-    out (two atomic operations), and the world holds seven.
+    Taken from ``world`` once per loop: numba counts each array a compiled function is handed
+    in and out at every call (``NRT_incref``, ``NRT_decref``), and the world holds seven.
     """
     return world.offset_m, world.focal_px, world.width_px, world.height_px, d_th_px
 
