@@ -80,6 +80,14 @@ def test_presets_load():
         assert isinstance(load_config(name), Config)
 
 
+def test_the_rendered_preset_renders_its_view_as_fast_camera():
+    """The rendered preset's camera is FAST_CAMERA's, as its bench row and docs name it."""
+    from jointattention.world.options import FAST_CAMERA
+
+    camera = load_config("rendered").world.camera
+    assert {key: getattr(camera, key) for key in FAST_CAMERA} == dict(FAST_CAMERA)
+
+
 @settings(max_examples=30, deadline=None)
 @given(
     seed=st.integers(0, 2**31),
