@@ -25,6 +25,7 @@ from jointattention.experiment.cells import datasets_of
 from jointattention.experiment.evaluate import frozen_success
 from jointattention.jobs.learned import snapshots
 from jointattention.models.bootstrap import BootstrapOptions
+from jointattention.world import fast
 from jointattention.world.kinematics import HeadKinematics
 
 READINGS = [  # each reading and gate of the bootstrap model, early enough to be quick
@@ -199,6 +200,35 @@ def test_a_constant_argument_compiles_no_version_of_its_own():
         twin.get_call_template((vector, matrix, first_input, vector), {})
     assert (vector, matrix, types.int64, vector) in twin.signatures
     assert not any(isinstance(t, types.Literal) for sig in twin.signatures for t in sig)
+
+
+def _detector_caller(pos, radius, edge, rot, offset, centre, area, seen_edge, ids):
+    """A kernel's call of the fast detector (compiled in the test, not cached)."""
+    return fast.detect_into(pos, radius, edge, rot, offset, 300.0, 320, 240, centre, area,
+                            seen_edge, ids)
+
+
+def test_a_kernel_marked_inline_is_compiled_into_its_callers():
+    """A kernel marked ``inline`` (the fast detector) has no call in its callers' code."""
+    import re
+
+    import numba
+
+    from jointattention.world.kinematics import rotation_matrix
+
+    def arrays():
+        return (np.array([[0.0, 1.0, 0.0], [0.1, 1.0, 0.05], [2.0, -1.0, 0.0]]),
+                np.full(3, 0.03), np.arange(3.0), rotation_matrix(0.05, 0.0), np.zeros(3),
+                np.zeros((3, 2)), np.zeros(3), np.zeros(3), np.zeros(3, np.int64))
+
+    by_python, by_kernel = arrays(), arrays()
+    n_python = fast.detect_into(*by_python[:5], 300.0, 320, 240, *by_python[5:])
+    caller = numba.njit(_detector_caller)
+    assert caller(*by_kernel) == n_python == 2
+    for a, b in zip(by_python, by_kernel, strict=True):
+        assert np.array_equal(a, b)
+    llvm = next(iter(caller.inspect_llvm().values()))
+    assert not re.findall(r"call[^@\n]*@\S*detect_into", llvm)
 
 
 KIN = HeadKinematics.from_config(Config().world)
