@@ -22,9 +22,13 @@ to 7.6-7.8 s; the compiled cells' rates did not move beyond the machine's noise)
 ``@jit(inline=True)`` puts a kernel's body into each kernel that calls it (numba's
 ``inline="always"``, before typing) instead of calling it. numba counts every array a compiled
 function is handed in and out (``NRT_incref``, ``NRT_decref``), and its pass that removes such
-pairs left nine in the compiled loops' look, at every step, around its call of the fast
-detector; with the detector inlined it leaves none (8 paper cells 2.48-2.53 s against
-2.68-2.83 s, one after the other).
+pairs left nine in the compiled loops' look at every step, around its call of the fast
+detector, and nine in each call of the network's command. With the two inlined, 8 paper cells
+took 2.34-2.41 s against 2.63-2.66 s (ablation-paper's v0.2-n5-sigmoid; v0.2-n10-const0.9
+3.95-4.03 against 4.34-4.37; runs alternated, one after the other). Only small kernels with
+few callers: each caller compiles the body again (the first compile did not move with these
+two; with the hidden layer's sums and the forward pass inlined too, 10.2-10.4 s against
+8.0-9.0).
 """
 
 from __future__ import annotations

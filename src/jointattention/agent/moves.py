@@ -41,7 +41,7 @@ def scale_angle_into(pan_rad, tilt_rad, theta_mid_rad, theta_half_rad, out, firs
     out[first + 1] = (tilt_rad - theta_mid_rad[1]) / theta_half_rad[1]
 
 
-@jit
+@jit(inline=True)  # into the compiled loop's lm_step: nine arrays not counted in and out
 def network_command(face_acc, pan, tilt, w1, b1, w2, b2, theta_mid_rad, theta_half_rad,
                     step_rad, acc, scaled, hidden, out) -> tuple[float, float]:
     """The network's command at head angle (``pan``, ``tilt``): its output's direction.
