@@ -79,7 +79,7 @@ class _BrokenOptions(ModelOptions):
 
 @pytest.mark.parametrize(("fault", "words"), [
     ("nan", "expected a finite (pan, tilt) step"),
-    ("global", "two cells of the same seed differ"),
+    ("global", "two new agents of the same seed moved differently"),
 ])
 def test_a_broken_model_fails_naming_the_check(registered, fault, words):
     """A step of NaN, or draws from numpy's global generator, fail with the check's words."""

@@ -12,8 +12,9 @@ The checks, in order:
 2. the agent it builds has the :class:`~jointattention.agent.protocol.Agent` methods, and one
    trial in the fast world moves the head by finite (pan, tilt) steps, each named by a module,
    while its learning time counts the steps;
-3. a cell is the same under the same seed, and the agent's own random stream matters only
-   through its seed (two cells of one seed are byte-identical);
+3. the same seed, the same behaviour: two new agents of one seed make the same moves in the
+   same first trial (every draw shows in a move, so a draw from global state is caught even
+   when no trial succeeds), and two cells of one seed are byte-identical;
 4. if the model declares that the compiled engine runs it (``compiled_refusal()`` is None),
    the compiled cell equals the step-by-step cell byte for byte;
 5. if its agent can be frozen (a ``learning`` switch), the frozen copy changes nothing it
@@ -64,6 +65,38 @@ def _config(options: ModelOptions, n_steps: int, n_objects: int, seed: int,
     return dataclasses.replace(base, seed=seed, model=options, experiment=experiment)
 
 
+def _first_trial(config: Config, condition: ConditionConfig, ds, kind: str):
+    """A new agent of seed 0, its first trial in a scene of the run's seed, and its moves."""
+    agent = make_agent(config, condition, 0, ds)
+    missing = [m for m in _PROTOCOL if not callable(getattr(agent, m, None))]
+    _require(not missing, kind, f"its agent has no {', '.join(missing)}")
+    kin = HeadKinematics.from_config(config.world)
+    k, scene, _ = random_scene(config, ds, kin, condition.n_objects,
+                               np.random.default_rng(config.seed))
+    trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                       max_steps=config.agent.max_steps, evaluate=evaluator(config))
+    moves: list[tuple] = []
+    act = agent.act
+
+    def watched_act(detections, theta_rad):
+        out = act(detections, theta_rad)
+        moves.append(out)
+        return out
+
+    agent.act = watched_act
+    try:
+        result = run_trial(trial, agent, ds.face[k])
+    finally:
+        del agent.act
+    return agent, result, moves
+
+
+def _same_moves(a: list[tuple], b: list[tuple]) -> bool:
+    return len(a) == len(b) and all(
+        np.array_equal(np.asarray(da), np.asarray(db), equal_nan=True) and ma == mb
+        for (da, ma), (db, mb) in zip(a, b, strict=True))
+
+
 def _same_cells(a: dict, b: dict) -> bool:
     return a.keys() == b.keys() and all(
         a[k].dtype == b[k].dtype and np.array_equal(a[k], b[k], equal_nan=True) for k in a)
@@ -105,26 +138,7 @@ def check_agent(options: ModelOptions, *, n_steps: int = 600, n_objects: int = 3
     ds = datasets_of(config)
 
     # 2. the protocol, one trial by hand
-    agent = make_agent(config, condition, 0, ds)
-    missing = [m for m in _PROTOCOL if not callable(getattr(agent, m, None))]
-    _require(not missing, kind, f"its agent has no {', '.join(missing)}")
-    kin = HeadKinematics.from_config(config.world)
-    k, scene, _ = random_scene(config, ds, kin, n_objects, np.random.default_rng(seed))
-    trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
-                       max_steps=config.agent.max_steps, evaluate=evaluator(config))
-    moves: list[tuple] = []
-    act = agent.act
-
-    def watched_act(detections, theta_rad):
-        out = act(detections, theta_rad)
-        moves.append(out)
-        return out
-
-    agent.act = watched_act
-    try:
-        result = run_trial(trial, agent, ds.face[k])
-    finally:
-        del agent.act
+    agent, result, moves = _first_trial(config, condition, ds, kind)
     for dtheta, module in moves:
         step = np.asarray(dtheta)
         _require(step.shape == (2,) and np.isfinite(step).all(), kind,
@@ -135,7 +149,11 @@ def check_agent(options: ModelOptions, *, n_steps: int = 600, n_objects: int = 3
              f"learning_time_steps = {agent.learning_time_steps} after a first trial of "
              f"{result.n_steps} steps; expected it to count the steps it learned in")
 
-    # 3. the same seed, the same cell
+    # 3. the same seed, the same moves and the same cell
+    _require(_same_moves(moves, _first_trial(config, condition, ds, kind)[2]), kind,
+             "two new agents of the same seed moved differently in the same first trial; "
+             "expected each object to draw from its own generator (passed as rng), and nothing "
+             "from global state")
     cell = run_cell(config, condition, 0)
     _require(_same_cells(cell, run_cell(config, condition, 0)), kind,
              "two cells of the same seed differ; expected each object to draw from its own "
@@ -156,7 +174,7 @@ def check_agent(options: ModelOptions, *, n_steps: int = 600, n_objects: int = 3
     if hasattr(trained, "learning"):
         frozen = freeze(trained)
         before, steps = _learned_state(frozen, faces, thetas), frozen.learning_time_steps
-        rng = np.random.default_rng(seed + 1)
+        rng, kin = np.random.default_rng(seed + 1), HeadKinematics.from_config(config.world)
         for _ in range(5):
             k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
             run_trial(SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
