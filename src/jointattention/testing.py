@@ -65,16 +65,20 @@ def _config(options: ModelOptions, n_steps: int, n_objects: int, seed: int,
     return dataclasses.replace(base, seed=seed, model=options, experiment=experiment)
 
 
+def _scene_trial(config: Config, condition: ConditionConfig, ds, rng):
+    """A trial of the fast world in a scene drawn with ``rng``, and the caregiver's face."""
+    kin = HeadKinematics.from_config(config.world)
+    k, scene, _ = random_scene(config, ds, kin, condition.n_objects, rng)
+    return SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                      max_steps=config.agent.max_steps, evaluate=evaluator(config)), ds.face[k]
+
+
 def _first_trial(config: Config, condition: ConditionConfig, ds, kind: str):
     """A new agent of seed 0, its first trial in a scene of the run's seed, and its moves."""
     agent = make_agent(config, condition, 0, ds)
     missing = [m for m in _PROTOCOL if not callable(getattr(agent, m, None))]
     _require(not missing, kind, f"its agent has no {', '.join(missing)}")
-    kin = HeadKinematics.from_config(config.world)
-    k, scene, _ = random_scene(config, ds, kin, condition.n_objects,
-                               np.random.default_rng(config.seed))
-    trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
-                       max_steps=config.agent.max_steps, evaluate=evaluator(config))
+    trial, face = _scene_trial(config, condition, ds, np.random.default_rng(config.seed))
     moves: list[tuple] = []
     act = agent.act
 
@@ -85,7 +89,7 @@ def _first_trial(config: Config, condition: ConditionConfig, ds, kind: str):
 
     agent.act = watched_act
     try:
-        result = run_trial(trial, agent, ds.face[k])
+        result = run_trial(trial, agent, face)
     finally:
         del agent.act
     return agent, result, moves
@@ -174,12 +178,10 @@ def check_agent(options: ModelOptions, *, n_steps: int = 600, n_objects: int = 3
     if hasattr(trained, "learning"):
         frozen = freeze(trained)
         before, steps = _learned_state(frozen, faces, thetas), frozen.learning_time_steps
-        rng, kin = np.random.default_rng(seed + 1), HeadKinematics.from_config(config.world)
+        rng = np.random.default_rng(seed + 1)
         for _ in range(5):
-            k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
-            run_trial(SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
-                                 max_steps=config.agent.max_steps, evaluate=evaluator(config)),
-                      frozen, ds.face[k])
+            trial, face = _scene_trial(config, condition, ds, rng)
+            run_trial(trial, frozen, face)
         after = _learned_state(frozen, faces, thetas)
         _require(frozen.learning_time_steps == steps
                  and all(np.array_equal(a, b, equal_nan=True) for a, b in zip(before, after,
