@@ -17,6 +17,7 @@ __all__ = [
     "attended_index",
     "attended_object",
     "interest_argmax",
+    "largest_feedback_rad",
     "most_interesting",
     "visual_feedback",
     "visual_feedback_rad",
@@ -48,6 +49,11 @@ def visual_feedback_rad(x_px, y_px, cx_px, cy_px, gain_rad_per_px) -> tuple[floa
     Image y grows downward and tilt grows upward, hence the sign of the tilt component.
     """
     return gain_rad_per_px * (x_px - cx_px), gain_rad_per_px * -(y_px - cy_px)
+
+
+def largest_feedback_rad(width_px: int, height_px: int, gain_rad_per_px: float) -> float:
+    """The longest move Eq. 2 makes: to an object at a corner of a W x H image."""
+    return gain_rad_per_px * math.hypot((width_px - 1) / 2, (height_px - 1) / 2)
 
 
 @jit

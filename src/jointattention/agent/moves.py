@@ -13,8 +13,8 @@ import numpy as np
 from .._jit import jit
 from .learner import accumulate, face_part, forward, standardise
 
-__all__ = ["learning_samples", "lm_commands_into", "network_command", "random_step",
-           "scale_angle_into", "unit_step"]
+__all__ = ["capped_step", "learning_samples", "lm_commands_into", "network_command",
+           "place_step", "random_step", "scale_angle_into", "unit_step"]
 
 
 @jit
@@ -22,6 +22,25 @@ def unit_step(out_0: float, out_1: float, step_rad: float) -> tuple[float, float
     """The learning module's command: the direction of its output, one step long."""
     norm = max(math.hypot(out_0, out_1), 1e-12)
     return step_rad * out_0 / norm, step_rad * out_1 / norm
+
+
+@jit
+def capped_step(d_pan: float, d_tilt: float, max_rad: float) -> tuple[float, float]:
+    """The move (d_pan, d_tilt) to a known place, at most ``max_rad`` long (shorter at the end)."""
+    f = min(1.0, max_rad / max(math.hypot(d_pan, d_tilt), 1e-12))
+    return d_pan * f, d_tilt * f
+
+
+@jit
+def place_step(d_pan: float, d_tilt: float, step_rad: float,
+               saccade_rad: float) -> tuple[float, float]:
+    """A move toward a place (d_pan, d_tilt) away: one step long, or the whole way there.
+
+    With ``saccade_rad`` > 0 (``memory.saccade``) the move is at most that long.
+    """
+    if saccade_rad > 0:
+        return capped_step(d_pan, d_tilt, saccade_rad)
+    return unit_step(d_pan, d_tilt, step_rad)
 
 
 @jit

@@ -69,8 +69,9 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, angles_x = np.empty(n_hidden), np.empty(2), np.empty((robot.max_steps, 2))
     n_code = n_cached = 0
+    saccade_rad = 0.0  # the memory's longest move to its place (0: one step)
     if memory is not None:
-        n_code = memory.projection.shape[1]
+        n_code, saccade_rad = memory.projection.shape[1], memory.saccade_rad
         if not robot.learning:  # a frozen memory recalls a face alike each time: once a face
             n_cached = len(world.faces)
     cached, cached_aim = np.zeros(n_cached, np.int8), np.empty((n_cached, 3))  # aim, evidence
@@ -121,8 +122,9 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         if robot.learning:
             c[1] += 1
             welford_update(face, state.mean, state.m2, c[1])
-        standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
-        face_part(face_x, w1, face_acc)
+        if not has_memory:  # the network's input; the memory codes the raw face
+            standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
+            face_part(face_x, w1, face_acc)
         if robot.vf_fallback_sweep:
             sweep = random_step(move_rng, robot.step_rad)
         trial_module = -1
@@ -174,8 +176,8 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                 d_pan, d_tilt = random_step(move_rng, robot.step_rad)
             elif module == _LM:
                 d_pan, d_tilt = lm_step(w1, b1, w2, b2, mid, half, robot.step_rad, face_acc, pan,
-                                        tilt, has_memory, recalled, aim, line, acc, scaled, hid,
-                                        out)
+                                        tilt, has_memory, recalled, aim, saccade_rad, line, acc,
+                                        scaled, hid, out)
             elif robot.vf_fallback_sweep:
                 d_pan, d_tilt = sweep
             else:
@@ -209,8 +211,8 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                                                 robot.gain_rad_per_px)
             if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
                 u_pan, u_tilt = lm_step(w1, b1, w2, b2, mid, half, robot.step_rad, face_acc,
-                                        pan_start, tilt_start, has_memory, recalled, aim, line,
-                                        acc, scaled, hid, out)
+                                        pan_start, tilt_start, has_memory, recalled, aim,
+                                        saccade_rad, line, acc, scaled, hid, out)
                 agreement[0] = agreement_update(
                     agreement[0], u_pan, u_tilt, pan + v_pan - pan_start,
                     tilt + v_tilt - tilt_start, robot.gate_a, robot.gate_window)

@@ -21,7 +21,7 @@ from ..agent.gates import (
     sigmoid_rate,
 )
 from ..agent.memory import memory_recall, memory_store
-from ..agent.moves import network_command, unit_step
+from ..agent.moves import network_command, place_step
 from ..models.population import line_step
 
 __all__ = ["gate_rate", "keep_place", "lm_step", "places_into", "recall_place"]
@@ -44,20 +44,21 @@ def gate_rate(robot, t, agreement, evidence):
 
 @jit
 def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, pan, tilt,
-            memory, recalled, aim, line, acc, scaled, hid, out):
+            memory, recalled, aim, saccade_rad, line, acc, scaled, hid, out):
     """The learning module's command at a head angle (no step if the memory recalled nothing).
 
     As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`):
     the network's (:func:`~jointattention.agent.moves.network_command`, from ``face_acc``, the
     face's part of the hidden input); ``memory`` is whether the learner is the episodic
-    memory; ``line`` is whether it is the population code, the direction it read out and the
-    trial's start. The arrays come one by one, not in the loop's records: each array taken from a
-    record is counted in and out (two atomic operations), at every step.
+    memory (``saccade_rad``: its longest move, 0 for one step); ``line`` is whether it is the
+    population code, the direction it read out and the trial's start. The arrays come one by
+    one, not in the loop's records: each array taken from a record is counted in and out (two
+    atomic operations), at every step.
     """
     if memory:
         if not recalled:
             return 0.0, 0.0
-        return unit_step(aim[0] - pan, aim[1] - tilt, step_rad)
+        return place_step(aim[0] - pan, aim[1] - tilt, step_rad, saccade_rad)
     if line[0]:
         return line_step(line[2], line[3], line[1], pan, tilt, step_rad)
     return network_command(face_acc, pan, tilt, w1, b1, w2, b2, theta_mid_rad, theta_half_rad,

@@ -109,6 +109,7 @@ class LoopMemory(NamedTuple):
     pass_over: bool  # visual attention passes over objects at places left out
     drop_left_out: bool  # nor does the memory keep their places
     recall_again: bool  # a place left out, the face's next place is recalled at once
+    saccade_rad: float  # the longest move to a recalled place (memory.saccade); 0: one step
 
 
 class LoopDevelopment(NamedTuple):

@@ -7,11 +7,10 @@ enters the evaluator's circle. A distractor lying nearer along the gaze line def
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .._jit import jit
+from ..agent.moves import capped_step
 from ..agent.protocol import LM, Outcome
 from ._loop_steps import draw_trial, look, look_arrays, look_camera
 from .trial import RUNNING, move_head
@@ -44,9 +43,7 @@ class OracleAgent:
 @jit
 def oracle_step(target_pan, target_tilt, pan, tilt, step_rad) -> tuple[float, float]:
     """One step from the head angle along the line to the target's (shorter at the end)."""
-    d_pan, d_tilt = target_pan - pan, target_tilt - tilt
-    f = min(1.0, step_rad / max(math.hypot(d_pan, d_tilt), 1e-12))
-    return d_pan * f, d_tilt * f
+    return capped_step(target_pan - pan, target_tilt - tilt, step_rad)
 
 
 @jit

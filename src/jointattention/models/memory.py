@@ -4,7 +4,8 @@ Visual attention, the evaluator, the gate and the readings are the paper's
 (:class:`~.bootstrap.BootstrapAgent`, which composes this module); the module is an
 :class:`~jointattention.agent.memory.EpisodicMemory`. At the start of a trial it recalls, from
 the caregiver's face, the place to look at; its command is one step from the head angle toward
-that place. A trial the evaluator ends is kept as (face code, place): the place is the attended
+that place (``memory.saccade``: the whole way there, in moves as long as visual feedback's
+longest). A trial the evaluator ends is kept as (face code, place): the place is the attended
 object's (``object_direction``: the final head angle plus the visual controller's command that
 centres it) or the final head angle (``final_direction``); with ``memory.keep = "in_view"`` (the
 default) every other object in the last image is kept too, at its place. With
@@ -18,6 +19,7 @@ import numpy as np
 
 from .._jit import jit
 from ..agent._left_out import drop_left_out_from, empty_arrival, passed_over_into
+from ..agent.attention import largest_feedback_rad
 from ..agent.detections import Detections
 from ..agent.memory import (
     EpisodicMemory,
@@ -26,7 +28,7 @@ from ..agent.memory import (
     left_out_of,
     recall_at_distances,
 )
-from ..agent.moves import random_step, unit_step
+from ..agent.moves import place_step, random_step
 from ..agent.protocol import Outcome
 
 __all__ = ["MemoryModule", "recall_commands_into"]
@@ -38,8 +40,8 @@ _BATCH = 32  # faces whose distances are measured in one pass over the codes
 @jit
 def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, base,
                          n_stored, n_codes, lo_rad, cell_rad, k_nearest, radius_rad, left_codes,
-                         left_aims, n_left, step_rad, out) -> None:
-    """One step toward the place recalled for each face window (K, pixels), into ``out``.
+                         left_aims, n_left, step_rad, saccade_rad, out) -> None:
+    """One move toward the place recalled for each face window (K, pixels), into ``out``.
 
     From each head angle ``thetas`` (K, 2); no step for a face with no place recalled. A face
     whose code is the one before's (e.g. a blank face at many head angles) is not recalled
@@ -74,8 +76,8 @@ def recall_commands_into(faces, thetas, projection, codes, counts, links, aims, 
             if support < 0:
                 out[r, 0], out[r, 1] = 0.0, 0.0
             else:
-                out[r, 0], out[r, 1] = unit_step(aim[0] - thetas[r, 0], aim[1] - thetas[r, 1],
-                                                 step_rad)
+                out[r, 0], out[r, 1] = place_step(aim[0] - thetas[r, 0],
+                                                  aim[1] - thetas[r, 1], step_rad, saccade_rad)
         last[:] = batch[r1 - r0 - 1]
 
 
@@ -106,12 +108,23 @@ class MemoryModule:
         self.support_, self.evidence_ = -1.0, 0.0
         self._left_out = None  # the current face's places left out (fetched as needed)
 
+    @property
+    def saccade_rad(self) -> float:
+        """The longest move to a recalled place: visual feedback's with ``memory.saccade``.
+
+        0 without: one step at a time.
+        """
+        if not self.memory.options.saccade:
+            return 0.0
+        return largest_feedback_rad(*self.host.body.image_size_px,
+                                    self.host.mechanisms.vf_gain_rad_per_px)
+
     def _toward(self, aim_rad, theta_rad) -> np.ndarray:
-        """One step toward the recalled place; no step without one."""
+        """A move toward the recalled place; none without one."""
         if aim_rad is None:
             return np.zeros(2)
-        return np.array(unit_step(aim_rad[0] - theta_rad[0], aim_rad[1] - theta_rad[1],
-                                  self.host.step_rad))
+        return np.array(place_step(aim_rad[0] - theta_rad[0], aim_rad[1] - theta_rad[1],
+                                   self.host.step_rad, self.saccade_rad))
 
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
         """Recall the place for the caregiver's face."""
@@ -158,13 +171,13 @@ class MemoryModule:
         return passed
 
     def step(self, theta_rad) -> np.ndarray:
-        """A step toward the recalled place; a random step while nothing is kept."""
+        """A move toward the recalled place; a random step while nothing is kept."""
         if self._aim_rad is None:
             return np.array(random_step(self.host.move_rng, self.host.step_rad))
         return self._toward(self._aim_rad, theta_rad)
 
     def direction(self, theta_rad) -> np.ndarray:
-        """A step toward the recalled place; no step while nothing is kept."""
+        """A move toward the recalled place; none while nothing is kept."""
         return self._toward(self._aim_rad, theta_rad)
 
     def learn(self, outcome: Outcome, thetas: np.ndarray, steps: np.ndarray) -> int:
@@ -197,7 +210,8 @@ class MemoryModule:
         recall_commands_into(np.ascontiguousarray(faces, dtype=float),
                              np.ascontiguousarray(thetas, dtype=float), m.projection,
                              *m.kept_arrays(), m.lo_rad, m.cell_rad, m.options.k_nearest,
-                             m.radius_rad, *m.left_arrays(), self.host.step_rad, out)
+                             m.radius_rad, *m.left_arrays(), self.host.step_rad,
+                             self.saccade_rad, out)
         return out
 
     def saved_arrays(self) -> dict[str, np.ndarray]:
