@@ -80,7 +80,7 @@ def test_both_engines_run_the_same_saccading_trials_which_are_shorter():
 
 
 def test_the_saccading_memory_commands_the_whole_way_to_a_place_within_reach():
-    """commands (follow's) move from each head angle onto the recalled place, or reach-long."""
+    """The commands (follow's) move from each head angle onto the recalled place, or reach-long."""
     _, agent = _cells("compiled")
     module, memory = agent.module, agent.module.memory
     assert isinstance(memory.options, MemoryOptions) and memory.options.saccade

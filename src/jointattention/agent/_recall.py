@@ -7,9 +7,10 @@ face is from each distinct face code (:func:`code_distances_into`), which trials
 and how many near places agree with each (:func:`votes_into`). The lists (``links``, one row
 each): ``CODE_OF[slot]``, the slot's code; ``NEXT``/``PREV[slot]``, the code's next and
 previous slot in slot order (-1: none); ``HEAD[u]``, code u's first slot; ``LAST[u]``, its slot
-written last in this lap of the ring (-1: none yet). The ring writes slots in increasing order,
-so a new slot of u goes right after ``LAST[u]``: before it, u's slots of this lap; after it,
-those of the last lap.
+written last in this lap of the ring (-1: none yet); ``AGREE[slot]``, the places of the slot's
+code within the voting radius of its place (:mod:`._agreement`). The ring writes slots in
+increasing order, so a new slot of u goes right after ``LAST[u]``: before it, u's slots of this
+lap; after it, those of the last lap.
 """
 
 from __future__ import annotations
@@ -18,16 +19,17 @@ import numpy as np
 
 from .._jit import jit
 
-__all__ = ["CODE_OF", "cell_of", "code_distances_into", "count_around", "face_code_into", "link",
-           "near_slots", "new_lap", "no_links", "same_code", "unlink", "votes_into", "weighted_kth"]
+__all__ = ["AGREE", "CODE_OF", "HEAD", "NEXT", "cell_of", "code_distances_into", "count_around",
+           "face_code_into", "link", "near_slots", "new_lap", "no_links", "same_code", "unlink",
+           "votes_into", "weighted_kth"]
 
-CODE_OF, NEXT, PREV, HEAD, LAST = range(5)  # the rows of links
+CODE_OF, NEXT, PREV, HEAD, LAST, AGREE = range(6)  # the rows of links
 
 
 def no_links(capacity: int) -> np.ndarray:
     """The lists of an empty memory of ``capacity`` slots."""
-    links = np.full((5, capacity), -1, np.int64)
-    links[CODE_OF] = 0
+    links = np.full((6, capacity), -1, np.int64)
+    links[CODE_OF] = links[AGREE] = 0
     return links
 
 

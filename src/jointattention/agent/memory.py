@@ -7,8 +7,7 @@ objects points at the distractors' average, not at the target (docs/beyond-the-p
 This module looks for the *mode* instead: it keeps each self-evaluated trial as a pair (a
 compact code of the face, the head angle at which the object was centred) and, for a face,
 recalls the place that the trials with the most similar faces agree on beyond what every face
-agrees on (the base rate, which the distractors set). Everything it uses is the robot's own:
-the face window, its head angle and its evaluator.
+agrees on (the base rate, which the distractors set). All it uses is the robot's own.
 
 The kernels (:func:`face_code_into`, :func:`memory_store`, :func:`memory_recall`) are compiled;
 :class:`EpisodicMemory` is their scikit-learn-style wrapper.
@@ -25,6 +24,7 @@ from .._arrays import angles, flat, floats, rows
 from .._fields import Section, param
 from .._jit import jit
 from ..errors import ArgumentError, ConfigError
+from ._agreement import agree_forget, agree_keep, votes_of
 from ._left_out import leave_out, left_out_of, near_any
 from ._recall import (
     CODE_OF,
@@ -38,7 +38,6 @@ from ._recall import (
     no_links,
     same_code,
     unlink,
-    votes_into,
     weighted_kth,
 )
 
@@ -91,19 +90,21 @@ class MemoryOptions(Section):
 
 @jit
 def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, base, n_stored,
-                 n_codes, lo_rad, cell_rad) -> int:
+                 n_codes, lo_rad, cell_rad, radius_rad) -> int:
     """Keep a trial (face code, place) in slot ``n_stored % capacity``, forgetting its last.
 
     Equal face codes are kept once (``codes[:, u]``, with ``counts[u]`` trials), so that a recall
     measures each distinct face once: with the data sets' faces a few hundred codes, not every
     kept trial. ``links`` holds each slot's code and each code's slots in slot order
-    (:mod:`._recall`). ``base`` counts, per grid cell, the kept places within the voting
-    radius: the base rate. Returns the rows of ``codes`` in use.
+    (:mod:`._recall`) and how many of its code's places agree with each (:mod:`._agreement`).
+    ``base`` counts, per grid cell, the kept places within the voting radius: the base rate.
+    Returns the rows of ``codes`` in use.
     """
-    slot, code_of = n_stored % len(aims), links[CODE_OF]
+    slot, code_of, r2 = n_stored % len(aims), links[CODE_OF], radius_rad * radius_rad
     if n_stored >= len(aims):
         count_around(aims[slot, 0], aims[slot, 1], base, lo_rad, cell_rad, -1.0)
         counts[code_of[slot]] -= 1
+        agree_forget(links, aims, slot, r2)
         unlink(links, slot)
     if slot == 0:
         new_lap(links, n_codes)
@@ -124,6 +125,7 @@ def memory_store(code, aim_pan_rad, aim_tilt_rad, codes, counts, links, aims, ba
     counts[u] += 1
     link(links, slot, u)
     aims[slot, 0], aims[slot, 1] = aim_pan_rad, aim_tilt_rad
+    agree_keep(links, aims, slot, r2)
     count_around(aim_pan_rad, aim_tilt_rad, base, lo_rad, cell_rad, 1.0)
     return n_codes
 
@@ -166,7 +168,7 @@ def recall_at_distances(d2u, counts, links, aims, base, n_stored, n_codes, lo_ra
     weight = np.exp(-d2 / max(d2_k, 1e-300))
     total, r2 = weight.sum(), radius_rad * radius_rad
     votes = np.empty(n_near)
-    votes_into(near, weight, aims, radius_rad, votes)
+    votes_of(near, weight, links, aims, radius_rad, votes)
     best, best_a = -np.inf, 0
     for a in range(n_near):
         if len(left_out) and near_any(aims[near[a], 0], aims[near[a], 1], left_out, r2):
@@ -201,10 +203,10 @@ class EpisodicMemory:
     Learned state: ``aims_`` (the kept trials' places), ``codes_`` (their distinct face codes,
     the first ``n_codes_`` columns: (code length, capacity), entry-major so that a recall
     measures every code at once), ``counts_`` (trials per code), ``links_`` (each trial's code,
-    and each code's trials in slot order: :mod:`._recall`), ``base_`` (the base-rate grid),
-    ``n_stored_`` (trials kept so far, forgotten ones included); with ``leave_out_empty``,
-    ``left_codes_`` and ``left_aims_`` (the places left out of a face's recalls, with its code:
-    :mod:`._left_out`) and ``n_left_`` (places left out so far).
+    each code's trials in slot order, their agreement: :mod:`._recall`), ``base_`` (the base
+    rate's grid), ``n_stored_`` (trials kept so far, forgotten ones included); with
+    ``leave_out_empty``, ``left_codes_`` and ``left_aims_`` (the places left out of a face's
+    recalls, with its code: :mod:`._left_out`) and ``n_left_`` (places left out so far).
     """
 
     def __init__(self, n_in: int, options: MemoryOptions, limits_rad, rng: np.random.Generator):
@@ -239,9 +241,10 @@ class EpisodicMemory:
 
     def store(self, code: np.ndarray, aim_rad) -> None:
         """Keep one trial: the face's code and the place (pan, tilt) where it found an object."""
-        code, aim_rad = floats("code", code, (self.options.code_dims,)), angles("aim_rad", aim_rad)
-        self.n_codes_ = memory_store(code, float(aim_rad[0]), float(aim_rad[1]),
-                                     *self.kept_arrays(), self.lo_rad, self.cell_rad)
+        code = floats("code", code, (self.options.code_dims,))
+        pan, tilt = angles("aim_rad", aim_rad)
+        self.n_codes_ = memory_store(code, float(pan), float(tilt), *self.kept_arrays(),
+                                     self.lo_rad, self.cell_rad, self.radius_rad)
         self.n_stored_ += 1
 
     def kept_arrays(self) -> tuple:
@@ -269,8 +272,7 @@ class EpisodicMemory:
 
     def recall(self, code: np.ndarray) -> tuple[np.ndarray | None, float]:
         """The place recalled for a face code and its support; (None, -1) with no memory."""
-        aim, support, _ = self.recall_evidence(code)
-        return aim, support
+        return self.recall_evidence(code)[:2]
 
     def recall_evidence(self, code: np.ndarray) -> tuple[np.ndarray | None, float, float]:
         """:meth:`recall`, and the place's evidence in trials (:func:`memory_recall`)."""

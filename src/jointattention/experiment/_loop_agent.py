@@ -80,7 +80,8 @@ def recall_place(code, memory, c, left_out, aim) -> tuple[float, float]:
 def keep_place(code, pan, tilt, memory, c) -> int:
     """:func:`~jointattention.agent.memory.memory_store` of a place; the codes in use."""
     n_codes = memory_store(code, pan, tilt, memory.codes, memory.counts, memory.links,
-                           memory.aims, memory.base, c[4], c[5], memory.lo_rad, memory.cell_rad)
+                           memory.aims, memory.base, c[4], c[5], memory.lo_rad, memory.cell_rad,
+                           memory.radius_rad)
     c[4] += 1
     return n_codes
 

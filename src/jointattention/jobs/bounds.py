@@ -54,11 +54,11 @@ def _memory_starts(faces, projection, codes, counts, links, aims, base, n_stored
 
 @jit
 def _memory_keeps(codes_in, places, codes, counts, links, aims, base, n_stored, n_codes,
-                  lo_rad, cell_rad) -> int:
+                  lo_rad, cell_rad, radius_rad) -> int:
     """Each place kept with its face's code (MemoryModule.learn); the places kept."""
     for i in range(len(places)):
         n_codes = memory_store(codes_in[i], places[i, 0], places[i, 1], codes, counts, links,
-                               aims, base, n_stored, n_codes, lo_rad, cell_rad)
+                               aims, base, n_stored, n_codes, lo_rad, cell_rad, radius_rad)
         n_stored += 1
     return n_stored
 
@@ -99,7 +99,7 @@ def _memory_us(module, faces: np.ndarray) -> tuple[float, float]:
                        m.radius_rad, *m.left_arrays())
 
     def keeps(m, n=n):
-        _memory_keeps(codes[:n], places[:n], *m.kept_arrays(), *args)
+        _memory_keeps(codes[:n], places[:n], *m.kept_arrays(), *args, m.radius_rad)
 
     starts(memory, faces[:1])  # each loop compiled (or loaded) outside the timing
     keeps(copy.deepcopy(memory), 1)
