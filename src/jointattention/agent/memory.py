@@ -76,9 +76,8 @@ class MemoryOptions(Section):
     recall_again: bool = param(
         False, "once a place is left out, recall the face's next place at once: the trial goes "
         "on toward it, with its evidence for the gate; needs leave_out_empty")
-    saccade: bool = param(
-        False, "move to the recalled place in one move, no longer than visual feedback's "
-        "longest (Eq. 2 at the image's corner), instead of one lm_step_deg step at a time")
+    saccade: bool = param(False, "move to the recalled place in one move, no longer than visual "
+                          "feedback's longest (Eq. 2 at an image corner), not lm_step_deg a step")
 
     def __post_init__(self) -> None:
         super().__post_init__()
