@@ -68,13 +68,16 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     no_places = np.empty((0, 2))  # a face's places left out, before any
     face_x, face_acc, acc = np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden)
     hid, out, angles_x = np.empty(n_hidden), np.empty(2), np.empty((robot.max_steps, 2))
-    n_code = n_cached = 0
+    n_code = n_cached = n_coded = 0
     saccade_rad = 0.0  # the memory's longest move to its place (0: one step)
     if memory is not None:
         n_code, saccade_rad = memory.projection.shape[1], memory.saccade_rad
         if not robot.learning:  # a frozen memory recalls a face alike each time: once a face
             n_cached = len(world.faces)
+        if development is None:  # a data set's face is the same each time: coded once
+            n_coded = len(world.faces)
     cached, cached_aim = np.zeros(n_cached, np.int8), np.empty((n_cached, 3))  # aim, evidence
+    coded, codes_of = np.zeros(n_coded, np.bool_), np.empty((n_coded, n_code))
     scaled, code, sweep = np.empty(2), np.empty(n_code), (0.0, 0.0)
     has_memory, on_line = n_code > 0, population is not None
     places = np.empty((_MAX_PLACES, 2))  # the population code's places found
@@ -107,7 +110,12 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             aim[0], aim[1] = cached_aim[shown, 0], cached_aim[shown, 1]
             evidence = cached_aim[shown, 2]
         elif memory is not None:
-            face_code_into(face, memory.projection, code)
+            if n_coded and coded[shown]:
+                code[:] = codes_of[shown]
+            else:
+                face_code_into(face, memory.projection, code)
+                if n_coded:
+                    codes_of[shown], coded[shown] = code, True
             left_out = left_out_of(code, memory.left_codes, memory.left_aims, c[6])
             support, evidence = recall_place(code, memory, c, left_out, aim)
             recalled, mine = support >= 0, left_out
