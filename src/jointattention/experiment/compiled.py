@@ -75,17 +75,14 @@ def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_ob
                   ds.face.reshape(len(ds), -1).astype(float), bool(shuffle_faces))
 
 
-def _loop_memory(module) -> LoopMemory | None:
-    """The episodic module's memory as the loop takes it (None if the learner has none)."""
-    memory = getattr(module, "memory", None)
-    if memory is None:
-        return None
+def _loop_memory(memory, saccade_rad: float) -> LoopMemory:
+    """The episodic memory as the loop takes it, with its module's longest move."""
     return LoopMemory(memory.projection, memory.lo_rad, float(memory.cell_rad),
                       int(memory.options.k_nearest), float(memory.radius_rad),
                       memory.options.keep == "in_view", *memory.kept_arrays()[:5],
                       memory.options.leave_out_empty, *memory.left_arrays()[:2],
                       memory.options.pass_over_left_out, memory.options.drop_left_out,
-                      memory.options.recall_again, module.saccade_rad)
+                      memory.options.recall_again, saccade_rad)
 
 
 class CompiledCell:
@@ -110,6 +107,7 @@ class CompiledCell:
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
         opts, shared = agent.options, agent.mechanisms
+        memory = getattr(agent.module, "memory", None)  # the episodic module's
         caregiver = opts.caregiver_inputs(agent.body.face_size_px)
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),
@@ -123,7 +121,8 @@ class CompiledCell:
             caregiver[0], bool(agent.learning))
         self._development = LoopDevelopment(*caregiver[2:]) if caregiver[1] else None
         learner, faces = agent.learner, agent.faces
-        self._memory, memory = _loop_memory(agent.module), getattr(agent.module, "memory", None)
+        self._memory = (None if memory is None
+                        else _loop_memory(memory, agent.module.saccade_rad))
         self._population = (agent.module.arrays()
                             if isinstance(agent.module, PopulationModule) else None)
         self._module_rng = getattr(agent.module, "replay_rng", agent.move_rng)  # a stand-in
