@@ -74,7 +74,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         n_code, saccade_rad = memory.projection.shape[1], memory.saccade_rad
         if not robot.learning:  # a frozen memory recalls a face alike each time: once a face
             n_cached = len(world.faces)
-        if development is None:  # a data set's face is the same each time: coded once
+        elif development is None:  # learning, a data set's face is the same each time: coded once
             n_coded = len(world.faces)
     cached, cached_aim = np.zeros(n_cached, np.int8), np.empty((n_cached, 3))  # aim, evidence
     coded, codes_of = np.zeros(n_coded, np.bool_), np.empty((n_coded, n_code))
