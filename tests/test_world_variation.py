@@ -27,9 +27,11 @@ from jointattention.world.identity import (
 )
 from jointattention.world.look import Look, sample_look
 from jointattention.world.recording import HELD_OUT, caregivers_of, make_datasets
+from jointattention.world.scene import sample_scene
 from jointattention.world.simulator import World
 
 MANY = load_config("many-caregivers").world
+PEOPLE = load_config("people").world
 NEW_FIELDS = [f.name for f in dataclasses.fields(Caregiver)][4:]  # after the four of before
 ALL_FIELDS = [f.name for f in dataclasses.fields(Caregiver)]
 FACTOR_RANGES = {"head_width": "head_width_range", "head_depth": "head_depth_range",
@@ -81,19 +83,27 @@ def test_default_draws_leave_every_stream_where_it_was():
     assert a.uniform() == b.uniform()
 
 
-def test_many_caregivers_vary_in_every_field_within_their_ranges():
-    """Under the preset each new identity field varies, and stays within its configured range."""
+GAZE_FIELDS = ("head_turn_offset", "pose_noise_offset_deg")  # the people preset's alone
+
+
+@pytest.mark.parametrize(("world", "fixed"), [(MANY, GAZE_FIELDS), (PEOPLE, ())])
+def test_caregivers_vary_in_every_field_within_their_ranges(world, fixed):
+    """Under a preset each identity field varies, and stays within its configured range."""
     rng = stream(0, "test")
-    people = [sample_caregiver(MANY, rng) for _ in range(60)]
-    ident, cg = MANY.identity, MANY.caregiver
+    people = [sample_caregiver(world, rng) for _ in range(60)]
+    ident, cg = world.identity, world.caregiver
     for field in ALL_FIELDS:
-        assert len({getattr(p, field) for p in people}) > 20, field
+        distinct = len({getattr(p, field) for p in people})
+        assert distinct == 1 if field in fixed else distinct > 20, field
     for field, range_name in FACTOR_RANGES.items():
         lo, hi = getattr(ident, range_name)
         assert lo < hi and all(lo <= getattr(p, field) <= hi for p in people), field
     for field, spread in (("distance_offset_m", cg.distance_spread_m),
-                          ("height_offset_m", cg.height_spread_m)):
-        assert spread > 0 and all(abs(getattr(p, field)) <= spread for p in people)
+                          ("height_offset_m", cg.height_spread_m),
+                          ("head_turn_offset", cg.head_turn_spread),
+                          ("pose_noise_offset_deg", cg.pose_noise_spread_deg)):
+        assert (spread > 0 or field in fixed) and all(abs(getattr(p, field)) <= spread
+                                                      for p in people)
     lo, hi = cg.head_scale_range
     assert all(lo <= p.head_scale <= hi for p in people)
     iris = np.array([p.iris_rgb for p in people])
@@ -141,11 +151,11 @@ def test_camera_effects_change_the_eye_image_only(needs_gl):
 def test_held_out_caregivers_differ_from_the_seeds_own_in_every_field(needs_gl):
     """--held-out's identities and poses are none of the seed's normal ones, for several seeds."""
     for seed in (0, 1, 2):
-        normal = make_datasets(MANY, 3, seed, caregivers=3)
-        held = make_datasets(MANY, 3, seed, caregivers=3, stream=HELD_OUT)
+        normal = make_datasets(PEOPLE, 3, seed, caregivers=3)
+        held = make_datasets(PEOPLE, 3, seed, caregivers=3, stream=HELD_OUT)
         assert held.meta["stream"] == HELD_OUT and "stream" not in normal.meta
-        for a in caregivers_of(normal, MANY):
-            for b in caregivers_of(held, MANY):
+        for a in caregivers_of(normal, PEOPLE):
+            for b in caregivers_of(held, PEOPLE):
                 for field in ALL_FIELDS:
                     assert getattr(a, field) != getattr(b, field), (seed, field)
         assert not np.any(np.isin(held.theta_face_rad, normal.theta_face_rad))
@@ -225,9 +235,11 @@ def test_caregivers_of_refuses_files_that_do_not_say(tmp_path):
     ("[world.identity]\nskin_palette = 'pink'", "skin_palette = 'pink': expected one of"),
     ("[world.room]\ntint_saturation_range = [0.0, 0.9]", "expected a value in"),
     ("[world.caregiver]\ndistance_spread_m = 0.2", "distance_spread_m = 0.2"),
+    ("[world.caregiver]\nhead_turn_spread = 0.3", "head_turn_fraction = 0.8 with a spread"),
+    ("[world.caregiver]\npose_noise_spread_deg = 3", "pose_noise_deg = 2.0 with a spread"),
 ])
 def test_bad_variation_settings_are_one_config_error(toml, message):
-    """A reversed range, an unknown palette, a saturated room or a too near caregiver is refused."""
+    """A bad range, palette, room, caregiver's distance or spread is one ConfigError."""
     with pytest.raises(ConfigError, match=message):
         load_config(tomllib.loads(toml))
 
@@ -237,3 +249,18 @@ def test_caregiver_sheet_is_written(tmp_path, needs_gl):
     assert main(["render", "--config", "many-caregivers", "--caregivers", "3", "--out",
                  str(tmp_path)]) == 0
     assert (tmp_path / "identities.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_each_caregiver_turns_her_head_by_her_own_share():
+    """A scene's head turn is her own share of the gaze turn; the eyes make the rest."""
+    world = dataclasses.replace(PEOPLE, caregiver=dataclasses.replace(
+        PEOPLE.caregiver, pose_noise_deg=0.0, pose_noise_spread_deg=0.0))
+    rng = stream(2, "test")
+    shares = []
+    for _ in range(10):
+        state = sample_scene(world, rng)
+        head, eyes = state.head_yaw_pitch_rad, state.eye_yaw_pitch_rad
+        share = world.caregiver.head_turn_fraction + state.caregiver.head_turn_offset
+        np.testing.assert_allclose(head, share * (head + eyes), rtol=1e-12)
+        shares.append(share)
+    assert max(shares) - min(shares) > 0.2

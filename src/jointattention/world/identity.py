@@ -18,7 +18,7 @@ from .mjcf import HEAD_RADII_M, PUPIL_RGB
 from .options import WorldConfig
 
 __all__ = ["HAIR_COLOURS", "IRIS_RAMP", "SKIN_TONES", "Caregiver", "caregiver_from_dict",
-           "iris_colour", "sample_caregiver"]
+           "head_turn_fraction", "iris_colour", "pose_noise_rad", "sample_caregiver"]
 
 _BASE_SKIN = [[0.96, 0.80, 0.69], [0.87, 0.67, 0.53], [0.71, 0.51, 0.38], [0.55, 0.38, 0.26],
               [0.38, 0.26, 0.18]]
@@ -78,11 +78,23 @@ class Caregiver:
     brow_thickness: float = 1.0
     distance_offset_m: float = 0.0  # from caregiver.distance_m
     height_offset_m: float = 0.0  # from caregiver.height_m
+    head_turn_offset: float = 0.0  # from caregiver.head_turn_fraction
+    pose_noise_offset_deg: float = 0.0  # from caregiver.pose_noise_deg
 
     @property
     def face_radius_m(self) -> float:
         """Half the head's height (the face window is cropped from it)."""
         return HEAD_RADII_M[2] * self.head_scale * self.head_height
+
+
+def head_turn_fraction(world: WorldConfig, caregiver: Caregiver) -> float:
+    """Her head's share of a gaze turn (the eyes make the rest)."""
+    return world.caregiver.head_turn_fraction + caregiver.head_turn_offset
+
+
+def pose_noise_rad(world: WorldConfig, caregiver: Caregiver) -> float:
+    """Her s.d. of the head's yaw and pitch error, in radians."""
+    return float(np.deg2rad(world.caregiver.pose_noise_deg + caregiver.pose_noise_offset_deg))
 
 
 def iris_colour(t: float) -> tuple[float, float, float]:
@@ -125,7 +137,9 @@ def sample_caregiver(world: WorldConfig, rng: np.random.Generator) -> Caregiver:
     features = {name: _draw(rng, getattr(ident, f"{name}_range")) for name in (
         "nose_size", "mouth_width", "brow_thickness")}
     place = {name: 0.0 if spread == 0 else float(rng.uniform(-spread, spread)) for name, spread in (
-        ("distance_offset_m", cg.distance_spread_m), ("height_offset_m", cg.height_spread_m))}
+        ("distance_offset_m", cg.distance_spread_m), ("height_offset_m", cg.height_spread_m),
+        ("head_turn_offset", cg.head_turn_spread),
+        ("pose_noise_offset_deg", cg.pose_noise_spread_deg))}
     return Caregiver(head_scale=head_scale, skin_rgb=_rgb(skin), hair_rgb=_rgb(hair),
                      shirt_rgb=_rgb(shirt), head_width=width, head_depth=depth,
                      head_height=height, iris_rgb=iris, **face, **features, **place)

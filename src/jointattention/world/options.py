@@ -98,6 +98,13 @@ class CaregiverConfig(Section):
     height_spread_m: float = param(
         0.0, "per identity: her own head height (her stature) is height_m plus a uniform offset "
         "within +-this", lo=0, hi=0.5)
+    head_turn_spread: float = param(
+        0.0, "per identity: her head's own share of a gaze turn is head_turn_fraction plus a "
+        "uniform offset within +-this (people differ in how much they move the head and how "
+        "much only the eyes)", lo=0, hi=0.5)
+    pose_noise_spread_deg: float = param(
+        0.0, "per identity: her own s.d. of the head's yaw and pitch error is pose_noise_deg "
+        "plus a uniform offset within +-this", lo=0, hi=10)
 
 
 @dataclass(frozen=True)
@@ -185,6 +192,13 @@ class WorldConfig(Section):
                     raise ConfigError(f"{section.name}.{f.name} = [{value[0]}, {value[1]}]: "
                                       "expected the low end first")
         cg = self.caregiver
+        for name, value, spread, lo, hi in (
+                ("head_turn_fraction", cg.head_turn_fraction, cg.head_turn_spread, 0.0, 1.0),
+                ("pose_noise_deg", cg.pose_noise_deg, cg.pose_noise_spread_deg, 0.0, 20.0)):
+            if not lo <= value - spread <= value + spread <= hi:
+                raise ConfigError(
+                    f"caregiver.{name} = {value} with a spread of +-{spread}: expected "
+                    f"{value} - {spread} to {value} + {spread} within [{lo:g}, {hi:g}]")
         if self.objects.distance_range_m[1] >= cg.distance_m - cg.distance_spread_m:
             spread = f" - caregiver.distance_spread_m = {cg.distance_spread_m}" \
                 if cg.distance_spread_m else ""

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .identity import Caregiver, sample_caregiver
+from .identity import Caregiver, head_turn_fraction, pose_noise_rad, sample_caregiver
 from .look import Look, sample_look
 from .options import N_OBJECTS, WorldConfig
 from .placement import sample_objects
@@ -89,7 +89,8 @@ def sample_scene(
     rgb = _object_colours(n, rng)
     target = int(rng.integers(n))
     gaze = gaze_angles(head_pos, obj_pos[target])
-    head = cg.head_turn_fraction * gaze + rng.normal(0, np.deg2rad(cg.pose_noise_deg), 2)
+    head = (head_turn_fraction(world, caregiver) * gaze
+            + rng.normal(0, pose_noise_rad(world, caregiver), 2))
     light = _light(world, rng)
     return SceneState(
         caregiver=caregiver,
@@ -129,7 +130,7 @@ def scene_with(world: WorldConfig, caregiver: Caregiver, head_pos_m, object_pos_
     """
     head_pos_m = np.asarray(head_pos_m, float)
     object_pos_m = np.asarray(object_pos_m, float)
-    head, eyes = _look_at(world, head_pos_m, object_pos_m[target_index])
+    head, eyes = _look_at(world, caregiver, head_pos_m, object_pos_m[target_index])
     colours = _object_colours(len(object_pos_m), rng)
     light = _light(world, rng)
     return SceneState(caregiver, head_pos_m, head, eyes, object_pos_m,
@@ -144,14 +145,15 @@ def with_target(state: SceneState, world: WorldConfig, target_pos_m) -> SceneSta
     """
     pos = state.object_pos_m.copy()
     pos[state.target_index] = target_pos_m
-    head, eyes = _look_at(world, state.head_pos_m, target_pos_m)
+    head, eyes = _look_at(world, state.caregiver, state.head_pos_m, target_pos_m)
     return replace(state, object_pos_m=pos, head_yaw_pitch_rad=head, eye_yaw_pitch_rad=eyes)
 
 
-def _look_at(world: WorldConfig, head_pos_m, target_m) -> tuple[np.ndarray, np.ndarray]:
-    """(head, eyes) rotations of a caregiver looking at ``target_m`` without pose noise."""
+def _look_at(world: WorldConfig, caregiver: Caregiver, head_pos_m,
+             target_m) -> tuple[np.ndarray, np.ndarray]:
+    """(head, eyes) rotations of ``caregiver`` looking at ``target_m`` without pose noise."""
     gaze = gaze_angles(head_pos_m, target_m)
-    head = world.caregiver.head_turn_fraction * gaze
+    head = head_turn_fraction(world, caregiver) * gaze
     return head, gaze - head
 
 
