@@ -70,6 +70,18 @@ def test_evaluate_reports_the_documented_numbers(model, tmp_path):
     assert row["fraction_of_ceiling"] == pytest.approx(row["success"] / row["ceiling"])
     assert 0 <= row["median_error_deg"] <= row["p90_error_deg"] <= 180
     assert 0 <= row["share_identities_over_10deg"] <= 1
+    assert np.isnan(row["novelty_median"])  # learned from one caregiver: no spacing
+
+
+def test_evaluate_says_how_new_the_caregivers_are(model):
+    """Caregivers it learned from have novelty 0; others above 0 (known: half of them)."""
+    unseen, config = shipped_held_out("unseen caregivers"), load_config(QUICK)
+    people = caregivers_of(unseen, config.world)
+    own = evaluate_agent(model.agent, unseen, config, n_objects=3, n_trials=20, known=people)
+    assert own.novelty_median == own.novelty_max == 0
+    half = evaluate_agent(model.agent, unseen, config, n_objects=3, n_trials=20,
+                          known=people[:8])
+    assert 0 < half.novelty_median < half.novelty_max
 
 
 def test_the_evaluate_command_prints_one_json_object(model, tmp_path, capsys):
@@ -88,7 +100,8 @@ def test_the_evaluate_command_prints_one_json_object(model, tmp_path, capsys):
                  "--json", "--out", str(tmp_path / "ev")]) == 0
     row = json.loads(capsys.readouterr().out)
     for key in ("fraction_of_ceiling", "success", "ceiling", "median_error_deg",
-                "p90_error_deg", "share_identities_over_10deg", "n_sets"):
+                "p90_error_deg", "share_identities_over_10deg", "n_sets", "novelty_median",
+                "novelty_max"):
         assert key in row
     assert row["n_sets"] == 250
     assert (tmp_path / "ev" / "evaluation.csv").is_file()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -10,7 +11,7 @@ import pytest
 
 from jointattention.cli import main
 from jointattention.config import load_config
-from jointattention.datasets import default_datasets
+from jointattention.datasets import default_datasets, save, scenes_sha256
 from jointattention.deploy.saved import Robot, load_model
 from jointattention.errors import ConfigError, FileError
 from jointattention.experiment.training import model_path, train
@@ -48,7 +49,10 @@ def _meta(path: Path) -> dict:
 
 
 def test_round_trip_gives_the_same_commands(saved):
-    """A loaded model commands exactly what the learned agent did, with its robot and steps."""
+    """A loaded model commands exactly what the learned agent did, with its robot and steps.
+
+    It keeps the digest of its data sets' scenes and who posed them.
+    """
     model, path = saved
     loaded = load_model(path)
     ds = default_datasets()
@@ -58,6 +62,8 @@ def test_round_trip_gives_the_same_commands(saved):
     assert loaded.robot == Robot.of(load_config(TINY))
     assert loaded.agent.learning_time_steps == model.agent.learning_time_steps >= 4000
     assert loaded.condition == "n1" and len(loaded.datasets_sha256) == 64
+    assert loaded.scenes_sha256 == model.scenes_sha256 == scenes_sha256(ds)
+    assert loaded.caregivers == model.caregivers and len(loaded.caregivers) == 1
 
 
 def test_file_holds_no_pickle(saved):
@@ -73,7 +79,10 @@ def _cases(path: Path, tmp: Path):
     robot_fov = {**meta, "robot": {**meta["robot"], "fov_deg": 55.0}}
     wrong_kind = {**meta, "model": {**meta["model"], "kind": "oracle"}}
     bad_config = {**meta, "config": "[[[ not toml"}
+    bad_people = {**meta, "caregivers": [{**meta["caregivers"][0], "head_scale": "big"}]}
     return {
+        "meta.caregivers[0]": _rewrite(path, tmp / "m.npz",
+                                       meta=np.array(json.dumps(bad_people))),
         "schema_version": _rewrite(path, tmp / "a.npz", schema_version=np.array(9)),
         "w1": _rewrite(path, tmp / "b.npz", w1=np.zeros((3, 5))),
         "b2": _rewrite(path, tmp / "c.npz", b2=np.array([np.nan, 0.0])),
@@ -314,7 +323,10 @@ print("ok", np.hypot(*m.lm_command(np.zeros((h, w), np.uint8), (0.1, -0.1))) > 0
 
 def test_a_model_s_data_sets_are_found_beside_it_and_checked_by_content(tmp_path,
                                                                         monkeypatch):
-    """model_datasets: a relative path resolves beside the model file; other content is refused.
+    """model_datasets: beside the model file first; the same scenes re-rendered are taken.
+
+    Other scenes are refused, and a model file of before (no scenes digest) takes only the
+    same bytes.
 
     (closed-loop loads the model's data sets through it.)
     """
@@ -333,10 +345,17 @@ def test_a_model_s_data_sets_are_found_beside_it_and_checked_by_content(tmp_path
     monkeypatch.chdir(tmp_path)  # elsewhere: "sets.npz" is only beside the model
     model = load_model(path)
     assert len(model_datasets(model, path)) == len(default_datasets())
-    other = default_datasets()
-    np.savez(folder / "sets.npz", face=other.face[:10], theta_face_rad=other.theta_face_rad[:10],
-             command_rad=other.command_rad[:10])
+    shipped = default_datasets()
+    # The same scenes rendered on another machine: a few grey levels apart, other bytes.
+    save(dataclasses.replace(shipped, face=shipped.face ^ np.uint8(1),
+                             theta_face_rad=shipped.theta_face_rad + 1e-13), folder / "sets.npz")
+    assert np.array_equal(model_datasets(model, path).face, shipped.face ^ np.uint8(1))
+    old = dataclasses.replace(model, scenes_sha256=None)  # a model file of before: the bytes
     with pytest.raises(FileError, match="other content"):
+        model_datasets(old, path)
+    save(dataclasses.replace(shipped, command_rad=shipped.command_rad[::-1].copy()),
+         folder / "sets.npz")
+    with pytest.raises(FileError, match="other scenes"):
         model_datasets(model, path)
 
 

@@ -32,6 +32,7 @@ head angles. Angles must lie in [-pi, pi].
 
 from __future__ import annotations
 
+import hashlib
 import json
 from dataclasses import dataclass, field
 from importlib import resources
@@ -46,7 +47,7 @@ from ._readers import loads_json, read_npz
 from .errors import DatasetError, FileError
 
 __all__ = ["MAX_TARGET_M", "SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load",
-           "save", "shipped_file"]
+           "save", "scenes_sha256", "shipped_file"]
 
 SCHEMA_VERSION = 2  # the newest; version 1 is version 2 without ``caregiver``
 MAX_TARGET_M = 100.0  # a target farther than this from the robot is not a scene it can see
@@ -124,6 +125,26 @@ def _validate(ds, where: str) -> None:
             _fail(where, "caregiver", f"integer array of shape ({n},)", _describe(a))
         if np.any(a < 0):
             _fail(where, "caregiver", "identity indices >= 0", f"{int(a.min())}")
+
+
+SCENE_DECIMALS = 6  # radians and metres kept to 1e-6 in scenes_sha256: far above float noise
+
+
+def scenes_sha256(datasets: CaregiverDatasets) -> str:
+    """SHA-256 of the scenes the data sets hold, not of their images: it holds across machines.
+
+    The head angles, commands, targets and caregivers, each rounded to ``SCENE_DECIMALS``
+    (radians, metres), and the windows' shape. A recording made again on another machine gives
+    the same scenes, while its rendered windows and its file's bytes may differ in a few grey
+    levels (another OpenGL), so a model is bound to the scenes it learned from by this.
+    """
+    h = hashlib.sha256(np.array(datasets.face.shape, "<i8").tobytes())
+    for a in (datasets.theta_face_rad, datasets.command_rad, datasets.target_m):
+        if a is not None:  # + 0.0: -0.0 rounds to the bytes of 0.0
+            h.update((np.round(np.asarray(a, float), SCENE_DECIMALS) + 0.0).astype("<f8").tobytes())
+    if datasets.caregiver is not None:
+        h.update(np.asarray(datasets.caregiver).astype("<i8").tobytes())
+    return h.hexdigest()
 
 
 def save(datasets: CaregiverDatasets, path: str | Path) -> Path:

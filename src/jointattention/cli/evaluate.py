@@ -20,7 +20,7 @@ __all__ = ["add_commands"]
 
 COLUMNS = ("name", "n_sets", "n_identities", "n_objects", "n_trials", "success", "ceiling",
            "fraction_of_ceiling", "median_error_deg", "p90_error_deg",
-           "share_identities_over_10deg")
+           "share_identities_over_10deg", "novelty_median", "novelty_max")
 
 
 def _number(value):
@@ -52,7 +52,8 @@ def _cmd_evaluate(args: argparse.Namespace) -> None:
                                    progress=lambda i: bar.update(1))
         name = f"{args.caregivers} unseen caregivers (held-out seed {args.seed})"
     result = evaluate_agent(model.agent, ds, model.config, name=name, n_objects=args.objects,
-                            n_trials=args.trials, seed=args.seed).as_dict()
+                            n_trials=args.trials, seed=args.seed,
+                            known=model.caregivers).as_dict()
     row = {k: _number(result[k]) for k in COLUMNS}
     if out is not None:
         from .._files import save_json, write_text
@@ -71,6 +72,9 @@ def _cmd_evaluate(args: argparse.Namespace) -> None:
         print(f"  angle error at the face: median {row['median_error_deg']:.1f} deg, 90th "
               f"percentile {row['p90_error_deg']:.1f} deg; identities above 10 deg: "
               f"{row['share_identities_over_10deg']:.2f}")
+    if row["novelty_median"] is not None:
+        print(f"  how new its caregivers are: median {row['novelty_median']:.2f}, largest "
+              f"{row['novelty_max']:.2f} times the spacing of the caregivers it learned from")
     if out is not None:
         print(out / "evaluation.json")
 
@@ -136,7 +140,8 @@ def add_commands(sub) -> None:
                     "the fast world with the trial rules of learning: its success, that set's "
                     "oracle ceiling and the fraction of it, and the learning module's angle "
                     "error at the faces (median, 90th percentile, share of identities whose "
-                    "median is above 10 deg).")
+                    "median is above 10 deg), and how new the caregivers are (each one's "
+                    "distance to the nearest the model learned from, over their spacing).")
     p.add_argument("model", metavar="MODEL", type=Path, help="a model file (train --out)")
     p.add_argument("--datasets", metavar="FILE", help="held-out data sets (.npz)")
     p.add_argument("--caregivers", type=int_in(1, 1000), metavar="K",

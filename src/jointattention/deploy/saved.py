@@ -30,6 +30,10 @@ kind, ``bootstrap`` (with the back-propagation or the population learner), ``tea
 ``developmental`` (saved once it sees sharp faces), the condition, the learning time),
 ``config`` (the run's whole configuration as TOML, from which the model's options and the face
 standardiser's floor are read), ``datasets_sha256`` (of the data-set file it learned from),
+``datasets_scenes_sha256`` (of the scenes in it, :func:`~jointattention.datasets.scenes_sha256`:
+the same for the same recording made on another machine), ``caregivers`` (who posed them, as
+:func:`~jointattention.world.recording.caregivers_of` gives them: the identities an unseen
+caregiver's novelty is measured from; absent for a robot's recording),
 ``generator`` (the package version) and, if measured, ``held_out`` (its frozen success and
 errors on its training sets, new poses and unseen caregivers at the end of learning). Float
 members must be finite and within ±1e6 (sums of squares ±1e18). The output is a direction, one
@@ -40,6 +44,7 @@ from __future__ import annotations
 
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -55,6 +60,7 @@ from ..config import Config, check_config, condition_named, load_config, model_o
 from ..errors import ConfigError, FileError
 from ..models.bootstrap import BootstrapAgent
 from ..models.registry import MODELS, ModelOptions
+from ..world.identity import Caregiver, caregiver_from_dict
 
 __all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
            "save_model"]
@@ -115,6 +121,8 @@ class LearnedModel:
     condition: str
     datasets_sha256: str | None = None
     held_out: dict | None = None  # {kind: {measure: value}} at the end of learning, if measured
+    scenes_sha256: str | None = None  # of its data sets' scenes (files of before: None)
+    caregivers: tuple[Caregiver, ...] | None = None  # who posed them, if they say
 
     @property
     def robot(self) -> Robot:
@@ -139,7 +147,8 @@ class LearnedModel:
     def save(self, path: str | Path) -> Path:
         """Write the model to ``path`` (.npz) atomically (see the module docstring)."""
         return save_model(self.agent, path, config=self.config, condition=self.condition,
-                          datasets_sha256=self.datasets_sha256, held_out=self.held_out)
+                          datasets_sha256=self.datasets_sha256, held_out=self.held_out,
+                          scenes_sha256=self.scenes_sha256, caregivers=self.caregivers)
 
 
 def check_savable(config: Config, condition: str) -> ModelOptions:
@@ -158,10 +167,14 @@ def check_savable(config: Config, condition: str) -> ModelOptions:
 
 
 def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condition: str,
-               datasets_sha256: str | None = None, held_out: dict | None = None) -> Path:
+               datasets_sha256: str | None = None, held_out: dict | None = None,
+               scenes_sha256: str | None = None,
+               caregivers: Sequence[Caregiver] | None = None) -> Path:
     """Write a learned agent of ``config``'s condition ``condition`` to ``path`` (.npz).
 
-    ``held_out``: its held-out measures, kept in ``meta`` as they are (JSON).
+    ``held_out``: its held-out measures, kept in ``meta`` as they are (JSON);
+    ``datasets_sha256`` and ``scenes_sha256``: of the data sets it learned from (their file,
+    their scenes), ``caregivers`` who posed them.
     """
     path, config = Path(check_path(path, "path")), check_config(config)
     if path.suffix != ".npz":
@@ -178,6 +191,8 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
             "model": {"kind": MODELS.name_of(options), "condition": condition,
                       "learning_time_steps": int(agent.learning_time_steps)},
             "config": to_toml(config), "datasets_sha256": datasets_sha256,
+            **({} if scenes_sha256 is None else {"datasets_scenes_sha256": scenes_sha256}),
+            **({} if caregivers is None else {"caregivers": [asdict(c) for c in caregivers]}),
             "generator": f"jointattention {__version__}",
             **({} if held_out is None else {"held_out": held_out})}
     version = 1 if options.learner == "backprop" else 2  # version 1 files stay as they were
@@ -288,6 +303,23 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
         raise _field(where, "face_n_seen", "an integer >= 1", int(arrays["face_n_seen"]))
     agent.load_arrays(arrays)
     agent.learning_time_steps = meta["model"]["learning_time_steps"]
-    held_out = meta.get("held_out")
+    held_out, scenes = meta.get("held_out"), meta.get("datasets_scenes_sha256")
     return LearnedModel(agent, config, meta["model"]["condition"], meta.get("datasets_sha256"),
-                        held_out if isinstance(held_out, dict) else None)
+                        held_out if isinstance(held_out, dict) else None,
+                        scenes if isinstance(scenes, str) else None, _caregivers(meta, where))
+
+
+def _caregivers(meta: dict, where: str) -> tuple[Caregiver, ...] | None:
+    """The identities of ``meta["caregivers"]`` (None if absent); one FileError if malformed."""
+    people = meta.get("caregivers")
+    if people is None:
+        return None
+    if not isinstance(people, list) or not people:
+        raise _field(where, "meta.caregivers", "a list of identities", repr(people)[:60])
+    out = []
+    for i, person in enumerate(people):
+        try:
+            out.append(caregiver_from_dict(person))
+        except ValueError as err:
+            raise _field(where, f"meta.caregivers[{i}]", "an identity", err) from None
+    return tuple(out)

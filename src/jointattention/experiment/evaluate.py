@@ -10,25 +10,31 @@ and per caregiver identity.
 
 from __future__ import annotations
 
+import contextlib
 import copy
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._checks import check_int
-from ..config import Config
+from .._readers import loads_toml
+from ..config import Config, WorldConfig, load_config
 from ..datasets import CaregiverDatasets
-from ..errors import ConfigError
+from ..errors import ConfigError, DatasetError
 from ..rng import stream
+from ..world.identity import Caregiver
 from ..world.kinematics import HeadKinematics
+from ..world.novelty import novelty
+from ..world.recording import caregivers_of
 from .cells import evaluator, fast_world, oracle_wins, random_scene
 from .compiled import compiled_cell, unsupported
 from .probes import angle_errors
 from .trial import SceneTrial, run_trial
 
-__all__ = ["AIM_DEG", "Evaluation", "evaluate_agent", "freeze", "frozen_success",
-           "oracle_success"]
+__all__ = ["AIM_DEG", "Evaluation", "data_sets_novelty", "evaluate_agent", "freeze",
+           "frozen_success", "oracle_success"]
 
 AIM_DEG = 10.0  # an identity whose median error is above this is not followed
 
@@ -59,6 +65,8 @@ class Evaluation:
     median_error_deg: float
     p90_error_deg: float
     share_identities_over_10deg: float
+    novelty_median: float = float("nan")
+    novelty_max: float = float("nan")
 
     @property
     def fraction_of_ceiling(self) -> float:
@@ -132,13 +140,35 @@ def _errors(agent, ds: CaregiverDatasets,
             float(np.mean(medians > AIM_DEG)))
 
 
+def data_sets_novelty(ds: CaregiverDatasets, world: WorldConfig,
+                      known: Sequence[Caregiver] | None, known_world: WorldConfig) -> np.ndarray:
+    """How new each caregiver who posed ``ds`` is to ``known`` (:func:`~.novelty.novelty`).
+
+    ``world``: the world ``ds`` were recorded in, unless their ``meta`` names it. Empty if
+    ``known`` is None or ``ds`` do not say who posed them.
+    """
+    if known is None:
+        return np.empty(0)
+    toml = ds.meta.get("world_config_toml")
+    if isinstance(toml, str):
+        with contextlib.suppress(ValueError):  # a file of another version: the given world
+            world = load_config(loads_toml(toml)).world
+    try:
+        people = caregivers_of(ds, world)
+    except DatasetError:
+        return np.empty(0)
+    return novelty(people, world, known, known_world)
+
+
 def evaluate_agent(agent, ds: CaregiverDatasets, config: Config, *, name: str = "",
                    n_objects: int = 5, n_trials: int = 2000, seed: int = 0,
-                   ceiling: float | None = None) -> Evaluation:
+                   ceiling: float | None = None,
+                   known: Sequence[Caregiver] | None = None) -> Evaluation:
     """The frozen ``agent`` of a run of ``config`` on the data sets ``ds`` (an Evaluation).
 
     ``ceiling``: the set's oracle ceiling if known (it depends on the set, the object count,
     the trials and the seed, not on the model), else measured here on ``n_trials`` trials.
+    ``known``: the caregivers it learned from, in ``config``'s world (for the novelty).
     """
     check_int("n_objects", n_objects, 1, 20)
     check_int("n_trials", n_trials, 1, 10**7)
@@ -154,8 +184,11 @@ def evaluate_agent(agent, ds: CaregiverDatasets, config: Config, *, name: str = 
         ceiling = oracle_success(ds, config, n_objects, n_trials, seed)
     success = frozen_success(agent, ds, config, n_objects, n_trials, seed)
     median, p90, share = _errors(freeze(agent), ds)
+    new = data_sets_novelty(ds, config.world, known, config.world)
+    new = new[np.isfinite(new)]
     return Evaluation(name, len(ds), ds.n_caregivers or 1, n_objects, n_trials, success,
-                      float(ceiling), median, p90, share)
+                      float(ceiling), median, p90, share,
+                      *((float(np.median(new)), float(new.max())) if len(new) else ()))
 
 
 def evaluate(model, datasets, *, name: str = "", n_objects: int = 5, n_trials: int = 2000,
@@ -179,4 +212,4 @@ def evaluate(model, datasets, *, name: str = "", n_objects: int = 5, n_trials: i
         name = name or Path(datasets).name
         datasets = load(datasets)
     return evaluate_agent(model.agent, datasets, model.config, name=name, n_objects=n_objects,
-                          n_trials=n_trials, seed=seed)
+                          n_trials=n_trials, seed=seed, known=model.caregivers)

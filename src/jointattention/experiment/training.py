@@ -10,14 +10,17 @@ import numpy as np
 
 from .._readers import sha256_of
 from ..config import ConditionConfig, Config, check_config, condition_named
-from ..datasets import CaregiverDatasets
+from ..datasets import CaregiverDatasets, scenes_sha256
 from ..deploy.saved import LearnedModel, check_savable, save_model
-from ..errors import FileError
+from ..errors import DatasetError, FileError
+from ..world.identity import Caregiver
+from ..world.recording import caregivers_of
 from .cells import datasets_file, datasets_of
 from .held_out import final_held_out, run_cell_measured
 from .results import datasets_sha256
 
-__all__ = ["model_datasets", "model_path", "run_cell_saving_model", "train"]
+__all__ = ["known_caregivers", "model_datasets", "model_path", "run_cell_saving_model",
+           "train"]
 
 
 def _learn(config: Config, condition: ConditionConfig, seed_index: int,
@@ -39,8 +42,17 @@ def train(config: Config, condition: str, seed_index: int = 0,
     cond = condition_named(check_config(config), condition)
     check_savable(config, condition)  # before learning, not after
     records, agent = _learn(config, cond, seed_index, progress)
+    ds = datasets_of(config)
     return LearnedModel(agent, config, condition, datasets_sha256(config),
-                        final_held_out(records))
+                        final_held_out(records), scenes_sha256(ds), known_caregivers(ds, config))
+
+
+def known_caregivers(ds: CaregiverDatasets, config: Config) -> tuple[Caregiver, ...] | None:
+    """Who posed a run's training sets ``ds`` (None for a recording that does not say)."""
+    try:
+        return tuple(caregivers_of(ds, config.world))
+    except DatasetError:
+        return None
 
 
 def model_path(models_dir: Path, condition: str, seed_index: int) -> Path:
@@ -55,8 +67,10 @@ def run_cell_saving_model(config: Config, condition: ConditionConfig, seed_index
     A cell's file is written only after its model, so a finished cell has its model.
     """
     records, agent = _learn(config, condition, seed_index)
+    ds = datasets_of(config)
     save_model(agent, model_path(models_dir, condition.name, seed_index), config=config,
-               condition=condition.name, datasets_sha256=datasets_sha256(config))
+               condition=condition.name, datasets_sha256=datasets_sha256(config),
+               scenes_sha256=scenes_sha256(ds), caregivers=known_caregivers(ds, config))
     return records
 
 
@@ -65,8 +79,10 @@ def model_datasets(model: LearnedModel, model_file: str | Path | None = None
     """The data sets ``model`` learned from, checked against the SHA-256 it recorded.
 
     A relative ``datasets`` path of its configuration is looked for beside ``model_file``
-    first, then in the current folder. Data sets of other content are refused in one line:
-    what a model did on them says nothing of what it learned.
+    first, then in the current folder. A model that recorded its data sets' scenes
+    (``scenes_sha256``) takes the same scenes recorded on any machine (another OpenGL renders
+    a few grey levels apart); a model of before, the same file to the byte. Data sets of other
+    content are refused in one line: what a model did on them says nothing of what it learned.
     """
     config = model.config
     if config.datasets and not Path(config.datasets).is_absolute() and model_file is not None:
@@ -74,6 +90,14 @@ def model_datasets(model: LearnedModel, model_file: str | Path | None = None
         if beside.is_file():
             config = dataclasses.replace(config, datasets=str(beside))
     path = datasets_file(config)
+    if model.scenes_sha256 is not None:
+        ds = datasets_of(config)
+        found = scenes_sha256(ds)
+        if found != model.scenes_sha256:
+            raise FileError(f"{path}: data sets of other scenes (sha256 {found[:12]}...) than "
+                            f"the model learned from ({model.scenes_sha256[:12]}...); expected "
+                            "the model's own data sets")
+        return ds
     found = sha256_of(path) if model.datasets_sha256 is not None else None
     if found != model.datasets_sha256:
         raise FileError(f"{path}: data sets of other content (sha256 {found[:12]}...) than the "
