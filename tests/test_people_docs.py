@@ -1,0 +1,53 @@
+"""The people world's scripts under docs/people run, small, and write their tables."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from jointattention.config import load_config
+from jointattention.experiment.training import train
+
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "people"
+
+
+def _run(script: str, *args: str) -> str:
+    proc = subprocess.run([sys.executable, str(DOCS / script), *args], capture_output=True,
+                          text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr
+    return proc.stdout
+
+
+def test_the_head_pose_bound_is_written_for_each_world(tmp_path):
+    """head_pose_bound.py writes a row per world; knowing the eyes reads the people world best."""
+    out = tmp_path / "bound.md"
+    _run("head_pose_bound.py", "--scenes", "600", "--out", str(out))
+    rows = [r for r in out.read_text().splitlines() if r.startswith("| people |")]
+    head, gaze = (float(c.strip(" °")) for c in rows[0].split("|")[2:5:2])
+    assert gaze < head
+
+
+def test_the_robustness_table_has_a_row_per_group_and_object_count(tmp_path, needs_gl,
+                                                                    monkeypatch):
+    """robustness.py measures a saved model on each widened world, with 5 and 10 objects."""
+    monkeypatch.setenv("JOINTATTENTION_CACHE", str(tmp_path / "cache"))
+    config = load_config({"recording": {"caregivers": 3, "poses_per_caregiver": 4, "seed": 1},
+                          "experiment": {"n_steps": 2000, "n_seeds": 1, "bin_steps": 1000,
+                                         "n_ceiling_trials": 50,
+                                         "held_out": {"n_trials": 20, "n_checkpoints": 1}}})
+    model = train(config, "n5-sigmoid").save(tmp_path / "m.npz")
+    out = tmp_path / "robustness.md"
+    _run("robustness.py", str(model), "--caregivers", "2", "--poses", "2", "--trials", "20",
+         "--out", str(out))
+    rows = [r for r in out.read_text().splitlines() if r.startswith(f"| `{model}`")]
+    assert len(rows) == 2 * 11  # its own world, nine groups, all at once
+    assert all("nan" not in r for r in rows)  # it learned from 3: the novelty is measured
+
+
+
+def test_recording_the_people_world_writes_its_time(tmp_path, needs_gl):
+    """record.py records the preset's caregivers and says how long it took."""
+    out = tmp_path / "recording.md"
+    _run("record.py", "--caregivers", "2", "--poses", "2", "--out", str(out))
+    assert "4 data sets of 2 caregivers" in out.read_text()
