@@ -211,3 +211,15 @@ def test_held_out_errors_are_measured_on_the_probes_data_sets_of_a_large_kind(mo
     assert not np.array_equal(out_some[1:4, 2], out_every[1:4, 2])
     assert out_some[0, 2] == out_every[0, 2]  # success: trials drawn from all its sets
     assert np.array_equal(out_some[:, :2], out_every[:, :2], equal_nan=True)
+
+
+def test_a_model_s_caregivers_are_read_as_identities_or_refused(model):
+    """learned_from reads a model's caregivers; a malformed one is one FileError naming it."""
+    from jointattention.experiment.evaluate import learned_from
+
+    assert learned_from(dataclasses.replace(model, caregivers=None)) is None
+    people = learned_from(model)
+    assert len(people) == 1 and people[0].head_scale > 0
+    bad = dataclasses.replace(model, caregivers=({"head_scale": "big"},))
+    with pytest.raises(FileError, match=r"m\.npz: field 'meta\.caregivers\[0\]': head_scale"):
+        learned_from(bad, "m.npz")

@@ -51,3 +51,13 @@ def test_recording_the_people_world_writes_its_time(tmp_path, needs_gl):
     out = tmp_path / "recording.md"
     _run("record.py", "--caregivers", "2", "--poses", "2", "--out", str(out))
     assert "4 data sets of 2 caregivers" in out.read_text()
+
+
+def test_the_taught_bound_is_written_for_each_world(tmp_path, needs_gl, monkeypatch):
+    """taught_bound.py teaches the network the true directions and writes a row per world."""
+    monkeypatch.setenv("JOINTATTENTION_CACHE", str(tmp_path / "cache"))
+    out = tmp_path / "taught.md"
+    _run("taught_bound.py", "--epochs", "1", "--caregivers", "2", "--train-caregivers", "3",
+         "--out", str(out))
+    rows = [r for r in out.read_text().splitlines() if r.startswith("| ") and "°" in r]
+    assert len(rows) == 3 and all("| 12 |" in r for r in rows)

@@ -79,7 +79,7 @@ def _cases(path: Path, tmp: Path):
     robot_fov = {**meta, "robot": {**meta["robot"], "fov_deg": 55.0}}
     wrong_kind = {**meta, "model": {**meta["model"], "kind": "oracle"}}
     bad_config = {**meta, "config": "[[[ not toml"}
-    bad_people = {**meta, "caregivers": [{**meta["caregivers"][0], "head_scale": "big"}]}
+    bad_people = {**meta, "caregivers": ["big"]}
     return {
         "meta.caregivers[0]": _rewrite(path, tmp / "m.npz",
                                        meta=np.array(json.dumps(bad_people))),

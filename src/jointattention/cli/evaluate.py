@@ -31,13 +31,14 @@ def _number(value):
 def _cmd_evaluate(args: argparse.Namespace) -> None:
     from ..datasets import load
     from ..deploy.saved import load_model
-    from ..experiment.evaluate import evaluate_agent
+    from ..experiment.evaluate import evaluate_agent, learned_from
 
     if (args.datasets is None) == (args.caregivers is None):
         raise ArgumentError("expected either --datasets FILE or --caregivers K (with --seed S): "
                             "the held-out data sets to measure the model on")
     out = None if args.out is None else check_writable(args.out, "folder")
     model = load_model(args.model)
+    known = learned_from(model, str(args.model))
     if args.datasets is not None:
         ds, name = load(args.datasets), Path(args.datasets).name
     else:
@@ -53,7 +54,7 @@ def _cmd_evaluate(args: argparse.Namespace) -> None:
         name = f"{args.caregivers} unseen caregivers (held-out seed {args.seed})"
     result = evaluate_agent(model.agent, ds, model.config, name=name, n_objects=args.objects,
                             n_trials=args.trials, seed=args.seed,
-                            known=model.caregivers).as_dict()
+                            known=known).as_dict()
     row = {k: _number(result[k]) for k in COLUMNS}
     if out is not None:
         from .._files import save_json, write_text

@@ -60,7 +60,6 @@ from ..config import Config, check_config, condition_named, load_config, model_o
 from ..errors import ConfigError, FileError
 from ..models.bootstrap import BootstrapAgent
 from ..models.registry import MODELS, ModelOptions
-from ..world.identity import Caregiver, caregiver_from_dict
 
 __all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
            "save_model"]
@@ -122,7 +121,9 @@ class LearnedModel:
     datasets_sha256: str | None = None
     held_out: dict | None = None  # {kind: {measure: value}} at the end of learning, if measured
     scenes_sha256: str | None = None  # of its data sets' scenes (files of before: None)
-    caregivers: tuple[Caregiver, ...] | None = None  # who posed them, if they say
+    # Who posed them, if they say: each identity as written (dataclasses.asdict of the world's
+    # Caregiver, which world.identity.caregiver_from_dict reads; the robot's side never does).
+    caregivers: tuple[dict, ...] | None = None
 
     @property
     def robot(self) -> Robot:
@@ -169,7 +170,7 @@ def check_savable(config: Config, condition: str) -> ModelOptions:
 def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condition: str,
                datasets_sha256: str | None = None, held_out: dict | None = None,
                scenes_sha256: str | None = None,
-               caregivers: Sequence[Caregiver] | None = None) -> Path:
+               caregivers: Sequence[dict] | None = None) -> Path:
     """Write a learned agent of ``config``'s condition ``condition`` to ``path`` (.npz).
 
     ``held_out``: its held-out measures, kept in ``meta`` as they are (JSON);
@@ -192,7 +193,7 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
                       "learning_time_steps": int(agent.learning_time_steps)},
             "config": to_toml(config), "datasets_sha256": datasets_sha256,
             **({} if scenes_sha256 is None else {"datasets_scenes_sha256": scenes_sha256}),
-            **({} if caregivers is None else {"caregivers": [asdict(c) for c in caregivers]}),
+            **({} if caregivers is None else {"caregivers": list(caregivers)}),
             "generator": f"jointattention {__version__}",
             **({} if held_out is None else {"held_out": held_out})}
     version = 1 if options.learner == "backprop" else 2  # version 1 files stay as they were
@@ -309,17 +310,15 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
                         scenes if isinstance(scenes, str) else None, _caregivers(meta, where))
 
 
-def _caregivers(meta: dict, where: str) -> tuple[Caregiver, ...] | None:
-    """The identities of ``meta["caregivers"]`` (None if absent); one FileError if malformed."""
+def _caregivers(meta: dict, where: str) -> tuple[dict, ...] | None:
+    """``meta["caregivers"]`` (None if absent); one FileError if not a list of tables."""
     people = meta.get("caregivers")
     if people is None:
         return None
     if not isinstance(people, list) or not people:
         raise _field(where, "meta.caregivers", "a list of identities", repr(people)[:60])
-    out = []
     for i, person in enumerate(people):
-        try:
-            out.append(caregiver_from_dict(person))
-        except ValueError as err:
-            raise _field(where, f"meta.caregivers[{i}]", "an identity", err) from None
-    return tuple(out)
+        if not isinstance(person, dict):
+            raise _field(where, f"meta.caregivers[{i}]", "a table of an identity's fields",
+                         repr(person)[:60])
+    return tuple(people)

@@ -22,9 +22,9 @@ from .._checks import check_int
 from .._readers import loads_toml
 from ..config import Config, WorldConfig, load_config
 from ..datasets import CaregiverDatasets
-from ..errors import ConfigError, DatasetError
+from ..errors import ConfigError, DatasetError, FileError
 from ..rng import stream
-from ..world.identity import Caregiver
+from ..world.identity import Caregiver, caregiver_from_dict
 from ..world.kinematics import HeadKinematics
 from ..world.novelty import novelty
 from ..world.recording import caregivers_of
@@ -34,7 +34,7 @@ from .probes import angle_errors
 from .trial import SceneTrial, run_trial
 
 __all__ = ["AIM_DEG", "Evaluation", "data_sets_novelty", "evaluate_agent", "freeze",
-           "frozen_success", "oracle_success"]
+           "frozen_success", "learned_from", "oracle_success"]
 
 AIM_DEG = 10.0  # an identity whose median error is above this is not followed
 
@@ -204,6 +204,7 @@ def evaluate(model, datasets, *, name: str = "", n_objects: int = 5, n_trials: i
     from ..datasets import load
     from ..deploy.saved import LearnedModel, load_model
 
+    where = str(model) if isinstance(model, (str, Path)) else "model"
     if isinstance(model, (str, Path)):
         model = load_model(model)
     elif not isinstance(model, LearnedModel):
@@ -212,4 +213,21 @@ def evaluate(model, datasets, *, name: str = "", n_objects: int = 5, n_trials: i
         name = name or Path(datasets).name
         datasets = load(datasets)
     return evaluate_agent(model.agent, datasets, model.config, name=name, n_objects=n_objects,
-                          n_trials=n_trials, seed=seed, known=model.caregivers)
+                          n_trials=n_trials, seed=seed, known=learned_from(model, where))
+
+
+def learned_from(model, where: str = "model") -> list[Caregiver] | None:
+    """The caregivers a saved model learned from (its file's ``meta.caregivers``), if it says.
+
+    One :class:`~jointattention.errors.FileError`, naming ``where`` (the model file), if one of
+    them is not an identity.
+    """
+    if model.caregivers is None:
+        return None
+    out = []
+    for i, person in enumerate(model.caregivers):
+        try:
+            out.append(caregiver_from_dict(person))
+        except ValueError as err:
+            raise FileError(f"{where}: field 'meta.caregivers[{i}]': {err}") from None
+    return out

@@ -13,7 +13,6 @@ from ..config import ConditionConfig, Config, check_config, condition_named
 from ..datasets import CaregiverDatasets, scenes_sha256
 from ..deploy.saved import LearnedModel, check_savable, save_model
 from ..errors import DatasetError, FileError
-from ..world.identity import Caregiver
 from ..world.recording import caregivers_of
 from .cells import datasets_file, datasets_of
 from .held_out import final_held_out, run_cell_measured
@@ -47,10 +46,12 @@ def train(config: Config, condition: str, seed_index: int = 0,
                         final_held_out(records), scenes_sha256(ds), known_caregivers(ds, config))
 
 
-def known_caregivers(ds: CaregiverDatasets, config: Config) -> tuple[Caregiver, ...] | None:
-    """Who posed a run's training sets ``ds`` (None for a recording that does not say)."""
+def known_caregivers(ds: CaregiverDatasets, config: Config) -> tuple[dict, ...] | None:
+    """Who posed a run's training sets ``ds``, as a model file keeps them (None: not said)."""
     try:
-        return tuple(caregivers_of(ds, config.world))
+        return tuple({k: list(v) if isinstance(v, tuple) else v  # as JSON gives them back
+                      for k, v in dataclasses.asdict(c).items()}
+                     for c in caregivers_of(ds, config.world))
     except DatasetError:
         return None
 
