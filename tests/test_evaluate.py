@@ -17,6 +17,7 @@ from jointattention.experiment.held_out import (
     KINDS,
     MEASURES,
     checkpoint_steps,
+    held_out_novelty,
     held_out_sets,
     measure_held_out,
     shipped_held_out,
@@ -182,7 +183,10 @@ def test_a_configuration_has_one_source_of_training_sets():
 
 def test_a_recorded_run_measures_new_poses_of_its_own_caregivers(needs_gl, tmp_path,
                                                                   monkeypatch):
-    """With [recording], new poses are of the recorded caregivers, unseen ones are others."""
+    """With [recording], new poses are of the recorded caregivers, unseen ones are others.
+
+    The new poses' caregivers have novelty 0, the unseen ones above 0.
+    """
     monkeypatch.setenv("JOINTATTENTION_CACHE", str(tmp_path))
     config = load_config({**QUICK, "recording": {"caregivers": 2, "poses_per_caregiver": 3,
                                                  "seed": 5},
@@ -196,6 +200,9 @@ def test_a_recorded_run_measures_new_poses_of_its_own_caregivers(needs_gl, tmp_p
     assert not set(map(repr, caregivers_of(sets["unseen caregivers"], world))) & set(
         map(repr, trained))
     assert len(list((tmp_path / "datasets").glob("*.npz"))) == 3  # each recorded once, kept
+    novelty = held_out_novelty(config)  # how new each held-out caregiver is
+    assert np.all(novelty["new poses"] == 0) and np.all(novelty["unseen caregivers"] > 0)
+    assert held_out_novelty(load_config(QUICK))["unseen caregivers"].size == 16
 
 
 def test_held_out_errors_are_measured_on_the_probes_data_sets_of_a_large_kind(model):

@@ -48,19 +48,28 @@ def _fraction(success: np.ndarray, ceiling: float) -> np.ndarray:
     return success / ceiling if ceiling > 0 else np.full_like(success, np.nan)
 
 
-def held_out_table(config: Config, curves: HeldOut, ceilings: dict) -> Table:
+def held_out_table(config: Config, curves: HeldOut, ceilings: dict,
+                   novelty: dict | None = None) -> Table:
     """One row per measured condition: the three kinds side by side, at the end of learning.
 
     Success as a fraction of each set's ceiling (``ceilings`` {kind: {str(n): ceiling}}; mean
     over seeds, and the worst seed on unseen caregivers), the median angle error at the faces,
     the share of unseen identities whose median error is above 10°, and the controls on the
     unseen faces (:mod:`jointattention.experiment.controls`): the share of mirrored faces whose
-    horizontal command flips, and the spread of the directions for a blank face.
+    horizontal command flips, and the spread of the directions for a blank face. ``novelty``
+    ({kind: each identity's novelty}, :func:`~jointattention.experiment.held_out.
+    held_out_novelty`): how new the unseen caregivers are to the training ones, the median and
+    the largest over them (NaN where not known).
     """
     columns = ("condition", "n_objects", "training_fraction", "new_poses_fraction",
                "unseen_fraction", "unseen_worst_seed_fraction", "training_median_deg",
                "new_poses_median_deg", "unseen_median_deg", "unseen_p90_deg",
-               "unseen_share_over_10deg", "unseen_mirror_flip_share", "unseen_blank_spread_deg")
+               "unseen_share_over_10deg", "unseen_mirror_flip_share", "unseen_blank_spread_deg",
+               "unseen_novelty_median", "unseen_novelty_max")
+    new = np.asarray((novelty or {}).get("unseen caregivers", []), float)
+    new = new[np.isfinite(new)]
+    new = (round(float(np.median(new)), 2), round(float(new.max()), 2)) if len(new) else (
+        float("nan"), float("nan"))
     rows = []
     for c in config.experiment.conditions:
         if c.name not in curves:
@@ -76,7 +85,7 @@ def held_out_table(config: Config, curves: HeldOut, ceilings: dict) -> Table:
                      round(float(np.mean(m["p90_error_deg"][:, 2, -1])), 1),
                      round(float(np.mean(m["share_over_10deg"][:, 2, -1])), 3),
                      round(float(np.mean(m["mirror_flip_share"][:, 2, -1])), 3),
-                     round(float(np.mean(m["blank_spread_deg"][:, 2, -1])), 1)))
+                     round(float(np.mean(m["blank_spread_deg"][:, 2, -1])), 1), *new))
     return Table(columns, rows)
 
 

@@ -19,14 +19,16 @@ import numpy as np
 from ..config import ConditionConfig, Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets, load
 from ..errors import ConfigError, DatasetError
+from ..world.recording import caregivers_of
 from .cells import datasets_of, run_cell
 from .controls import blank_spread_deg, mirror_flip_share
-from .evaluate import _errors, freeze, frozen_success
+from .evaluate import _errors, data_sets_novelty, freeze, frozen_success
 from .probes import probe_sets
 from .recorded import recorded_file
 
 __all__ = ["KINDS", "MEASURES", "checkpoint_steps", "final_held_out", "held_out_datasets",
-           "held_out_sets", "measure_held_out", "run_cell_measured", "shipped_held_out"]
+           "held_out_novelty", "held_out_sets", "measure_held_out", "run_cell_measured",
+           "shipped_held_out"]
 
 KINDS = ("training", "new poses", "unseen caregivers")
 # what a cell keeps per kind (rows) and checkpoint (columns), with the checkpoints' times
@@ -131,6 +133,22 @@ def held_out_sets(config: Config) -> dict[str, CaregiverDatasets]:
     if key not in _LOADED:
         _LOADED[key] = _held_out(config)
     return _LOADED[key]
+
+
+def held_out_novelty(config: Config) -> dict[str, np.ndarray]:
+    """How new each caregiver of the run's held-out sets is to its training caregivers.
+
+    {kind: each identity's novelty (:func:`~.evaluate.data_sets_novelty`)} for the kinds
+    other than the training sets; an empty array for a kind whose sets, or whose training
+    sets, do not say who posed them.
+    """
+    sets = held_out_sets(config)
+    try:
+        known = caregivers_of(sets["training"], config.world)
+    except DatasetError:
+        known = None
+    return {kind: data_sets_novelty(ds, config.world, known, config.world)
+            for kind, ds in sets.items() if kind != "training"}
 
 
 def measure_held_out(agent, config: Config, n_objects: int) -> np.ndarray:

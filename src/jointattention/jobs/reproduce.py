@@ -35,7 +35,7 @@ from ..errors import JointAttentionError
 from ..experiment.backends import CellJob, check_backend, run_jobs
 from ..experiment.cells import measure_ceiling
 from ..experiment.evaluate import oracle_success
-from ..experiment.held_out import held_out_sets, run_cell_measured
+from ..experiment.held_out import held_out_novelty, held_out_sets, run_cell_measured
 from ..experiment.preflight import MAX_CELLS, check_runs
 from ..experiment.results import cell_path, load_cell, prepare_run_dir, write_trials_csv
 from ..experiment.training import model_path, run_cell_saving_model
@@ -222,7 +222,8 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
                  *speed.write(out / "learning_speed"),
                  learning_speed_figure(speed, out / "learning_speed.png")]
         if held:
-            files += [*held_out_table(config, held, held_ceilings).write(out / "held_out"),
+            files += [*held_out_table(config, held, held_ceilings,
+                                      held_out_novelty(config)).write(out / "held_out"),
                       held_out_figure(config, held, held_ceilings, out / "held_out.png")]
         wall_min = (time.perf_counter() - start) / 60
         if cells_run or not _measured(out / "timing.json"):  # a redraw keeps the measure
