@@ -61,3 +61,11 @@ def test_the_taught_bound_is_written_for_each_world(tmp_path, needs_gl, monkeypa
          "--out", str(out))
     rows = [r for r in out.read_text().splitlines() if r.startswith("| ") and "°" in r]
     assert len(rows) == 3 and all("| 12 |" in r for r in rows)
+
+
+def test_the_novelty_of_a_preset_s_held_out_sets_is_written(tmp_path):
+    """novelty.py writes a row per held-out kind of each preset named."""
+    out = tmp_path / "novelty.md"
+    _run("novelty.py", "default", "--out", str(out))
+    rows = [r for r in out.read_text().splitlines() if r.startswith("| default |")]
+    assert [r.split("|")[2].strip() for r in rows] == ["new poses", "unseen caregivers"]
