@@ -379,3 +379,21 @@ def test_a_follower_refuses_a_min_score_that_is_not_a_correlation(saved, min_sco
 
     with pytest.raises(ArgumentError, match="min_score"):
         GazeFollower.load(saved[1], min_score=min_score)
+
+
+def test_a_model_s_recorded_data_sets_are_recorded_again_with_progress(tmp_path, needs_gl,
+                                                                       monkeypatch):
+    """On a machine without them, model_datasets records them once, saying how far it is."""
+    from jointattention.experiment.training import model_datasets
+
+    monkeypatch.setenv("JOINTATTENTION_CACHE", str(tmp_path / "here"))
+    config = load_config({**TINY, "recording": {"caregivers": 2, "poses_per_caregiver": 3,
+                                                "seed": 1},
+                          "experiment": {**TINY["experiment"], "n_steps": 1000,
+                                         "held_out": {"n_trials": 10, "n_checkpoints": 1}}})
+    model = train(config, "n1")
+    monkeypatch.setenv("JOINTATTENTION_CACHE", str(tmp_path / "elsewhere"))  # a new machine
+    counts = []
+    assert len(model_datasets(model, progress=counts.append)) == 6 and counts[-1] == 6
+    model_datasets(model, progress=counts.append)
+    assert len(counts) == 6  # kept: not recorded again

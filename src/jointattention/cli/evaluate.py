@@ -92,8 +92,11 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     from ..world import gl
 
     model = load_model(args.model)
-    if args.datasets is None:
-        datasets = model_datasets(model, args.model)  # the model's own, by content
+    if args.datasets is None:  # the model's own, by content; recorded once per machine
+        r = model.config.recording
+        with tqdm(total=r.caregivers * r.poses_per_caregiver, unit="set", delay=1,
+                  desc="recording the model's training sets (once on this machine)") as bar:
+            datasets = model_datasets(model, args.model, progress=lambda i: bar.update(1))
     else:
         from ..datasets import load
         from ..jobs.closed_loop import caregivers_shown

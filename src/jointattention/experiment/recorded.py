@@ -57,11 +57,14 @@ def recorded_file(world: WorldConfig, n: int, seed: int, *, caregivers: int = 1,
     return path
 
 
-def training_file(config: Config) -> Path | None:
-    """The file of the run's recorded training sets (``[recording]``), None if it records none."""
+def training_file(config: Config, progress: Callable[[int], None] | None = None) -> Path | None:
+    """The file of the run's recorded training sets (``[recording]``), None if it records none.
+
+    ``progress`` is called with the data sets recorded so far, if they are recorded now.
+    """
     r = config.recording
     if not r.caregivers:
         return None
     return recorded_file(config.world, r.caregivers * r.poses_per_caregiver, r.seed,
-                         caregivers=r.caregivers)
+                         caregivers=r.caregivers, progress=progress)
 

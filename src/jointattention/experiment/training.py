@@ -16,6 +16,7 @@ from ..errors import DatasetError, FileError
 from ..world.recording import caregivers_of
 from .cells import datasets_file, datasets_of
 from .held_out import final_held_out, run_cell_measured
+from .recorded import training_file
 from .results import datasets_sha256
 
 __all__ = ["known_caregivers", "model_datasets", "model_path", "run_cell_saving_model",
@@ -75,8 +76,8 @@ def run_cell_saving_model(config: Config, condition: ConditionConfig, seed_index
     return records
 
 
-def model_datasets(model: LearnedModel, model_file: str | Path | None = None
-                   ) -> CaregiverDatasets:
+def model_datasets(model: LearnedModel, model_file: str | Path | None = None,
+                   progress: Callable[[int], None] | None = None) -> CaregiverDatasets:
     """The data sets ``model`` learned from, checked against the SHA-256 it recorded.
 
     A relative ``datasets`` path of its configuration is looked for beside ``model_file``
@@ -84,12 +85,16 @@ def model_datasets(model: LearnedModel, model_file: str | Path | None = None
     (``scenes_sha256``) takes the same scenes recorded on any machine (another OpenGL renders
     a few grey levels apart); a model of before, the same file to the byte. Data sets of other
     content are refused in one line: what a model did on them says nothing of what it learned.
+    Recorded training sets not yet in this machine's cache are recorded first (``progress``:
+    called with the data sets recorded so far).
     """
     config = model.config
     if config.datasets and not Path(config.datasets).is_absolute() and model_file is not None:
         beside = Path(model_file).parent / config.datasets
         if beside.is_file():
             config = dataclasses.replace(config, datasets=str(beside))
+    if not config.datasets:
+        training_file(config, progress)  # recorded here, with progress, if not yet kept
     path = datasets_file(config)
     if model.scenes_sha256 is not None:
         ds = datasets_of(config)
