@@ -27,14 +27,13 @@ from ..rng import stream
 from ..world.identity import Caregiver, caregiver_from_dict
 from ..world.kinematics import HeadKinematics
 from ..world.novelty import novelty
-from ..world.recording import caregivers_of
 from .cells import evaluator, fast_world, oracle_wins, random_scene
 from .compiled import compiled_cell, unsupported
 from .probes import angle_errors
 from .trial import SceneTrial, run_trial
 
 __all__ = ["AIM_DEG", "Evaluation", "data_sets_novelty", "evaluate_agent", "freeze",
-           "frozen_success", "learned_from", "oracle_success"]
+           "frozen_success", "learned_from", "oracle_success", "who_posed"]
 
 AIM_DEG = 10.0  # an identity whose median error is above this is not followed
 
@@ -153,11 +152,21 @@ def data_sets_novelty(ds: CaregiverDatasets, world: WorldConfig,
     if isinstance(toml, str):
         with contextlib.suppress(ValueError):  # a file of another version: the given world
             world = load_config(loads_toml(toml)).world
+    people = who_posed(ds, world)
+    return np.empty(0) if people is None else novelty(people, world, known, known_world)
+
+
+def who_posed(ds: CaregiverDatasets, world: WorldConfig) -> list[Caregiver] | None:
+    """The caregivers who posed ``ds`` in ``world``; None if they do not say (a robot's).
+
+    :func:`~jointattention.world.recording.caregivers_of`, its DatasetError as None.
+    """
+    from ..world.recording import caregivers_of  # its module loads OpenCV: only when asked
+
     try:
-        people = caregivers_of(ds, world)
+        return caregivers_of(ds, world)
     except DatasetError:
-        return np.empty(0)
-    return novelty(people, world, known, known_world)
+        return None
 
 
 def evaluate_agent(agent, ds: CaregiverDatasets, config: Config, *, name: str = "",

@@ -18,11 +18,10 @@ import numpy as np
 
 from ..config import ConditionConfig, Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets, load
-from ..errors import ConfigError, DatasetError
-from ..world.recording import caregivers_of
+from ..errors import ConfigError
 from .cells import datasets_of, run_cell
 from .controls import blank_spread_deg, mirror_flip_share
-from .evaluate import _errors, data_sets_novelty, freeze, frozen_success
+from .evaluate import _errors, data_sets_novelty, freeze, frozen_success, who_posed
 from .probes import probe_sets
 from .recorded import recorded_file
 
@@ -91,13 +90,7 @@ _LOADED: dict[str, dict[str, CaregiverDatasets]] = {}  # by configuration: once 
 
 def _simulated(training: CaregiverDatasets, config: Config) -> bool:
     """Whether the training sets were recorded in this simulator (they say who posed them)."""
-    from ..world.recording import caregivers_of
-
-    try:
-        caregivers_of(training, config.world)
-    except DatasetError:
-        return False
-    return True
+    return who_posed(training, config.world) is not None
 
 
 def _held_out(config: Config) -> dict[str, CaregiverDatasets]:
@@ -143,10 +136,7 @@ def held_out_novelty(config: Config) -> dict[str, np.ndarray]:
     sets, do not say who posed them.
     """
     sets = held_out_sets(config)
-    try:
-        known = caregivers_of(sets["training"], config.world)
-    except DatasetError:
-        known = None
+    known = who_posed(sets["training"], config.world)
     return {kind: data_sets_novelty(ds, config.world, known, config.world)
             for kind, ds in sets.items() if kind != "training"}
 

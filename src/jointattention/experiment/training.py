@@ -12,15 +12,14 @@ from .._readers import sha256_of
 from ..config import ConditionConfig, Config, check_config, condition_named
 from ..datasets import CaregiverDatasets, scenes_sha256
 from ..deploy.saved import LearnedModel, check_savable, save_model
-from ..errors import DatasetError, FileError
-from ..world.recording import caregivers_of
+from ..errors import FileError
 from .cells import datasets_file, datasets_of
+from .evaluate import who_posed
 from .held_out import final_held_out, run_cell_measured
 from .recorded import training_file
 from .results import datasets_sha256
 
-__all__ = ["known_caregivers", "model_datasets", "model_path", "run_cell_saving_model",
-           "train"]
+__all__ = ["model_datasets", "model_path", "provenance", "run_cell_saving_model", "train"]
 
 
 def _learn(config: Config, condition: ConditionConfig, seed_index: int,
@@ -42,19 +41,21 @@ def train(config: Config, condition: str, seed_index: int = 0,
     cond = condition_named(check_config(config), condition)
     check_savable(config, condition)  # before learning, not after
     records, agent = _learn(config, cond, seed_index, progress)
+    return LearnedModel(agent, config, condition, held_out=final_held_out(records),
+                        **provenance(config))
+
+
+def provenance(config: Config) -> dict:
+    """What a model file keeps of its run's training sets: file and scene SHA-256s, who posed them.
+
+    The caregivers as the file keeps them (JSON tables), None if the sets do not say.
+    """
     ds = datasets_of(config)
-    return LearnedModel(agent, config, condition, datasets_sha256(config),
-                        final_held_out(records), scenes_sha256(ds), known_caregivers(ds, config))
-
-
-def known_caregivers(ds: CaregiverDatasets, config: Config) -> tuple[dict, ...] | None:
-    """Who posed a run's training sets ``ds``, as a model file keeps them (None: not said)."""
-    try:
-        return tuple({k: list(v) if isinstance(v, tuple) else v  # as JSON gives them back
-                      for k, v in dataclasses.asdict(c).items()}
-                     for c in caregivers_of(ds, config.world))
-    except DatasetError:
-        return None
+    people = who_posed(ds, config.world)
+    return {"datasets_sha256": datasets_sha256(config), "scenes_sha256": scenes_sha256(ds),
+            "caregivers": None if people is None else tuple(
+                {k: list(v) if isinstance(v, tuple) else v  # as JSON gives them back
+                 for k, v in dataclasses.asdict(c).items()} for c in people)}
 
 
 def model_path(models_dir: Path, condition: str, seed_index: int) -> Path:
@@ -69,10 +70,8 @@ def run_cell_saving_model(config: Config, condition: ConditionConfig, seed_index
     A cell's file is written only after its model, so a finished cell has its model.
     """
     records, agent = _learn(config, condition, seed_index)
-    ds = datasets_of(config)
     save_model(agent, model_path(models_dir, condition.name, seed_index), config=config,
-               condition=condition.name, datasets_sha256=datasets_sha256(config),
-               scenes_sha256=scenes_sha256(ds), caregivers=known_caregivers(ds, config))
+               condition=condition.name, **provenance(config))
     return records
 
 

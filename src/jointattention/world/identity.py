@@ -18,7 +18,7 @@ from .mjcf import HEAD_RADII_M, PUPIL_RGB
 from .options import WorldConfig
 
 __all__ = ["HAIR_COLOURS", "IRIS_RAMP", "SKIN_TONES", "Caregiver", "caregiver_from_dict",
-           "head_turn_fraction", "iris_colour", "pose_noise_rad", "sample_caregiver"]
+           "head_turn_fraction", "iris_colour", "pose_noise_deg", "sample_caregiver"]
 
 _BASE_SKIN = [[0.96, 0.80, 0.69], [0.87, 0.67, 0.53], [0.71, 0.51, 0.38], [0.55, 0.38, 0.26],
               [0.38, 0.26, 0.18]]
@@ -92,9 +92,9 @@ def head_turn_fraction(world: WorldConfig, caregiver: Caregiver) -> float:
     return world.caregiver.head_turn_fraction + caregiver.head_turn_offset
 
 
-def pose_noise_rad(world: WorldConfig, caregiver: Caregiver) -> float:
-    """Her s.d. of the head's yaw and pitch error, in radians."""
-    return float(np.deg2rad(world.caregiver.pose_noise_deg + caregiver.pose_noise_offset_deg))
+def pose_noise_deg(world: WorldConfig, caregiver: Caregiver) -> float:
+    """Her s.d. of the head's yaw and pitch error, in degrees."""
+    return world.caregiver.pose_noise_deg + caregiver.pose_noise_offset_deg
 
 
 def iris_colour(t: float) -> tuple[float, float, float]:

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .identity import Caregiver, head_turn_fraction
+from .identity import Caregiver, head_turn_fraction, pose_noise_deg
 from .options import WorldConfig
 
 __all__ = ["COORDINATES", "coordinates", "novelty"]
@@ -38,7 +38,7 @@ def coordinates(caregivers: Sequence[Caregiver], world: WorldConfig) -> np.ndarr
         c.eye_spacing, c.eye_height_m, c.eye_size, c.nose_size, c.mouth_width,
         c.brow_thickness, *c.skin_rgb, *c.hair_rgb, *c.iris_rgb,
         cg.distance_m + c.distance_offset_m, cg.height_m + c.height_offset_m,
-        head_turn_fraction(world, c), cg.pose_noise_deg + c.pose_noise_offset_deg,
+        head_turn_fraction(world, c), pose_noise_deg(world, c),
     ] for c in caregivers], float).reshape(len(caregivers), len(COORDINATES))
 
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .identity import Caregiver, head_turn_fraction, pose_noise_rad, sample_caregiver
+from .identity import Caregiver, head_turn_fraction, pose_noise_deg, sample_caregiver
 from .look import Look, sample_look
 from .options import N_OBJECTS, WorldConfig
 from .placement import sample_objects
@@ -90,7 +90,7 @@ def sample_scene(
     target = int(rng.integers(n))
     gaze = gaze_angles(head_pos, obj_pos[target])
     head = (head_turn_fraction(world, caregiver) * gaze
-            + rng.normal(0, pose_noise_rad(world, caregiver), 2))
+            + rng.normal(0, np.deg2rad(pose_noise_deg(world, caregiver)), 2))
     light = _light(world, rng)
     return SceneState(
         caregiver=caregiver,
