@@ -26,6 +26,7 @@ $(STAMP): $(BASE)
 demo: $(BASE)
 	$(BIN)/jointattention reproduce --preset paper --out runs/demo
 	$(BIN)/jointattention report runs/demo
+	@echo "open runs/demo/report.html; for the other commands: . $(VENV)/bin/activate"
 
 # pytest-xdist spreads the tests over the cores (-n auto; each test keeps to its own folders).
 test: $(STAMP)

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from jointattention.analysis.claims import check_claims, claims_table, reading_of
+from jointattention.analysis.claims import (
+    check_claims,
+    claims_markdown,
+    claims_of,
+    claims_summary,
+    claims_table,
+    reading_of,
+)
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 
 CONDS = (
@@ -111,3 +118,73 @@ def test_every_claim_states_its_rule():
     assert all(c.rule for c in claims)
     table = claims_table(claims)
     assert table.columns[-1] == "rule" and "paired 95% lower bound > 0" in table.to_markdown()
+
+
+def test_claims_md_shows_each_reading_once_and_each_rule_once():
+    """claims.md groups the claims by reading: its settings and each rule appear once.
+
+    The rows refer to the rules by number, the first line counts the claims that hold, and
+    no line is over 300 characters.
+    """
+    rng = np.random.default_rng(0)
+    curves = _curves(rng, sig=0.85, c07=0.5, c10=0.2, shuf=0.2, sig10=0.75,
+                     **{"trial-sig": 0.3, "c09-10": 0.3})
+    claims = check_claims(CONFIG, curves, CEILINGS)
+    text = claims_markdown(claims)
+    held = sum(c.holds for c in claims)
+    assert text.splitlines()[0].startswith(f"{held} of {len(claims)} claims hold")
+    for reading in {c.reading for c in claims}:
+        assert text.count(reading.split(", ")[-1]) >= 1
+        assert text.replace("\n", " ").count(reading) == 1, reading
+    for rule in {c.rule for c in claims}:
+        assert text.count(rule) == 1, rule
+    assert max(map(len, text.splitlines())) <= 300
+    assert claims_of(read_csv_text(claims_table(claims).to_csv())) == claims
+
+
+def read_csv_text(text: str):
+    """A table as :func:`read_csv` reads a file of ``text``."""
+    import tempfile
+    from pathlib import Path
+
+    from jointattention.analysis.tables import read_csv
+
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "t.csv"
+        path.write_text(text)
+        return read_csv(path)
+
+
+def test_claims_are_the_papers_the_neighbours_or_the_projects_own():
+    """The paper's claims, the neighbours' and this project's own targets are told apart.
+
+    claims.csv files of version 0.3 (no source column) are read with each claim's source.
+    """
+    rng = np.random.default_rng(0)
+    curves = _curves(rng, sig=0.85, c07=0.5, c10=0.2, shuf=0.2, sig10=0.75,
+                     **{"trial-sig": 0.3, "c09-10": 0.3})
+    assert {c.source for c in check_claims(CONFIG, curves, CEILINGS)} == {"paper"}
+    old = read_csv_text(
+        "reading,claim,holds,evidence,rule\n"
+        "r,5 objects: sigmoid beats constant 0.7,True,e,x\n"
+        "r,5 objects (n5): follows caregivers it never saw,False,e,x\n"
+        "r,teacher-n5: teacher at least bootstrap (n5),True,e,x\n"
+        "r,\"5 objects, performance gate: final success at least 0.9 of the ceiling\",True,e,x\n")
+    assert [c.source for c in claims_of(old)] == ["paper", "project", "neighbours", "project"]
+    summary = claims_summary(claims_of(old))
+    assert summary == ("3 of 4 claims hold (the paper's 1 of 1; the neighbours' 1 of 1; this "
+                       "project's own targets 1 of 2)")
+
+
+def test_the_docs_claims_are_what_the_code_writes_from_their_csv():
+    """Each docs/<run>/claims.md is what :func:`claims_markdown` writes from its claims.csv."""
+    from pathlib import Path
+
+    from jointattention.analysis.tables import read_csv
+
+    docs = Path(__file__).resolve().parent.parent / "docs"
+    files = sorted(docs.glob("*/claims.md"))
+    assert files
+    for md in files:
+        claims = claims_of(read_csv(md.with_suffix(".csv")))
+        assert md.read_text() == claims_markdown(claims), md

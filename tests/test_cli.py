@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 
@@ -91,14 +92,68 @@ def test_reproduce_writes_figures_and_resumes(tmp_path, capsys):
     argv = ["reproduce", "--config", str(cfg), "--out", str(out), "--workers", "1"]
     assert main(argv) == 0
     for name in ("fig4a_success.png", "fig4b_gate.png", "fig5_gates.png", "table.md",
-                 "table.csv", "trials.csv", "ceilings.json", "config.toml", "versions.json",
+                 "table.csv", "ceilings.json", "config.toml", "versions.json",
                  "claims.md", "timing.json"):
         assert (out / name).exists(), name
+    assert not (out / "trials.csv").exists()  # only on request: a large run's is a gigabyte
     assert "n5-const1.0" in (out / "table.md").read_text()
     capsys.readouterr()
-    assert main(argv) == 0
+    assert main([*argv, "--trials-csv"]) == 0
     captured = capsys.readouterr()
     assert "4 of 4 cells already done" in captured.out + captured.err
+    assert (out / "trials.csv").read_text().startswith("condition,seed,trial,")
+
+
+def test_reproduce_prints_a_short_summary_not_the_claims(tmp_path, capsys):
+    """``reproduce`` ends with a few summary lines; the claims table stays in claims.md.
+
+    The lines name the claims that hold, the folder's size, the figures, the tables and the
+    report's command; the quick preset's smoke-run warning comes first.
+    """
+    from jointattention.config import load_config, to_toml
+
+    text = to_toml(load_config("quick")).replace("n_steps = 60000", "n_steps = 400")
+    text = text.replace("n_seeds = 3", "n_seeds = 2").replace("bin_steps = 5000",
+                                                              "bin_steps = 100")
+    cfg = tmp_path / "small.toml"
+    cfg.write_text(text.replace("n_ceiling_trials = 2000", "n_ceiling_trials = 50"))
+    out = tmp_path / "run"
+    assert main(["reproduce", "--config", str(cfg), "--out", str(out), "--workers", "1"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) <= 8, lines
+    assert not any(line.startswith("|") for line in lines)  # no table
+    text = "\n".join(lines)
+    assert re.search(r"\d+ of 24 claims hold \(the paper's \d+ of 17; this project's own "
+                     r"targets \d+ of 7\)", text), text
+    assert re.search(r"[0-9.]+ [kM]B on disk", text) and "fig4a_success.png" in text
+    assert f"jointattention report {out}" in text
+
+
+def test_the_quick_preset_says_it_is_a_smoke_run(tmp_path, capsys):
+    """The quick preset's summary says it is a smoke run; a refused run prints none of it."""
+    from jointattention.config import preset_about
+
+    assert "smoke run" in preset_about("quick") and "fail" in preset_about("quick")
+    assert main(["reproduce", "--preset", "quick", "--out", str(tmp_path / "run"),
+                 "--max-cells", "1"]) == 2  # refused before any work
+    captured = capsys.readouterr()
+    assert "smoke run" not in captured.out + captured.err
+
+
+def test_every_preset_has_a_one_line_summary_and_reproduce_lists_them(capsys):
+    """Each preset's file opens with one summary line; ``reproduce --help`` names every preset."""
+    from jointattention.config import preset_about, preset_names
+
+    with pytest.raises(SystemExit):
+        build_parser().parse_args(["reproduce", "--help"])
+    helptext = " ".join(re.sub(r"-\n\s*", "-", capsys.readouterr().out).split())
+    for name in preset_names():
+        about = preset_about(name)
+        assert about.endswith(".") and 20 <= len(about) <= 100, (name, about)
+        assert name in helptext, name
+    assert main(["config", "--list"]) == 0
+    listed = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in listed] == preset_names()
 
 
 def test_bench_estimates_every_preset():
@@ -145,3 +200,23 @@ def test_gaze_refuses_an_unknown_condition(capsys):
     assert main(["gaze", "--preset", "quick", "--condition", "n7", "--out", "/nonexistent"]) == 2
     err = capsys.readouterr().err
     assert "expected one of n1-sigmoid" in err and err.count("\n") == 1
+
+
+def test_the_readme_commands_run_in_a_fresh_shell_after_its_activation_line():
+    """The README activates .venv before its first command; then a new shell finds the command.
+
+    The shell starts with an empty environment, as a new terminal would after ``make demo``.
+    """
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parent.parent / "README.md").read_text()
+    activate = readme.index("\n. .venv/bin/activate")
+    assert activate < readme.index("\njointattention ")  # before the first command line
+    if sys.prefix == sys.base_prefix:
+        pytest.skip("the tests run outside a venv")
+    done = subprocess.run(
+        ["env", "-i", "HOME=/tmp", "PATH=/usr/bin:/bin", "bash", "--noprofile", "--norc", "-c",
+         f". {Path(sys.prefix) / 'bin' / 'activate'} && jointattention config --list"],
+        capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("ablation ")

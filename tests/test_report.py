@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import re
 import shutil
-import subprocess
 
 import numpy as np
 import pytest
@@ -40,9 +39,31 @@ def test_report_holds_everything_inline(run):
     assert "Generalisation: training sets, new poses, unseen caregivers" in page
     assert "Diagnostics per learning-time bin" in page and "Why a seed fails" in page
     assert "One row per reading" in page and "Learning speed" in page
-    assert "The paper&#x27;s claims, checked" in page and "n5-sigmoid" in page
+    assert "The paper&#x27;s claims" in page and "n5-sigmoid" in page
     assert "n_steps = 300" in page and "mujoco" in page
     assert not re.search(r'(src|href)="(https?:)?//', page)  # readable offline
+
+
+def test_report_opens_with_a_summary_then_the_papers_figures(run):
+    """The summary comes first, then Fig. 4 and 5, then generalisation, then diagnostics.
+
+    Column names read as words with units, counts as integers, and a missed target of the
+    project's own (learning speed) is not shown as a red NO.
+    """
+    page = write_report(run).read_text()
+    at = [page.index(s) for s in ("<h2>Summary</h2>", "fig4a_success.png", "fig5_gates.png",
+                                  "<h2>Claims</h2>", "held_out.png", "learning_speed.png",
+                                  "diagnostics.png", "<h2>Configuration</h2>")]
+    assert at == sorted(at)
+    assert re.search(r"<b>\d+ of \d+ claims hold", page)
+    headers = [h for head in re.findall(r"<thead><tr>(.*?)</tr></thead>", page)
+               for h in re.findall(r"<th>([^<]*)</th>", head)]
+    assert "Fraction of ceiling" in headers and "Unseen median (°)" in headers
+    assert not [h for h in headers if "_" in h and h.islower()]
+    assert not re.search(r"<td>\d{3,}\.0</td>", page)  # step counts as integers
+    speed = page[page.index("Learning speed:"):page.index("learning_speed.png")]
+    assert 'class="no"' not in speed
+    assert '<div class="wide">' in page  # wide tables scroll in their box
 
 
 def test_report_refuses_a_folder_that_is_not_a_run(tmp_path):
@@ -57,15 +78,12 @@ def test_report_refuses_a_folder_that_is_not_a_run(tmp_path):
 def test_report_renders_in_headless_chromium(run, tmp_path):
     """Headless Chromium, with the network shut, renders the page with its figures.
 
-    The screenshot has the figures' coloured curves, not only text on white.
+    ``report --screenshot`` draws it (as docs/report_screenshot.png is made); the screenshot
+    has the figures' coloured curves, not only text on white.
     """
-    page = write_report(run)
     shot = tmp_path / "shot.png"
-    subprocess.run([CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu",
-                    "--disable-background-networking", "--disable-component-update",
-                    "--disable-sync", "--no-first-run", f"--user-data-dir={tmp_path / 'p'}",
-                    "--window-size=1000,2400", f"--screenshot={shot}", page.as_uri()],
-                   check=True, capture_output=True, timeout=120)
+    assert main(["report", str(run), "--out", str(tmp_path / "r.html"), "--screenshot",
+                 str(shot)]) == 0
     import cv2
 
     img = cv2.imread(str(shot))

@@ -14,18 +14,31 @@ from ..config import Config, model_options
 from ..models.registry import MODELS
 from .metrics import final_success, mean_interval
 
-__all__ = ["PAIRED_RULE", "Claim", "finals_of", "paired", "paired_lower", "reading_of"]
+__all__ = ["PAIRED_RULE", "SOURCES", "Claim", "finals_of", "paired", "paired_lower", "reading_of"]
+
+
+SOURCES = {  # a claim's source: the heading its claims are shown under
+    "paper": "The paper's claims",
+    "neighbours": "The neighbouring models' claims (their papers)",
+    "project": "This project's own targets, beyond the paper",
+}
 
 
 @dataclass(frozen=True)
 class Claim:
-    """One checked claim: its reading, what was claimed, whether it held, numbers and rule."""
+    """One checked claim: its reading, what was claimed, whether it held, numbers and rule.
+
+    ``source`` says whose claim it is (:data:`SOURCES`): the paper's, a neighbouring model's
+    paper's, or a target of this project beyond the paper (generalisation, the performance
+    gate), so that a reader does not take a missed target of ours for a failure of the paper.
+    """
 
     reading: str
     claim: str
     holds: bool
     evidence: str
     rule: str = ""
+    source: str = "paper"
 
 
 def reading_of(condition, config: Config) -> str:

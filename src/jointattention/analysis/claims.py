@@ -29,14 +29,21 @@ learning) are :mod:`.neighbours`'; :func:`check_claims` returns them too.
 
 from __future__ import annotations
 
+import textwrap
+from pathlib import Path
+
 import numpy as np
 
+from .._files import write_text
 from ..config import Config, model_options
-from .claim import PAIRED_RULE, Claim, finals_of, paired, paired_lower, reading_of
+from ..errors import FileError
+from .claim import PAIRED_RULE, SOURCES, Claim, finals_of, paired, paired_lower, reading_of
 from .neighbours import neighbour_claims
 from .tables import Table
 
-__all__ = ["Claim", "check_claims", "claims_table", "reading_of", "readings_table"]
+__all__ = ["SOURCES", "Claim", "check_claims", "claims_groups", "claims_markdown", "claims_of",
+           "claims_summary", "claims_table", "reading_of", "readings_table",
+           "write_claims"]
 
 
 def _role(gate) -> str | None:
@@ -70,7 +77,9 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
     claims = []
     for reading, conds in groups.items():
         def add(rule, claim, holds, evidence, reading=reading):
-            claims.append(Claim(reading, claim, bool(holds), evidence, _RULES[rule]))
+            # the performance gate is the paper's future work, built here: our own target
+            source = "project" if "performance gate" in claim else "paper"
+            claims.append(Claim(reading, claim, bool(holds), evidence, _RULES[rule], source))
 
         finals = {c.name: finals_of(curves[c.name][1]) for c in conds}
         sigmoid = [c for c in conds if _role(gates[c.name]) == "sigmoid" and not c.shuffle_faces]
@@ -127,10 +136,102 @@ def check_claims(config: Config, curves: dict, ceilings: dict,
     return claims + neighbour_claims(config, curves, axis_errors)
 
 
+_COLUMNS = ("reading", "source", "claim", "holds", "evidence", "rule")
+
+
 def claims_table(claims: list[Claim]) -> Table:
-    """The claims as a table: reading, claim, holds, evidence, rule."""
-    return Table(("reading", "claim", "holds", "evidence", "rule"),
-                 [(c.reading, c.claim, c.holds, c.evidence, c.rule) for c in claims])
+    """The claims as a table: reading, source, claim, holds, evidence, rule (claims.csv)."""
+    return Table(_COLUMNS, [(c.reading, c.source, c.claim, c.holds, c.evidence, c.rule)
+                            for c in claims])
+
+
+def write_claims(claims: list[Claim], stem: Path) -> list[Path]:
+    """Write ``<stem>.csv`` (:func:`claims_table`) and ``<stem>.md`` (:func:`claims_markdown`)."""
+    stem = Path(stem)
+    return [write_text(stem.with_suffix(".csv"), claims_table(claims).to_csv()),
+            write_text(stem.with_suffix(".md"), claims_markdown(claims))]
+
+
+def claims_of(table: Table) -> list[Claim]:
+    """The claims of a table :func:`claims_table` wrote and :func:`~.tables.read_csv` read.
+
+    A claims.csv of an older version (no ``source`` column) names no source: each claim's
+    is told from its words (:func:`_legacy_source`).
+    """
+    at = {name: i for i, name in enumerate(table.columns)}
+    if not {"reading", "claim", "holds", "evidence"} <= set(at):
+        raise FileError("not a claims table; expected the columns " + ", ".join(_COLUMNS))
+
+    def get(row, name, default=""):
+        return row[at[name]] if name in at else default
+
+    return [Claim(get(r, "reading"), get(r, "claim"), get(r, "holds") is True,
+                  get(r, "evidence"), get(r, "rule"),
+                  get(r, "source") or _legacy_source(get(r, "claim")))
+            for r in table.rows]
+
+
+_NEIGHBOURS = ("teacher at least bootstrap", "developmental faster than teacher",
+               "visual development improves accuracy", "horizontal before vertical",
+               "gaze following emerges")
+
+
+def _legacy_source(claim: str) -> str:
+    """The source of a claim of version 0.3's claims.csv, told from its words."""
+    if "follows caregivers it never saw" in claim or "performance gate" in claim:
+        return "project"
+    return "neighbours" if any(n in claim for n in _NEIGHBOURS) else "paper"
+
+
+def claims_summary(claims: list[Claim]) -> str:
+    """One line: how many claims hold, in all and by source, e.g. "15 of 24 claims hold (...)"."""
+    parts = []
+    for source in SOURCES:
+        mine = [c for c in claims if c.source == source]
+        if mine:
+            parts.append(f"{_SHORT[source]} {sum(c.holds for c in mine)} of {len(mine)}")
+    held = sum(c.holds for c in claims)
+    return f"{held} of {len(claims)} claims hold" + (f" ({'; '.join(parts)})" if parts else "")
+
+
+
+_SHORT = {"paper": "the paper's", "neighbours": "the neighbours'",
+          "project": "this project's own targets"}
+
+
+def claims_groups(claims: list[Claim]) -> list[tuple[str, list[tuple[str, list[Claim]]]]]:
+    """The claims grouped by source (in :data:`SOURCES` order), then by reading (in run order)."""
+    groups = []
+    for source in SOURCES:
+        readings: dict[str, list[Claim]] = {}
+        for c in (c for c in claims if c.source == source):
+            readings.setdefault(c.reading, []).append(c)
+        if readings:
+            groups.append((source, list(readings.items())))
+    return groups
+
+
+def claims_markdown(claims: list[Claim]) -> str:
+    """claims.md: a summary line, then per source and reading a table of claim, holds, evidence.
+
+    The settings of a reading are shown once, above its table, and each rule once, in a list
+    the rows refer to ([1], [2]...), so that no row repeats them.
+    """
+    rules = list(dict.fromkeys(c.rule for c in claims if c.rule))
+    lines = [claims_summary(claims) + ".", ""]
+    for source, readings in claims_groups(claims):
+        lines += [f"## {SOURCES[source]}", ""]
+        for reading, mine in readings:
+            # a long reading wraps: a code span may span lines (CommonMark)
+            wrapped = "\n".join(textwrap.wrap(reading, 96, break_long_words=False))
+            lines += [f"Reading: `{wrapped}`" if reading else "Reading: (none)", ""]
+            table = Table(("claim", "holds", "evidence", "rule"),
+                          [(c.claim, c.holds, c.evidence,
+                            f"[{rules.index(c.rule) + 1}]" if c.rule else "") for c in mine])
+            lines += [table.to_markdown()]
+    if rules:
+        lines += ["Rules:", ""] + [f"{i}. {rule}" for i, rule in enumerate(rules, 1)] + [""]
+    return "\n".join(lines)
 
 
 def readings_table(config: Config, curves: dict, ceilings: dict, claims: list[Claim]) -> Table:

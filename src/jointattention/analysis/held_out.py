@@ -118,5 +118,5 @@ def held_out_claims(config: Config, curves: HeldOut, ceilings: dict) -> list[Cla
             f"{r['training_fraction']:.2f}, new poses {r['new_poses_fraction']:.2f}",
             f"unseen caregivers: mean frozen success >= {AIM['fraction_of_ceiling']} x ceiling, "
             f"median error <= {AIM['median_error_deg']}°, identities above 10° <= "
-            f"{AIM['share_over_10deg']}"))
+            f"{AIM['share_over_10deg']}", "project"))
     return claims

@@ -117,7 +117,7 @@ def neighbour_claims(config: Config, curves: dict,
                 f"final {final.mean():.3f}, chance {chance:.3f}, first bin {first.mean():.3f}; "
                 f"95% lower bounds above chance {above:+.3f}, above the first bin {rises:+.3f}",
                 "final - chance and final - first bin: paired 95% lower bounds > 0"))
-    return claims
+    return [replace(c, source="neighbours") for c in claims]
 
 
 def _horizontal_first(c, reading: str, pan: np.ndarray, tilt: np.ndarray,

@@ -1,9 +1,14 @@
-"""What the commands share: the --config option, the backend options and a progress bar."""
+"""What the commands share: the --config option, the backend options and a progress bar.
+
+The bar (:class:`~jointattention.jobs.progress.CellBar`) is the jobs', for Python callers too.
+"""
 
 from __future__ import annotations
 
 import argparse
 import os
+
+from ..jobs.progress import CellBar
 
 __all__ = ["CellBar", "add_backend", "add_cell", "add_config", "add_max_cells", "int_in",
            "workers"]
@@ -61,32 +66,3 @@ def add_max_cells(p: argparse.ArgumentParser) -> None:
 def workers(args: argparse.Namespace) -> int:
     """--workers, or one per core."""
     return args.workers or os.cpu_count() or 1
-
-
-class CellBar:
-    """A progress bar over cells, fed by the runners' progress messages."""
-
-    def __init__(self, total: int):
-        self.total, self.bar = total, None
-
-    def __call__(self, message: str) -> None:
-        """Count a finished cell, or show a message of the runner."""
-        if self.bar is None:  # shown from the first message: a refused run shows none
-            from tqdm import tqdm
-
-            self.bar = tqdm(total=self.total, desc="cells", unit="cell")
-        if message.endswith("already done"):  # "K of N cells already done"
-            self.bar.update(int(message.split()[0]))
-            self.bar.write(message)
-        elif message == "ceilings":
-            self.bar.write("measuring the oracle ceilings")
-        else:
-            self.bar.update(1)
-            self.bar.set_postfix_str(message)
-
-    def __enter__(self) -> CellBar:
-        return self
-
-    def __exit__(self, *exc) -> None:
-        if self.bar is not None:
-            self.bar.close()

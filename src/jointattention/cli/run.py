@@ -6,15 +6,17 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
+from ..config import preset_names
 from ._common import CellBar, add_backend, add_config, add_max_cells, int_in, workers
 
 __all__ = ["add_commands"]
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> None:
-    from ..config import load_config
+    from ..config import load_config, preset_about
     from ..jobs.reproduce import reproduce
 
     config = load_config(args.preset if args.config is None else args.config)
@@ -23,12 +25,10 @@ def _cmd_reproduce(args: argparse.Namespace) -> None:
     with CellBar(len(exp.conditions) * exp.n_seeds) as bar:
         result = reproduce(config, Path(args.out), workers=n_workers, backend=args.backend,
                            address=args.address, progress=bar, max_cells=args.max_cells,
-                           save_models=args.save_models)
-    for path in result.files:
-        print(path)
-    print((result.out / "claims.md").read_text(), end="")
-    print(f"{result.cells_run} cells in {result.cells_min:.1f} min on {n_workers} workers; "
-          f"the whole run {result.wall_min:.1f} min")
+                           save_models=args.save_models, trials_csv=args.trials_csv)
+    if args.config is None:
+        print(f"preset {args.preset}: {preset_about(args.preset)}")
+    print(result.summary(n_workers))
 
 
 def _cmd_sweep(args: argparse.Namespace) -> None:
@@ -47,11 +47,16 @@ def _cmd_sweep(args: argparse.Namespace) -> None:
 
 def _cmd_report(args: argparse.Namespace) -> None:
     from .._files import check_writable
-    from ..figures.report import write_report
+    from ..figures.report import screenshot, write_report
 
     if args.out:
         check_writable(args.out, "file")
-    print(write_report(args.run, args.out))
+    if args.screenshot:
+        check_writable(args.screenshot, "file", "--screenshot")
+    page = write_report(args.run, args.out)
+    print(page)
+    if args.screenshot:
+        print(screenshot(page, args.screenshot))
 
 
 def _cmd_bench(args: argparse.Namespace) -> None:
@@ -68,21 +73,35 @@ def _cmd_bench(args: argparse.Namespace) -> None:
     n_workers = workers(args)
     for preset in args.run:
         load_config(preset)  # an unknown preset is refused before anything runs
-    rows = compile_times() + run_world_benchmarks(load_config(args.config).world)
+
+    def show(what: str, rows: list) -> list:
+        """Print ``rows`` as soon as they are measured, after a status line on stderr."""
+        print(f"measured: {what}", file=sys.stderr, flush=True)
+        for name, value, unit in rows:
+            digits = 1 if unit in ("min", "x", "s", "us") else 0
+            print(f"{name:<60} {value:>10,.{digits}f} {unit}", flush=True)
+        return rows
+
+    print("measuring: compile times, rendering, the environments, following, the agents "
+          "(a few minutes)", file=sys.stderr, flush=True)
+    show("compile times", compile_times())
+    show("the world", run_world_benchmarks(load_config(args.config).world))
     agent = run_agent_benchmark()
-    rows += run_env_benchmark() + run_follow_benchmark() + agent + preset_estimates(
-        agent_rates(agent), n_workers)
+    show("the environments", run_env_benchmark())
+    show("following", run_follow_benchmark())
+    show("the agents, and each preset's estimated wall time",
+         agent + preset_estimates(agent_rates(agent), n_workers))
     for preset in args.run:
-        rows += run_preset(preset, n_workers)
-    for name, value, unit in rows:
-        print(f"{name:<60} {value:>10,.{1 if unit in ('min', 'x', 's', 'us') else 0}f} {unit}")
+        show(f"the {preset} preset, run", run_preset(preset, n_workers))
 
 
 def _cmd_config(args: argparse.Namespace) -> None:
-    from ..config import load_config, preset_names, to_toml
+    from ..config import load_config, preset_about, preset_names, to_toml
 
     if args.list:
-        print("\n".join(preset_names()))
+        names = preset_names()
+        width = max(map(len, names))
+        print("\n".join(f"{n:<{width}}  {preset_about(n)}" for n in names))
     else:
         print(to_toml(load_config(args.config)), end="")
 
@@ -93,14 +112,19 @@ def add_commands(sub) -> None:
                        description="Run every condition x seed of the preset (learning in the "
                                    "fast world), measure the oracle ceilings, and write "
                                    "Fig. 4(a), Fig. 4(b), Fig. 5, table.md/csv, claims.md/csv "
-                                   "and trials.csv into --out. Re-running the same command "
-                                   "resumes: finished cells are kept.")
-    p.add_argument("--preset", default="quick",
-                   help="a shipped preset (`jointattention config --list`): quick (minutes), "
-                        "paper (the paper's scale), ablation, ablation-paper, beyond (the models "
-                        "beyond the paper), rendered")
+                                   "and the held-out, diagnostic and learning-speed tables "
+                                   "into --out, then print a short summary (the full claims "
+                                   "are in claims.md and the report). Re-running the same "
+                                   "command resumes: finished cells are kept.")
+    p.add_argument("--preset", default="quick", choices=preset_names(), metavar="PRESET",
+                   help="a shipped preset: " + ", ".join(preset_names()) + " (default: quick; "
+                        "`jointattention config --list` says what each runs)")
     add_config(p)
     p.add_argument("--out", default="runs/reproduce", help="run folder (default: runs/reproduce)")
+    p.add_argument("--trials-csv", action="store_true",
+                   help="also write trials.csv: every trial of every cell in one tidy table "
+                        "(the cells/ files hold the same records; the beyond preset's takes "
+                        "most of a gigabyte)")
     p.add_argument("--save-models", action="store_true",
                    help="also save each cell's learned model in RUN/models/<condition>/"
                         "seed_<i>.npz (the bootstrap model; see jointattention follow)")
@@ -127,6 +151,9 @@ def add_commands(sub) -> None:
                     "offline. Also takes a sweep's folder.")
     p.add_argument("run", metavar="RUN_FOLDER", help="a folder written by reproduce or sweep")
     p.add_argument("--out", help="the HTML file (default: RUN_FOLDER/report.html)")
+    p.add_argument("--screenshot", metavar="FILE.png",
+                   help="also draw the top of the page into FILE.png with a headless Chromium "
+                        "(how docs/report_screenshot.png is made from the demo's run)")
     p.set_defaults(func=_cmd_report)
 
     p = sub.add_parser(
@@ -139,11 +166,12 @@ def add_commands(sub) -> None:
                    help="worker processes for the preset times (default: all cores)")
     p.add_argument("--run", action="append", default=[], metavar="PRESET",
                    help="also run this preset from scratch and print its wall time "
-                        "(repeatable; the paper preset takes the better part of an hour)")
+                        "(repeatable; the bench's estimate of each preset comes first)")
     p.set_defaults(func=_cmd_bench)
 
     p = sub.add_parser("config", help="print a configuration as TOML",
                        description="Print the configuration (with every default) as TOML.")
     add_config(p)
-    p.add_argument("--list", action="store_true", help="list the shipped presets")
+    p.add_argument("--list", action="store_true",
+                   help="list the shipped presets, each with what it runs")
     p.set_defaults(func=_cmd_config)

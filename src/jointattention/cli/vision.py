@@ -132,7 +132,7 @@ def add_commands(sub) -> None:
                     "them (BlazeFace, the template, Haar cascades, libfacedetection if "
                     "installed), then on the photographs scikit-image ships; print recall, "
                     "precision, the centre error and frames per second at 640x480.")
-    p.add_argument("--config", default="many-caregivers",
+    p.add_argument("--config", default="many-caregivers", metavar="PRESET|FILE.toml",
                    help="the world's preset or TOML file (default: many-caregivers)")
     p.add_argument("--n", type=int_in(1, 10**6), default=2000, help="views (default: 2000)")
     p.add_argument("--caregivers", type=int_in(1, 10**6), default=64,

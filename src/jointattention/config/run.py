@@ -229,6 +229,14 @@ def preset_names() -> list[str]:
     return sorted(p.name.removesuffix(".toml") for p in files if p.name.endswith(".toml"))
 
 
+def preset_about(name: str) -> str:
+    """What the preset runs, in one line: the first line of its file's opening comment."""
+    if name not in preset_names():
+        raise ConfigError(f"unknown preset {name!r}; expected one of {', '.join(preset_names())}")
+    text = resources.files("jointattention.presets").joinpath(f"{name}.toml").read_text("utf-8")
+    return text.splitlines()[0].lstrip("#").strip()
+
+
 def load_config(source: str | Path | Mapping | None = None) -> Config:
     """A configuration from a preset, a TOML file, a mapping as TOML gives, or the defaults.
 

@@ -19,7 +19,7 @@ import numpy as np
 from .._checks import check_path
 from .._files import folder_lock, save_json, write_text
 from .._readers import read_json
-from ..analysis.claims import Claim, check_claims, claims_table, readings_table
+from ..analysis.claims import Claim, check_claims, claims_summary, readings_table, write_claims
 from ..analysis.curves import condition_axis_errors, condition_curves, final_table
 from ..analysis.diagnostics import (
     condition_diagnostics,
@@ -39,6 +39,7 @@ from ..experiment.held_out import held_out_novelty, held_out_sets, run_cell_meas
 from ..experiment.preflight import MAX_CELLS, check_runs
 from ..experiment.results import cell_path, load_cell, prepare_run_dir, write_trials_csv
 from ..experiment.training import model_path, run_cell_saving_model
+from .progress import CellBar
 
 __all__ = ["RunResult", "reproduce", "run_experiment"]
 
@@ -95,7 +96,7 @@ def _run_cells(config: Config, out: Path, workers: int, progress, backend: str,
 
 
 def _read_or_measure(path: Path, what: str, whole: Callable[[dict], bool], missing: str,
-                     measure: Callable[[], dict], progress) -> dict:
+                     measure: Callable[[], dict], progress, phase: str = "ceilings") -> dict:
     """The JSON at ``path`` if it is ``whole``, else measured (after a warning) and saved there."""
     if path.exists():
         try:
@@ -106,7 +107,7 @@ def _read_or_measure(path: Path, what: str, whole: Callable[[dict], bool], missi
         except JointAttentionError as err:
             _log.warning("%s; measured again", err)
     if progress is not None:
-        progress("ceilings")
+        progress(phase)
     measured = measure()
     save_json(measured, path)
     return measured
@@ -128,7 +129,7 @@ def _held_out_ceilings(config: Config, path: Path, progress) -> dict[str, dict[s
                           for k in held_out_sets(config) for m in counts),
         "set or object count",
         lambda: {kind: {str(k): oracle_success(ds, config, k, n, config.seed) for k in counts}
-                 for kind, ds in held_out_sets(config).items()}, progress)
+                 for kind, ds in held_out_sets(config).items()}, progress, "held-out ceilings")
 
 
 def _ceilings(config: Config, path: Path, progress) -> dict[str, float]:
@@ -156,6 +157,38 @@ class RunResult:
     cells_min: float  # the wall time of this call's cells
     wall_min: float  # of the whole call
 
+    def summary(self, workers: int | None = None) -> str:
+        """A few lines: the cells and time, the folder's size, the claims, figures and tables.
+
+        ``workers``: the number the run used, to name beside its time.
+        """
+        def names(suffix: str) -> str:
+            found = [p.name for p in self.files if p.suffix == suffix]
+            return f"{self.out}/" + "{" + ", ".join(found) + "}" if found else "none"
+
+        on = f" on {workers} workers" if workers else ""
+        return "\n".join([
+            f"{self.out}: {self.cells_run} of {self.cells_total} cells run in "
+            f"{self.cells_min:.1f} min{on}; the whole run {self.wall_min:.1f} min; "
+            f"{_size_text(_folder_bytes(self.out))} on disk",
+            f"{claims_summary(self.claims)}: {self.out / 'claims.md'}",
+            f"figures: {names('.png')}",
+            f"tables: {names('.md')}",
+            f"the report: jointattention report {self.out}"])
+
+
+def _folder_bytes(folder: Path) -> int:
+    """The bytes of every file under ``folder``."""
+    return sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
+
+
+def _size_text(n_bytes: int) -> str:
+    """``n_bytes`` for a reader: "740 kB", "6.9 MB", "1.2 GB"."""
+    for unit, scale in (("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if n_bytes >= scale:
+            return f"{n_bytes / scale:.{0 if n_bytes >= 100 * scale else 1}f} {unit}"
+    return f"{n_bytes} B"
+
 
 def _measured(path: Path) -> bool:
     """Whether ``path`` holds a readable measure of a run's wall time (``timing.json``)."""
@@ -166,12 +199,15 @@ def _measured(path: Path) -> bool:
 
 
 def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str = "local",
-              address: str | None = None, progress: Callable[[str], None] | None = None,
-              max_cells: int = MAX_CELLS, save_models: bool = False) -> RunResult:
+              address: str | None = None, progress: Callable[[str], None] | bool | None = None,
+              max_cells: int = MAX_CELLS, save_models: bool = False,
+              trials_csv: bool = False) -> RunResult:
     """Run ``config``'s experiment into the run folder ``out`` and write what it shows.
 
     Cells already in ``out`` are kept (a re-run resumes). Then the oracle
-    ceilings (``ceilings.json``, measured once), ``trials.csv``, the figures
+    ceilings (``ceilings.json``, measured once), ``trials.csv`` if ``trials_csv`` (every
+    trial of every cell in one tidy table; the cells' own files in ``cells/`` hold the same
+    records, and a large run's table takes most of a gigabyte), the figures
     (:func:`jointattention.figures.paper.write_figures`), ``table.csv``/``.md``,
     ``claims.csv``/``.md``, one row per reading (``readings.csv``/``.md``), the diagnostics per
     learning-time bin
@@ -185,7 +221,9 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     figures) and of its cells alone (``cells_min``). A re-run that ran no cell keeps the one
     there.
     ``progress`` hears the runner's messages (see
-    :func:`~jointattention.experiment.backends.run_jobs`) and ``"ceilings"``. Nothing is
+    :func:`~jointattention.experiment.backends.run_jobs`) and the phases ``"ceilings"``,
+    ``"held-out ceilings"`` and ``"tables"``; ``True`` shows them as a progress bar on stderr
+    (:class:`~.progress.CellBar`), as the command line does. Nothing is
     written unless the run passes :func:`~.preflight.check_runs` (at most ``max_cells``).
     ``save_models``: see :func:`run_experiment`.
     """
@@ -197,7 +235,14 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
     out = Path(check_path(out, "out"))
     check_config(config)
     start = time.perf_counter()
+    if progress is not None and not callable(progress) and type(progress) is not bool:
+        raise JointAttentionError(f"progress={progress!r}: expected a callable, True, False "
+                                  "or None")
     with ExitStack() as lock:  # the folder's lock (taken after every check)
+        if progress is True:
+            exp = config.experiment
+            progress = lock.enter_context(CellBar(len(exp.conditions) * exp.n_seeds))
+        progress = progress or None
         jobs, cells_run = _run_cells(config, out, workers, progress, backend, address, max_cells,
                                      save_models, lock)
         cells_min = (time.perf_counter() - start) / 60
@@ -211,9 +256,12 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
         seeds = seed_diagnostics(out, config, curves, cells)
         diagnostics = condition_diagnostics(out, config, seeds)
         speed = learning_speed_table(config, curves, ceilings)
-        files = [write_trials_csv(out, cells), *write_figures(out, config, curves, ceilings),
+        if progress is not None:
+            progress("tables")
+        files = [*([write_trials_csv(out, cells)] if trials_csv else []),
+                 *write_figures(out, config, curves, ceilings),
                  *final_table(config, curves, ceilings, held, held_ceilings).write(out / "table"),
-                 *claims_table(claims).write(out / "claims"),
+                 *write_claims(claims, out / "claims"),
                  *readings_table(config, curves, ceilings, claims).write(out / "readings"),
                  *diagnostics_table(diagnostics).write(out / "diagnostics"),
                  diagnostics_figure(diagnostics, out / "diagnostics.png"),
