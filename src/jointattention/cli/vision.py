@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from .._files import check_writable, write_text
@@ -83,13 +84,24 @@ def _cmd_faces(args: argparse.Namespace) -> None:
     if args.out:
         check_writable(args.out, "file")
     gl.mujoco()
+
+    bars = []
+
+    def status(line: str) -> None:
+        for bar in bars:
+            bar.close()  # a status line never lands inside the bar
+        print(line, file=sys.stderr, flush=True)
+
+    status("rendering the template finder's training views")
     template = ff.template_of(config)
     chosen = ff.finders(template)
     with tqdm(total=args.n, desc="views", unit="view") as bar:
+        bars.append(bar)
         rendered = ff.rendered_scores(config, args.n, args.caregivers, args.seed, chosen,
-                                      progress=lambda i: bar.update(i - bar.n))
+                                      progress=lambda i: bar.update(i - bar.n), status=status)
     command = (f"jointattention faces --config {args.config} --n {args.n} "
                f"--caregivers {args.caregivers} --seed {args.seed}")
+    status("every finder on the photographs scikit-image ships (if installed)")
     text = ff.finders_table(rendered, ff.photo_scores(chosen), command)
     print(text, end="")
     if args.out:

@@ -134,12 +134,13 @@ def _fps(find: Find, images: list[np.ndarray]) -> float:
 
 
 def rendered_scores(config: WorldConfig, n: int, caregivers: int, seed: int,
-                    chosen: dict[str, Find], progress: Callable[[int], None] | None = None
-                    ) -> list[FinderScore]:
+                    chosen: dict[str, Find], progress: Callable[[int], None] | None = None,
+                    status: Callable[[str], None] | None = None) -> list[FinderScore]:
     """Each finder on ``n`` held-out views of ``caregivers`` caregivers.
 
     Each view is scored by every finder as it is rendered and then dropped (the first
     :data:`SPEED_FRAMES` are kept to time the finders): memory does not grow with ``n``.
+    ``progress`` hears the views done; ``status`` the next phase, once they are all done.
     """
     kept = []
 
@@ -152,6 +153,8 @@ def rendered_scores(config: WorldConfig, n: int, caregivers: int, seed: int,
                 progress(i + 1)
 
     scores = _scores(chosen, views())
+    if status is not None:
+        status(f"timing each finder on {len(kept)} frames at 640x480")
     for s in scores:
         s.fps_640 = _fps(chosen[s.name], kept)
     return scores
