@@ -146,7 +146,7 @@ def _figure(path: Path, caption: str) -> str:
 def _figures(run: Path, captions: dict[str, str]) -> list[str]:
     """The figures of ``captions`` that the run drew, in that order."""
     return [_figure(run / name, text) for name, text in captions.items()
-            if (run / name).is_file()]
+            if (run / name).exists()]  # one that is not a file is refused by the reader
 
 
 def _summary(run: Path, claims: str | None) -> str:
