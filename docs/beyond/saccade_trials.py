@@ -3,9 +3,10 @@
 Reads the trials of ``jointattention sweep docs/beyond/saccade.toml --out runs/beyond-saccade``
 (then ``jointattention reproduce --config runs/beyond-saccade/seed=0/config.toml --out
 runs/beyond-saccade/seed=0 --trials-csv``, which writes ``trials.csv``) and prints, per
-condition, the trials a trial takes in steps over the first 3x10^4 steps, how many trials fit in them, and
-the trials to 90% of the final: the first window of 500 trials (windows every 250) whose success
-reaches 90% of that of the seed's last 3,000 trials. Means over the seeds, and the range.
+condition, the trials a trial takes in steps over the first 3x10^4 steps, how many trials fit
+in them, and the trials to 90% of the final: the first window of 500 trials (windows every
+250) whose success reaches 90% of that of the seed's last 3,000 trials. Means over the seeds,
+and the range.
 
 Run from the repository: ``python docs/beyond/saccade_trials.py [trials.csv]`` (a few seconds).
 """
