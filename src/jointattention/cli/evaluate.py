@@ -162,7 +162,7 @@ def add_commands(sub) -> None:
     p.add_argument("--out", help="folder for evaluation.csv and evaluation.json")
     p.add_argument("--json", action="store_true", help="print one JSON object instead")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd_evaluate)
+    p.set_defaults(func=_cmd_evaluate, out_kind="folder")
 
     p = sub.add_parser(
         "closed-loop", help="a saved model driving the rendered head through images alone",
@@ -188,4 +188,4 @@ def add_commands(sub) -> None:
                         "rendered (e.g. unseen ones: datasets make --held-out); default: the "
                         "model's own")
     p.add_argument("--out", help="also write the table to this Markdown file")
-    p.set_defaults(func=_cmd_closed_loop)
+    p.set_defaults(func=_cmd_closed_loop, out_kind="file")

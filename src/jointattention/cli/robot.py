@@ -179,7 +179,7 @@ def add_import(dsub) -> None:
                    help="with --face template: the mean face of these data sets as the template")
     q.add_argument("--out", required=True, help="output data-set file, ending in .npz")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
-    q.set_defaults(func=_cmd_datasets_import)
+    q.set_defaults(func=_cmd_datasets_import, out_kind="file")
 
 
 def add_commands(sub) -> None:
@@ -191,7 +191,7 @@ def add_commands(sub) -> None:
     add_cell(p)
     p.add_argument("--out", required=True, help="the model file, ending in .npz")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd_train)
+    p.set_defaults(func=_cmd_train, out_kind="file")
 
     p = sub.add_parser(
         "follow", help="apply a saved model to camera images: where to look",
@@ -219,4 +219,4 @@ def add_commands(sub) -> None:
                    help="place BlazeFace's window by its landmarks alone, without the pixel "
                         "refinements learned on the simulated heads (for photographs of people)")
     p.add_argument("--out", help="folder for the overlay images (default: none written)")
-    p.set_defaults(func=_cmd_follow)
+    p.set_defaults(func=_cmd_follow, out_kind="folder")

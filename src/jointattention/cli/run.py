@@ -106,7 +106,7 @@ def add_commands(sub) -> None:
                         "seed_<i>.npz (the bootstrap model; see jointattention follow)")
     add_backend(p)
     add_max_cells(p)
-    p.set_defaults(func=_cmd_reproduce)
+    p.set_defaults(func=_cmd_reproduce, out_kind="run")
 
     p = sub.add_parser(
         "sweep", help="run a grid of settings x conditions x seeds from a TOML spec",
@@ -118,7 +118,7 @@ def add_commands(sub) -> None:
     p.add_argument("--out", help="output folder (default: runs/<SPEC's name>)")
     add_backend(p)
     add_max_cells(p)
-    p.set_defaults(func=_cmd_sweep)
+    p.set_defaults(func=_cmd_sweep, out_kind="run")
 
     p = sub.add_parser(
         "report", help="one self-contained HTML page of a run folder",
@@ -127,7 +127,7 @@ def add_commands(sub) -> None:
                     "offline. Also takes a sweep's folder.")
     p.add_argument("run", metavar="RUN_FOLDER", help="a folder written by reproduce or sweep")
     p.add_argument("--out", help="the HTML file (default: RUN_FOLDER/report.html)")
-    p.set_defaults(func=_cmd_report)
+    p.set_defaults(func=_cmd_report, out_kind="file")
 
     p = sub.add_parser(
         "bench", help="print speeds: rendering, projection, agent steps, preset wall times",

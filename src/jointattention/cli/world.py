@@ -95,7 +95,7 @@ def add_commands(sub) -> None:
     p.add_argument("--caregivers", type=int_in(0, 1000), default=0, metavar="K",
                    help="also write identities.png: the faces of K caregivers of the world, "
                         "one new scene each (default: 0, none)")
-    p.set_defaults(func=_cmd_render)
+    p.set_defaults(func=_cmd_render, out_kind="folder")
 
     p = sub.add_parser("datasets", help="make or check caregiver data sets",
                        description="Caregiver data sets in the paper's protocol.")
@@ -127,7 +127,7 @@ def add_commands(sub) -> None:
                         "sets split evenly among them")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
     q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
-    q.set_defaults(func=_cmd_datasets_make)
+    q.set_defaults(func=_cmd_datasets_make, out_kind="file", out_what="OUT")
     q = dsub.add_parser("check", help="validate a data-set file and summarise it",
                         description="Validate FILE (default: the shipped data sets).")
     q.add_argument("file", metavar="FILE", nargs="?", help="a data-set .npz file")
