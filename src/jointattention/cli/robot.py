@@ -25,6 +25,7 @@ def _cmd_train(args: argparse.Namespace) -> None:
     from ..config import load_config
     from ..deploy.saved import check_savable
     from ..experiment.cells import datasets_of
+    from ..experiment.preflight import check_memory
     from ..experiment.probes import angle_errors
     from ..experiment.training import train
 
@@ -34,6 +35,7 @@ def _cmd_train(args: argparse.Namespace) -> None:
         raise FileError(f"{args.out}: expected a model file name ending in .npz")
     check_writable(args.out, "file")
     ds = datasets_of(config)  # a bad data-set file is refused before learning
+    check_memory(config, [args.condition])  # an in-range capacity may not fit this machine
     with tqdm(total=config.experiment.n_steps, desc="learning", unit="step",
               disable=args.quiet) as bar:
         model = train(config, args.condition, args.seed_index,

@@ -51,12 +51,14 @@ def _cmd_gaze(args: argparse.Namespace) -> None:
 
     from ..config import condition_named, load_config
     from ..experiment.cells import datasets_of
+    from ..experiment.preflight import check_memory
     from ..jobs.learned import write_gaze_figures
 
     config = load_config(args.preset if args.config is None else args.config)
     condition_named(config, args.condition)  # all checked before the progress bar
     check_writable(args.out, "folder")
     datasets_of(config)
+    check_memory(config, [args.condition])
     gl.mujoco()  # Fig. 7 is rendered: refused before learning if OpenGL cannot start
     with tqdm(total=config.experiment.n_steps, desc="learning", unit="step") as bar:
         numbers = write_gaze_figures(config, args.condition, args.seed_index, Path(args.out),
