@@ -7,7 +7,7 @@ import os
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-__all__ = ["CellBar", "add_backend", "add_cell", "add_config", "add_max_cells", "int_in",
+__all__ = ["CellBar", "LazyBar", "add_backend", "add_cell", "add_config", "add_max_cells", "int_in",
            "output_place", "workers"]
 
 
@@ -116,3 +116,27 @@ class CellBar:
         if self.bar is not None:
             self.bar.close()
 
+
+class LazyBar:
+    """A tqdm progress bar drawn at its first update: a command refused before it draws none.
+
+    ``update_to(n)`` moves it to ``n`` done; the keywords are tqdm's.
+    """
+
+    def __init__(self, **kwargs):
+        self.kwargs, self.bar = kwargs, None
+
+    def update_to(self, n: int) -> None:
+        """Show ``n`` done (drawing the bar the first time)."""
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(**self.kwargs)
+        self.bar.update(n - self.bar.n)
+
+    def __enter__(self) -> LazyBar:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.close()

@@ -11,7 +11,7 @@ from pathlib import Path
 from .._files import check_writable
 from ..agent.finders import DEFAULT_FACE, FACE_METHODS
 from ..errors import ArgumentError, FileError
-from ._common import add_cell, add_config, int_in
+from ._common import LazyBar, add_cell, add_config, int_in
 
 __all__ = ["add_commands", "add_import"]
 
@@ -106,6 +106,10 @@ def _cmd_follow(args: argparse.Namespace) -> None:
     if sum(x is not None and x != [] for x in (args.images, args.video, args.camera)) != 1:
         raise ArgumentError("follow: expected IMAGE files, --video FILE or --camera N (one "
                             "of them)")
+    if args.landmarks_only and args.face != "blazeface":  # the others have no landmarks
+        raise ArgumentError(f"--landmarks-only conflicts with --face {args.face}: it places "
+                            "BlazeFace's window; expected --face blazeface, or no "
+                            "--landmarks-only")
     follower = GazeFollower.load(args.model, face=args.face, min_score=args.min_score,
                                  refine=not args.landmarks_only)
     theta = np.deg2rad(args.theta_deg)
@@ -133,8 +137,6 @@ def _cmd_follow(args: argparse.Namespace) -> None:
 
 
 def _cmd_datasets_import(args: argparse.Namespace) -> None:
-    from tqdm import tqdm
-
     from ..config import load_config
     from ..datasets import load, save
     from ..recordings import import_recording
@@ -149,12 +151,13 @@ def _cmd_datasets_import(args: argparse.Namespace) -> None:
 
         template = face_template(load(args.template).face)
     fw = config.world.face_window
-    with tqdm(desc="images", unit="image", disable=args.quiet) as bar:
+    # drawn at the first image: a missing folder or a bad table is refused with no bar
+    with LazyBar(desc="images", unit="image", disable=args.quiet) as bar:
         ds, missed = import_recording(args.folder, face=args.face, template=template,
                                       face_size_px=(fw.width_px, fw.height_px),
                                       min_score=(config.detector.face_min_score
                                                  if args.face == "template" else None),
-                                      progress=lambda i: bar.update(i - bar.n))
+                                      progress=bar.update_to)
     for m in missed:
         print(f"jointattention: warning: row {m.row} ({m.image}): no face found; left out",
               file=sys.stderr)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 
 from .._files import check_writable
 from ..errors import JointAttentionError
@@ -46,6 +47,11 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
         if args.caregivers != 1:
             raise JointAttentionError("--caregivers-of: the file's caregivers pose; expected no "
                                       "--caregivers")
+        if (os.path.exists(args.out) and os.path.exists(args.caregivers_of)
+                and os.path.samefile(args.out, args.caregivers_of)):
+            raise JointAttentionError(f"OUT {args.out} conflicts with --caregivers-of "
+                                      f"{args.caregivers_of}: the same file, which would be "
+                                      "overwritten by its own new poses; expected another OUT")
         identities = caregivers_of(args.caregivers_of, config.world)
         recorded = load(args.caregivers_of).meta
         if recorded.get("seed") == args.seed and recorded.get("stream", "world") == stream:
