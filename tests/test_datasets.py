@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -139,3 +140,15 @@ def test_save_wants_npz_suffix(tmp_path):
     with pytest.raises(DatasetError, match=r"ending in \.npz"):
         save(default_datasets(), tmp_path / "out.dat")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_every_shipped_data_file_has_its_recorded_sha256():
+    """jointattention.data.SHA256 names every shipped data file, each with its sum."""
+    from jointattention import data
+    from jointattention._readers import sha256_of, shipped_path
+
+    folder = Path(data.__file__).parent
+    shipped = {p.name for p in folder.iterdir() if p.suffix in (".npz", ".tflite")}
+    assert set(data.SHA256) == shipped
+    for name, digest in data.SHA256.items():
+        assert sha256_of(shipped_path(name)) == digest

@@ -137,7 +137,7 @@ def test_hostile_input_is_refused_cleanly(case: Case, tmp_path, monkeypatch, cap
 
 @pytest.mark.parametrize("case", SUBPROCESS, ids=lambda c: c.id)
 def test_hostile_environment_is_handled_in_a_fresh_process(case: Case):
-    """Without a usable OpenGL, fast runs succeed and rendering commands refuse in one line."""
+    """A case needing a fresh process (OpenGL, a damaged installation) ends as expected."""
     result = cases.run_subprocess(case, REPO_SRC, timeout=120)
     if result["outcome"] == "skipped":
         pytest.skip(result["detail"])

@@ -292,3 +292,22 @@ def test_one_teaching_step_is_the_cross_entropy_gradient_step():
     for mine, taught_code in zip((w1, b1, w2, b2), (code.w1_, code.b1_, code.w2_, code.b2_),
                                  strict=True):
         assert np.array_equal(mine, taught_code)
+
+
+def test_the_replay_memory_is_allocated_only_when_learning_first_needs_it():
+    """A built agent holds no replay memory; the first taught trial sizes it to the capacity.
+
+    So a model loaded to be run (whose configuration may name ten million trials) allocates
+    none, and a frozen agent never does.
+    """
+    agent = _agent(replay_capacity=123)
+    assert len(agent.module.replay_features_) == 0
+    agent.learning = False
+    agent.module.arrays()
+    assert len(agent.module.replay_features_) == 0
+    agent.learning = True
+    agent.module.arrays()
+    assert [len(a) for a in agent.module.learning_only()] == [123] * 4
+    n = agent.module.n_features
+    assert PopulationModule.replay_bytes(n, 123) == sum(a.nbytes for a in
+                                                        agent.module.learning_only())

@@ -80,3 +80,42 @@ def test_trials_csv_is_what_the_csv_module_writes(tmp_path):
             for i, row in enumerate(zip(*[rec[c].astype(int) for c in RECORD], strict=True)):
                 writer.writerow((name, seed, i, *row))
     assert path.read_bytes() == (tmp_path / "expected.csv").read_bytes()
+
+
+def test_an_output_written_by_another_command_is_refused_and_freed_after(tmp_path):
+    """output_lock: one holder per path (however spelt); released, it leaves no file."""
+    from jointattention._files import _lock_file, output_lock
+
+    out = tmp_path / "table.md"
+    (tmp_path / "alias").symlink_to(tmp_path)  # the same place by another name
+    with output_lock(out):
+        with (pytest.raises(FileError, match="another command is writing it"),
+              output_lock(tmp_path / "alias" / "table.md")):
+            pass
+        with output_lock(tmp_path / "other.md"):  # another path: its own lock
+            pass
+    assert not _lock_file(out).exists()
+    with output_lock(out):  # free again
+        pass
+    assert not out.exists()
+
+
+def test_writes_follow_a_link_and_never_replace_a_fifo(tmp_path):
+    """A link's target is written (the link stays); a FIFO is refused before and at writing."""
+    import os
+
+    from jointattention._files import check_writable, write_text
+
+    (tmp_path / "real.md").write_text("old")
+    (tmp_path / "link.md").symlink_to("real.md")
+    check_writable(tmp_path / "link.md", "file")
+    write_text(tmp_path / "link.md", "new")
+    assert (tmp_path / "link.md").is_symlink() and (tmp_path / "real.md").read_text() == "new"
+    os.mkfifo(tmp_path / "f.md")
+    for call in (lambda: check_writable(tmp_path / "f.md", "file"),
+                 lambda: write_text(tmp_path / "f.md", "x")):
+        with pytest.raises(FileError, match="a FIFO"):
+            call()
+    assert not (tmp_path / "f.md").is_file()
+    with pytest.raises(FileError, match="empty path"):
+        check_writable("", "folder")

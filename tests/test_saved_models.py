@@ -423,3 +423,59 @@ def test_the_readme_follow_command_finds_the_face_in_the_shipped_frame(tmp_path,
     record = json.loads(capsys.readouterr().out.strip())
     assert record["face"]["score"] > 0.5 and record["command_deg"] is not None
     assert (tmp_path / "follow" / "camera_view_follow.png").is_file()
+
+
+SHIPPED_MODEL = Path(__file__).resolve().parents[1] / "docs" / "generalise" / "population_n10.npz"
+RECORD_SCENES = """
+import json, sys
+import numpy as np
+from jointattention.datasets import scenes_sha256
+from jointattention.deploy.saved import load_model
+from jointattention.world import recording
+from jointattention.world.simulator import World
+
+model = load_model(sys.argv[1])
+world, r = model.config.world, model.config.recording
+few = recording.make_datasets(world, 6, r.seed, caregivers=3)  # rendered, as recorded
+out = {"few": scenes_sha256(few), "few_faces": few.face.tolist()}
+if sys.argv[2] == "all":  # the binding is of scenes alone: the images are left black here
+    shape = (world.camera.height_px, world.camera.width_px, 3)
+    World.render = lambda self: np.zeros(shape, np.uint8)
+    every = recording.make_datasets(world, r.caregivers * r.poses_per_caregiver, r.seed,
+                                    caregivers=r.caregivers)
+    out["all"] = scenes_sha256(every)
+print(json.dumps(out))
+"""
+
+
+def _record_scenes(env: dict[str, str], which: str) -> dict:
+    """RECORD_SCENES run in a fresh process with ``env`` added to this one's environment."""
+    import os
+    import subprocess
+    import sys
+
+    src = str(Path(__file__).resolve().parents[1] / "src")
+    proc = subprocess.run([sys.executable, "-c", RECORD_SCENES, str(SHIPPED_MODEL), which],
+                          capture_output=True, text=True, timeout=600,
+                          env={**os.environ, "PYTHONPATH": src, **env})
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    return json.loads(proc.stdout.splitlines()[-1])
+
+
+def test_the_shipped_model_binds_to_data_sets_recorded_in_another_environment(needs_gl):
+    """Recordings in processes of other threads, hash seeds and locales bind alike.
+
+    The scenes digest of a few caregivers agrees between the two, and the shipped model's
+    training scenes, drawn again in the second, are those it recorded (issue 61: the bytes of
+    a recording differ between machines, its scenes must not).
+    """
+    first = _record_scenes({"OMP_NUM_THREADS": "1", "PYTHONHASHSEED": "0", "LC_ALL": "C",
+                            "MUJOCO_GL": "egl"}, "few")
+    second = _record_scenes({"OMP_NUM_THREADS": "2", "PYTHONHASHSEED": "4242",
+                             "LC_ALL": "C.UTF-8", "TZ": "Pacific/Auckland",
+                             "MUJOCO_GL": "egl"}, "all")
+    assert first["few"] == second["few"]
+    # the faces are rendered, not hashed: near alike (another OpenGL may differ a little)
+    faces = [np.array(r["few_faces"], np.int16) for r in (first, second)]
+    assert faces[0].shape == faces[1].shape and np.abs(faces[0] - faces[1]).mean() < 8
+    assert second["all"] == load_model(SHIPPED_MODEL).scenes_sha256

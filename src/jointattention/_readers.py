@@ -17,6 +17,7 @@ import tomllib
 import warnings
 import zipfile
 from contextlib import contextmanager
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -26,7 +27,7 @@ from .errors import FileError
 
 __all__ = ["MAX_IMAGE_PIXELS", "MAX_NESTING", "MAX_NPZ_BYTES", "MAX_NPZ_MEMBERS", "MAX_TEXT_BYTES",
            "check_nesting", "loads_json", "loads_toml", "quiet_stderr", "read_bytes", "read_image",
-           "read_json", "read_npz", "read_text", "read_toml", "sha256_of"]
+           "read_json", "read_npz", "read_text", "read_toml", "sha256_of", "shipped_path"]
 
 MAX_TEXT_BYTES = 16 * 2**20  # configurations, specs and run files are kilobytes
 MAX_IMAGE_PIXELS = 100_000_000  # a 100-megapixel photograph; larger headers are refused
@@ -271,3 +272,36 @@ def sha256_of(path: str | Path) -> str:
         raise _open_error(Path(path), err, "a readable file") from None
     return digest.hexdigest()
 
+
+
+_CHECKED: dict[str, tuple] = {}  # shipped file -> (path, size, mtime) when its sum was right
+
+
+def shipped_path(name: str) -> Path:
+    """The package data file ``name``, its SHA-256 checked against the one recorded.
+
+    Checked when first used in a process (and again if the file changed since), not at
+    import. A missing or damaged file is one :class:`~.errors.FileError` naming it and saying
+    to reinstall.
+    """
+    from . import data
+    from ._version import __version__
+
+    with resources.as_file(resources.files(data) / name) as p:
+        path = Path(p)  # an installed package is a folder: the path stays valid
+    try:
+        st = path.stat()
+        key = (str(path), st.st_size, st.st_mtime_ns)
+        if _CHECKED.get(name) == key:
+            return path
+        digest = sha256_of(path)
+    except (OSError, FileError):
+        reason = "missing or unreadable"
+    else:
+        if digest == data.SHA256[name]:
+            _CHECKED[name] = key
+            return path
+        reason = f"its SHA-256 {digest[:12]}... is not the {data.SHA256[name][:12]}... shipped"
+    raise FileError(f"{path}: a damaged installation of jointattention ({reason}); expected "
+                    f"the file jointattention {__version__} ships: reinstall the package (pip "
+                    "install --force-reinstall jointattention)")

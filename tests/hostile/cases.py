@@ -1568,6 +1568,229 @@ for _tag, _src, _name in (
                  files={"c.toml": tiny_toml()}))
 
 
+# Issue 61: the output place first, the shipped files, memory in range, contradictions, quiet
+# refusals -----------------------------------------------------------------------------------
+
+SHIPPED_MODEL = REPO / "docs" / "generalise" / "population_n10.npz"  # a model of 30x25 faces
+
+
+def _model_files(tmp: Path) -> None:
+    """The shipped model as m.npz, the shipped data sets as ds.npz and a PNG, in ``tmp``."""
+    shutil.copy(SHIPPED_MODEL, tmp / "m.npz")
+    shutil.copy(shipped_datasets_path(), tmp / "ds.npz")
+    write_files(tmp, {"img.png": png_bytes(), "tiny.toml": tiny_toml()})
+
+
+def model_case(argv: list[str] | str, edit: Callable[[Path], None] | None = None
+               ) -> Callable[[Path], Invocation]:
+    """A ``make`` that writes :func:`_model_files`, changes them with ``edit``, returns argv."""
+    def make(tmp: Path) -> Invocation:
+        _model_files(tmp)
+        if edit is not None:
+            edit(tmp)
+        return list(argv) if isinstance(argv, list) else argv
+    return make
+
+
+EVALUATE = ["evaluate", "m.npz", "--datasets", "ds.npz", "--trials", "1", "--objects", "1"]
+PROC_OUT = {  # command -> (argv before --out, the output under /proc)
+    "closed-loop": (["closed-loop", "m.npz", "--datasets", "ds.npz", "--objects", "1",
+                     "--trials", "1"], "/proc/jointattention.md"),
+    "follow": (["follow", "m.npz", "img.png"], "/proc/jointattention"),
+    "train": (["train", "--config", "tiny.toml", "--condition", "n1", "--quiet"],
+              "/proc/jointattention.npz"),
+    "detect": (["detect", "img.png"], "/proc/jointattention"),
+    "reproduce": (["reproduce", "--config", "tiny.toml", "--workers", "1"],
+                  "/proc/jointattention"),
+    "parity": (["parity", "--cases", "1", "--objects", "1"], "/proc/jointattention.md"),
+    "render": (["render"], "/proc/jointattention"),
+    "evaluate": (EVALUATE, "/proc/jointattention"),
+    "faces": (["faces", "--n", "1", "--caregivers", "1"], "/proc/jointattention.md"),
+    "gaze": (["gaze", "--config", "tiny.toml", "--condition", "n1"], "/proc/jointattention"),
+    "datasets-import": (["datasets", "import", "rec"], "/proc/jointattention.npz"),
+}
+for _cmd, (_argv, _out) in PROC_OUT.items():
+    add(Case(f"{_cmd}-out-under-proc", "output-paths", model_case([*_argv, "--out", _out]),
+             names="/proc"))
+add(Case("datasets-make-out-under-proc", "output-paths",
+         files_case({}, ["datasets", "make", "--n", "1", "--quiet", "/proc/jointattention.npz"]),
+         names="/proc"))
+add(Case("report-out-under-proc", "output-paths",
+         run_case(None, ["report", "run", "--out", "/proc/jointattention.html"]), names="/proc"))
+
+
+def _fifo(rel: str, link: str | None = None) -> Callable[[Path], None]:
+    """An edit: a FIFO at ``rel`` (and a symbolic link ``link`` to it)."""
+    def edit(tmp: Path) -> None:
+        os.mkfifo(tmp / rel)
+        if link is not None:
+            os.symlink(rel, tmp / link)
+    return edit
+
+
+# As root, `faces --out /dev/full` replaced the device: a FIFO stands for it (rename over it)
+add(Case("faces-out-is-a-fifo", "output-paths",
+         model_case(["faces", "--n", "1", "--caregivers", "1", "--out", "f.md"], _fifo("f.md")),
+         names="f.md"))
+add(Case("parity-out-is-a-link-to-a-fifo", "output-paths",
+         model_case(["parity", "--cases", "1", "--objects", "1", "--out", "link.md"],
+                    _fifo("f.md", "link.md")), names="link.md"))
+add(Case("closed-loop-out-is-a-fifo", "output-paths",
+         model_case(["closed-loop", "m.npz", "--datasets", "ds.npz", "--objects", "1",
+                     "--trials", "1", "--out", "f.md"], _fifo("f.md")), names="f.md"))
+add(Case("datasets-make-out-is-a-fifo", "output-paths",
+         model_case(["datasets", "make", "--n", "1", "--quiet", "f.npz"], _fifo("f.npz")),
+         names="f.npz"))
+for _cmd, _argv in (("evaluate", EVALUATE), ("closed-loop", PROC_OUT["closed-loop"][0]),
+                    ("follow", PROC_OUT["follow"][0]),
+                    ("faces", PROC_OUT["faces"][0])):
+    add(Case(f"{_cmd}-out-empty-string", "output-paths", model_case([*_argv, "--out", ""]),
+             names="--out"))
+
+_HELD: list = []  # output locks a case holds while it runs (released at exit)
+atexit.register(lambda: [held.__exit__(None, None, None) for held in reversed(_HELD)])
+
+
+def _hold_output(rel: str) -> Callable[[Path], None]:
+    """An edit: hold the output lock of ``rel``, as another command writing it would.
+
+    A tree without output locks has nothing to hold: there the case runs unlocked.
+    """
+    def edit(tmp: Path) -> None:
+        try:
+            from jointattention._files import output_lock
+        except ImportError:
+            return
+        held = output_lock(tmp / rel)
+        held.__enter__()
+        _HELD.append(held)
+    return edit
+
+
+add(Case("evaluate-out-written-by-another", "output-paths",
+         model_case([*EVALUATE, "--out", "out"], _hold_output("out")),
+         names="another command"))
+add(Case("parity-out-written-by-another", "output-paths",
+         model_case(["parity", "--cases", "1", "--objects", "1", "--out", "t.md"],
+                    _hold_output("t.md")), names="another command"))
+
+
+def _damaged_install(name: str, content: bytes | None) -> Callable[[Path], None]:
+    """An edit: a copy of the package under test in ``pkg`` with data file ``name`` damaged.
+
+    ``content``: the file's new bytes; None: removed. The case's PYTHONPATH is ``pkg``.
+    """
+    def edit(tmp: Path) -> None:
+        shutil.copytree(SRC / "jointattention", tmp / "pkg" / "jointattention",
+                        ignore=shutil.ignore_patterns("__pycache__"))
+        target = tmp / "pkg" / "jointattention" / "data" / name
+        if content is None:
+            target.unlink()
+        else:
+            target.write_bytes(content)
+    return edit
+
+
+def _shipped_bytes(name: str) -> bytes:
+    return (SRC / "jointattention" / "data" / name).read_bytes()
+
+
+INSTALL_ENV = {"PYTHONPATH": "pkg", "PYTHONDONTWRITEBYTECODE": "1"}
+for _name, _tag, _content in (
+    ("face_detection_short_range.tflite", "truncated",
+     lambda: _shipped_bytes("face_detection_short_range.tflite")[:4096]),
+    ("face_detection_short_range.tflite", "missing", lambda: None),
+    ("blazeface_calibration.npz", "random-bytes", random_bytes),
+    ("blazeface_calibration.npz", "missing", lambda: None),
+    ("blazeface_calibration.npz", "no-weights",
+     lambda: npz_bytes({"stages": np.zeros((1, 2)), "meta": np.array("{}")})),
+):
+    add(Case(f"follow-installed-{_name.split('.')[0].replace('_', '-')}-{_tag}",
+             "corrupt-files",
+             (lambda n, c: model_case(["follow", "m.npz", "img.png"],
+                                      lambda tmp: _damaged_install(n, c())(tmp)))(
+                 _name, _content),
+             names=f"{_name}|reinstall", env=INSTALL_ENV, subprocess_only=True,
+             check=lambda tmp, text: "reinstall" in text))
+add(Case("datasets-check-installed-caregiver-125-truncated", "corrupt-files",
+         lambda tmp: (_damaged_install("caregiver_125.npz",
+                                       _shipped_bytes("caregiver_125.npz")[:1000])(tmp),
+                      ["datasets", "check"])[-1],
+         names="caregiver_125.npz", env=INSTALL_ENV, subprocess_only=True,
+         check=lambda tmp, text: "reinstall" in text))
+
+# In range, beyond the machine: 539 GiB of replay memory (1.1 kB features, 10 million trials)
+HUGE_REPLAY = ('[model]\nlearner = "population"\n\n[model.population]\n'
+               "replay_capacity = 10000000\ncell_px = 2\nn_orientations = 36")
+add(Case("train-population-replay-capacity-in-range-beyond-memory", "work-bounds",
+         files_case({"c.toml": tiny_toml(sections=HUGE_REPLAY)},
+                    ["train", "--config", "c.toml", "--condition", "n1", "--quiet", "--out",
+                     "m.npz"]), names="replay_capacity"))
+add(config_case("reproduce-population-replay-capacity-in-range-beyond-memory", "work-bounds",
+                tiny_toml(sections=HUGE_REPLAY), "reproduce", names="replay_capacity"))
+
+
+def _frozen_huge_replay(tmp: Path) -> None:
+    """m.npz: the shipped model, its configuration naming a 10-million-trial replay memory."""
+    with np.load(tmp / "m.npz") as z:
+        arrays = {k: z[k] for k in z.files}
+    meta = json.loads(str(arrays["meta"]))
+    meta["config"] = re.sub(r"replay_capacity = \d+", "replay_capacity = 10000000",
+                            meta["config"])
+    arrays["meta"] = np.array(json.dumps(meta))
+    (tmp / "m.npz").write_bytes(npz_bytes(arrays))
+
+
+# A fresh process: its trials may compile the kernels first (tens of seconds, once a machine)
+add(Case("evaluate-frozen-model-of-a-huge-replay-memory", "work-bounds",
+         model_case(EVALUATE, _frozen_huge_replay), expect="ok",
+         check=lambda tmp, text: "of the ceiling" in text, subprocess_only=True))
+add(Case("follow-frozen-model-of-a-huge-replay-memory", "work-bounds",
+         model_case(["follow", "m.npz", "img.png"], _frozen_huge_replay), expect="ok",
+         check=lambda tmp, text: '"command_deg"' in text))
+
+# Contradictory options: one line naming both
+for _face in ("haar", "template"):
+    add(Case(f"follow-landmarks-only-with-face-{_face}", "cli-args",
+             model_case(["follow", "m.npz", "img.png", "--face", _face, "--landmarks-only"]),
+             names="--landmarks-only", check=lambda tmp, text: "--face" in text))
+add(Case("evaluate-poses-without-caregivers", "cli-args",
+         model_case([*EVALUATE, "--poses", "10"]), names="--poses",
+         check=lambda tmp, text: "--caregivers" in text))
+add(Case("datasets-make-overwrites-its-caregivers-of", "cli-args",
+         model_case(["datasets", "make", "--n", "2", "--seed", "7", "--quiet",
+                     "--caregivers-of", "ds.npz", "./ds.npz"]), names="--caregivers-of"))
+
+
+# No output before the verdict
+def _windows_20x20(tmp: Path) -> None:
+    """w20.npz: five data sets whose face windows are 20x20 (a robot's recording: no seed)."""
+    arrays = small_arrays(5)
+    arrays["face"] = arrays["face"][:, :20, :20].copy()
+    arrays["meta"] = np.array(json.dumps({"generator": "a robot"}))
+    (tmp / "w20.npz").write_bytes(npz_bytes(arrays))
+
+
+add(Case("closed-loop-windows-20x20-refused-before-any-bar", "messages",
+         model_case(["closed-loop", "m.npz", "--datasets", "w20.npz", "--objects", "1",
+                     "--trials", "1"], _windows_20x20), names="20x20"))
+add(Case("datasets-import-missing-folder-refused-before-any-bar", "messages",
+         files_case({}, ["datasets", "import", "missing", "--out", "x.npz"]),
+         names="missing"))
+add(api_case("gym-make-v2-bad-argument-without-out-of-date-warning", "messages",
+             "import warnings\n"
+             "with warnings.catch_warnings(record=True) as caught:\n"
+             "    import gymnasium as gym\n"
+             "    import jointattention.env\n"
+             "    try:\n"
+             "        gym.make('JointAttention-v2', n_objects=2.5)\n"
+             "    finally:\n"
+             "        noise = [str(w.message) for w in caught if 'out of date' in str(w.message)]\n"
+             "        if noise:\n"
+             "            raise RuntimeError('warned before the error: ' + noise[0])\n",
+             names="n_objects", subprocess_only=True))
+
+
 def _check_unique() -> None:
     seen: set[str] = set()
     for case in CASES:

@@ -15,10 +15,12 @@ boxes above ``min_score`` are kept after non-maximum suppression.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from importlib import resources
 
 import cv2
 import numpy as np
+
+from .._readers import shipped_path
+from ..errors import FileError
 
 __all__ = ["INPUT_SIDE_PX", "LANDMARKS", "MODEL_FILE", "BlazeFace", "Detection"]
 
@@ -74,8 +76,12 @@ class BlazeFace:
         if not 0 < nms_iou <= 1:
             raise ValueError(f"nms_iou {nms_iou}: expected a number in (0, 1]")
         self.min_score, self.nms_iou = min_score, nms_iou
-        with resources.as_file(resources.files("jointattention.data") / MODEL_FILE) as path:
+        path = shipped_path(MODEL_FILE)  # its sum checked: a damaged one is one line
+        try:
             self._net = cv2.dnn.readNetFromTFLite(str(path))
+        except cv2.error as err:  # e.g. an OpenCV that reads no TFLite
+            raise FileError(f"{path}: OpenCV cannot read it ({str(err).strip()[-80:]}); "
+                            "expected BlazeFace's TFLite network") from None
         self._outputs = self._net.getUnconnectedOutLayersNames()
         self._anchors = _anchors()
 

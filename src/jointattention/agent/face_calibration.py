@@ -18,11 +18,13 @@ from __future__ import annotations
 
 import json
 from dataclasses import dataclass
-from importlib import resources
 
 import cv2
 import numpy as np
 
+from .._checks import short_repr
+from .._readers import loads_json, read_npz, shipped_path
+from ..errors import FileError
 from .blazeface import Detection
 
 __all__ = ["CALIBRATION_FILE", "CROP", "SIDE_PX", "Calibration"]
@@ -119,9 +121,15 @@ class Calibration:
     @classmethod
     def load(cls, path=None) -> Calibration:
         """The calibration at ``path``; None: the one shipped with the package."""
+        what = "a BlazeFace calibration .npz (weights, stages, meta)"
         if path is None:
-            with resources.as_file(resources.files("jointattention.data")
-                                   / CALIBRATION_FILE) as p:
-                return cls.load(p)
-        with np.load(path) as f:
-            return cls(f["weights"], f["stages"], json.loads(str(f["meta"])))
+            path = shipped_path(CALIBRATION_FILE)
+        f = read_npz(path, what)
+        try:
+            meta = loads_json(str(f["meta"]))
+            weights, stages = f["weights"].astype(float), f["stages"].astype(float)
+        except (KeyError, ValueError, TypeError) as err:
+            raise FileError(f"{path}: {short_repr(str(err))}; expected {what}") from None
+        if not isinstance(meta, dict):
+            raise FileError(f"{path}: meta is not a JSON object; expected {what}")
+        return cls(weights, stages, meta)

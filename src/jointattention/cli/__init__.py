@@ -21,6 +21,7 @@ from .._version import __version__
 from ..errors import JointAttentionError
 from ..world.gl import suggested_backend
 from . import evaluate, robot, run, vision, world
+from ._common import output_place
 
 __all__ = ["build_parser", "main"]
 
@@ -81,7 +82,8 @@ def main(argv: list[str] | None = None) -> int:
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGTERM, _terminate)
     try:
-        args.func(args)
+        with output_place(args):  # judged before any work; held until the command ends
+            args.func(args)
     except JointAttentionError as err:
         message = str(err).replace("\n", "\\n")  # one line, whatever a name held
         print(f"jointattention: error: {message}", file=sys.stderr)

@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import argparse
 import os
+from collections.abc import Iterator
+from contextlib import contextmanager
 
-from ..jobs.progress import CellBar
+from ..jobs.progress import CellBar, LazyBar
 
-__all__ = ["CellBar", "add_backend", "add_cell", "add_config", "add_max_cells", "int_in",
-           "workers"]
+__all__ = ["CellBar", "LazyBar", "add_backend", "add_cell", "add_config", "add_max_cells",
+           "int_in", "output_place", "workers"]
 
 
 def int_in(lo: int, hi: int):
@@ -61,6 +63,29 @@ def add_max_cells(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-cells", type=int_in(1, 10**9), default=100_000,
                    help="refuse runs of more cells than this, before anything runs "
                         "(default: 100,000)")
+
+
+@contextmanager
+def output_place(args: argparse.Namespace) -> Iterator[None]:
+    """Check the command's output place before any work, and hold it while the command runs.
+
+    A command declares its output with ``set_defaults(out_kind="file" | "folder" | "run")``
+    (and ``out_what``, if it is not ``--out``); "run": a run folder, which the run locks
+    itself (:func:`~jointattention._files.folder_lock`). A command given no output is let be.
+    """
+    from .._files import check_writable, output_lock
+
+    kind, out = getattr(args, "out_kind", None), getattr(args, "out", None)
+    if kind is None or out is None:
+        yield
+        return
+    what = getattr(args, "out_what", "--out")
+    check_writable(out, "folder" if kind == "run" else kind, what)
+    if kind == "run":
+        yield
+        return
+    with output_lock(out, what):
+        yield
 
 
 def workers(args: argparse.Namespace) -> int:

@@ -14,13 +14,14 @@ from pathlib import Path
 from .._files import check_writable
 from ..agent.finders import DEFAULT_FACE, FACE_METHODS
 from ..errors import ArgumentError
-from ._common import int_in
+from ._common import LazyBar, int_in
 
 __all__ = ["add_commands"]
 
 COLUMNS = ("name", "n_sets", "n_identities", "n_objects", "n_trials", "success", "ceiling",
            "fraction_of_ceiling", "median_error_deg", "p90_error_deg",
            "share_identities_over_10deg", "novelty_median", "novelty_max")
+POSES = 25  # evaluate --caregivers: data sets per caregiver, by default
 
 
 def _number(value):
@@ -36,6 +37,9 @@ def _cmd_evaluate(args: argparse.Namespace) -> None:
     if (args.datasets is None) == (args.caregivers is None):
         raise ArgumentError("expected either --datasets FILE or --caregivers K (with --seed S): "
                             "the held-out data sets to measure the model on")
+    if args.poses is not None and args.caregivers is None:  # it would be ignored
+        raise ArgumentError(f"--poses {args.poses} conflicts with --datasets: it is the data "
+                            "sets recorded per caregiver; expected it with --caregivers K")
     out = None if args.out is None else check_writable(args.out, "folder")
     model = load_model(args.model)
     known = learned_from(model, str(args.model))
@@ -46,10 +50,10 @@ def _cmd_evaluate(args: argparse.Namespace) -> None:
 
         from ..experiment.held_out import held_out_datasets
 
-        n = args.caregivers * args.poses
-        with tqdm(total=n, desc="recording held-out data sets", unit="set",
-                  disable=args.quiet or args.json) as bar:
-            ds = held_out_datasets(model.config.world, args.caregivers, args.poses, args.seed,
+        poses = POSES if args.poses is None else args.poses
+        with tqdm(total=args.caregivers * poses, desc="recording held-out data sets",
+                  unit="set", disable=args.quiet or args.json) as bar:
+            ds = held_out_datasets(model.config.world, args.caregivers, poses, args.seed,
                                    progress=lambda i: bar.update(1))
         name = f"{args.caregivers} unseen caregivers (held-out seed {args.seed})"
     result = evaluate_agent(model.agent, ds, model.config, name=name, n_objects=args.objects,
@@ -99,9 +103,10 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
             datasets = model_datasets(model, args.model, progress=lambda i: bar.update(1))
     else:
         from ..datasets import load
-        from ..jobs.closed_loop import caregivers_shown
+        from ..jobs.closed_loop import caregivers_shown, check_windows
 
         datasets = load(args.datasets)
+        check_windows(datasets, model, f"--datasets {args.datasets}")  # before any bar
         caregivers_shown(datasets, model.config.world)  # who posed them, before rendering
     if args.out:
         check_writable(args.out, "file")
@@ -109,9 +114,10 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
     rows = list(TABLE_HEAD)
     start = time.perf_counter()
     for n in args.objects:
-        with tqdm(total=args.trials, desc=f"{n} objects", unit="trial") as bar:
+        # drawn at the first trial: a refusal before it (e.g. OpenGL) shows no bar
+        with LazyBar(total=args.trials, desc=f"{n} objects", unit="trial") as bar:
             r = closed_loop(model, n, args.trials, seed=args.seed, face=args.face,
-                            progress=lambda i: bar.update(1), datasets=datasets)
+                            progress=bar.update_to, datasets=datasets)
         rows.append(r.row())
     where = ("its own data sets" if args.datasets is None else
              f"the data sets of {args.datasets}")
@@ -151,8 +157,8 @@ def add_commands(sub) -> None:
     p.add_argument("--caregivers", type=int_in(1, 1000), metavar="K",
                    help="instead: record K caregivers from the held-out stream (one no "
                         "training recording uses) in the model's world, with rendering")
-    p.add_argument("--poses", type=int_in(1, 10_000), default=25,
-                   help="with --caregivers: data sets per caregiver (default: 25)")
+    p.add_argument("--poses", type=int_in(1, 10_000),
+                   help=f"with --caregivers: data sets per caregiver (default: {POSES})")
     p.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
                    help="seed of the held-out recording and of the trials (default: 0)")
     p.add_argument("--objects", type=int_in(1, 20), default=5,
@@ -162,7 +168,7 @@ def add_commands(sub) -> None:
     p.add_argument("--out", help="folder for evaluation.csv and evaluation.json")
     p.add_argument("--json", action="store_true", help="print one JSON object instead")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd_evaluate)
+    p.set_defaults(func=_cmd_evaluate, out_kind="folder")
 
     p = sub.add_parser(
         "closed-loop", help="a saved model driving the rendered head through images alone",
@@ -188,4 +194,4 @@ def add_commands(sub) -> None:
                         "rendered (e.g. unseen ones: datasets make --held-out); default: the "
                         "model's own")
     p.add_argument("--out", help="also write the table to this Markdown file")
-    p.set_defaults(func=_cmd_closed_loop)
+    p.set_defaults(func=_cmd_closed_loop, out_kind="file")

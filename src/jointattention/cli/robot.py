@@ -11,7 +11,7 @@ from pathlib import Path
 from .._files import check_writable
 from ..agent.finders import DEFAULT_FACE, FACE_METHODS
 from ..errors import ArgumentError, FileError
-from ._common import add_cell, add_config, int_in
+from ._common import LazyBar, add_cell, add_config, int_in
 
 __all__ = ["add_commands", "add_import"]
 
@@ -25,6 +25,7 @@ def _cmd_train(args: argparse.Namespace) -> None:
     from ..config import load_config
     from ..deploy.saved import check_savable
     from ..experiment.cells import datasets_of
+    from ..experiment.preflight import check_memory
     from ..experiment.probes import angle_errors
     from ..experiment.training import train
 
@@ -34,6 +35,7 @@ def _cmd_train(args: argparse.Namespace) -> None:
         raise FileError(f"{args.out}: expected a model file name ending in .npz")
     check_writable(args.out, "file")
     ds = datasets_of(config)  # a bad data-set file is refused before learning
+    check_memory(config, [args.condition])  # an in-range capacity may not fit this machine
     with tqdm(total=config.experiment.n_steps, desc="learning", unit="step",
               disable=args.quiet) as bar:
         model = train(config, args.condition, args.seed_index,
@@ -104,6 +106,10 @@ def _cmd_follow(args: argparse.Namespace) -> None:
     if sum(x is not None and x != [] for x in (args.images, args.video, args.camera)) != 1:
         raise ArgumentError("follow: expected IMAGE files, --video FILE or --camera N (one "
                             "of them)")
+    if args.landmarks_only and args.face != "blazeface":  # the others have no landmarks
+        raise ArgumentError(f"--landmarks-only conflicts with --face {args.face}: it places "
+                            "BlazeFace's window; expected --face blazeface, or no "
+                            "--landmarks-only")
     follower = GazeFollower.load(args.model, face=args.face, min_score=args.min_score,
                                  refine=not args.landmarks_only)
     theta = np.deg2rad(args.theta_deg)
@@ -131,8 +137,6 @@ def _cmd_follow(args: argparse.Namespace) -> None:
 
 
 def _cmd_datasets_import(args: argparse.Namespace) -> None:
-    from tqdm import tqdm
-
     from ..config import load_config
     from ..datasets import load, save
     from ..recordings import import_recording
@@ -147,12 +151,13 @@ def _cmd_datasets_import(args: argparse.Namespace) -> None:
 
         template = face_template(load(args.template).face)
     fw = config.world.face_window
-    with tqdm(desc="images", unit="image", disable=args.quiet) as bar:
+    # drawn at the first image: a missing folder or a bad table is refused with no bar
+    with LazyBar(desc="images", unit="image", disable=args.quiet) as bar:
         ds, missed = import_recording(args.folder, face=args.face, template=template,
                                       face_size_px=(fw.width_px, fw.height_px),
                                       min_score=(config.detector.face_min_score
                                                  if args.face == "template" else None),
-                                      progress=lambda i: bar.update(i - bar.n))
+                                      progress=bar.update_to)
     for m in missed:
         print(f"jointattention: warning: row {m.row} ({m.image}): no face found; left out",
               file=sys.stderr)
@@ -179,7 +184,7 @@ def add_import(dsub) -> None:
                    help="with --face template: the mean face of these data sets as the template")
     q.add_argument("--out", required=True, help="output data-set file, ending in .npz")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
-    q.set_defaults(func=_cmd_datasets_import)
+    q.set_defaults(func=_cmd_datasets_import, out_kind="file")
 
 
 def add_commands(sub) -> None:
@@ -191,7 +196,7 @@ def add_commands(sub) -> None:
     add_cell(p)
     p.add_argument("--out", required=True, help="the model file, ending in .npz")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd_train)
+    p.set_defaults(func=_cmd_train, out_kind="file")
 
     p = sub.add_parser(
         "follow", help="apply a saved model to camera images: where to look",
@@ -219,4 +224,4 @@ def add_commands(sub) -> None:
                    help="place BlazeFace's window by its landmarks alone, without the pixel "
                         "refinements learned on the simulated heads (for photographs of people)")
     p.add_argument("--out", help="folder for the overlay images (default: none written)")
-    p.set_defaults(func=_cmd_follow)
+    p.set_defaults(func=_cmd_follow, out_kind="folder")

@@ -130,7 +130,7 @@ def add_commands(sub) -> None:
                         "seed_<i>.npz (the bootstrap model; see jointattention follow)")
     add_backend(p)
     add_max_cells(p)
-    p.set_defaults(func=_cmd_reproduce)
+    p.set_defaults(func=_cmd_reproduce, out_kind="run")
 
     p = sub.add_parser(
         "sweep", help="run a grid of settings x conditions x seeds from a TOML spec",
@@ -142,7 +142,7 @@ def add_commands(sub) -> None:
     p.add_argument("--out", help="output folder (default: runs/<SPEC's name>)")
     add_backend(p)
     add_max_cells(p)
-    p.set_defaults(func=_cmd_sweep)
+    p.set_defaults(func=_cmd_sweep, out_kind="run")
 
     p = sub.add_parser(
         "report", help="one self-contained HTML page of a run folder",
@@ -154,7 +154,7 @@ def add_commands(sub) -> None:
     p.add_argument("--screenshot", metavar="FILE.png",
                    help="also draw the top of the page into FILE.png with a headless Chromium "
                         "(how docs/report_screenshot.png is made from the demo's run)")
-    p.set_defaults(func=_cmd_report)
+    p.set_defaults(func=_cmd_report, out_kind="file")
 
     p = sub.add_parser(
         "bench", help="print speeds: rendering, projection, agent steps, preset wall times",

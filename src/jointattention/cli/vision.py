@@ -52,12 +52,14 @@ def _cmd_gaze(args: argparse.Namespace) -> None:
 
     from ..config import condition_named, load_config
     from ..experiment.cells import datasets_of
+    from ..experiment.preflight import check_memory
     from ..jobs.learned import write_gaze_figures
 
     config = load_config(args.preset if args.config is None else args.config)
     condition_named(config, args.condition)  # all checked before the progress bar
     check_writable(args.out, "folder")
     datasets_of(config)
+    check_memory(config, [args.condition])
     gl.mujoco()  # Fig. 7 is rendered: refused before learning if OpenGL cannot start
     with tqdm(total=config.experiment.n_steps, desc="learning", unit="step") as bar:
         numbers = write_gaze_figures(config, args.condition, args.seed_index, Path(args.out),
@@ -124,7 +126,7 @@ def add_commands(sub) -> None:
     p.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
                    help="seed of the scenes (default: 0)")
     p.add_argument("--out", help="also write the table to this Markdown file")
-    p.set_defaults(func=_cmd_parity)
+    p.set_defaults(func=_cmd_parity, out_kind="file")
 
     p = sub.add_parser(
         "detect", help="draw what the robot's detectors find on photographs",
@@ -136,7 +138,7 @@ def add_commands(sub) -> None:
                    help="face finder: OpenCV's Haar cascade (default, for people) or the "
                         "template of the shipped data sets' caregiver (for the simulation)")
     p.add_argument("--out", default="runs/detect", help="output folder (default: runs/detect)")
-    p.set_defaults(func=_cmd_detect)
+    p.set_defaults(func=_cmd_detect, out_kind="folder")
 
     p = sub.add_parser(
         "faces", help="compare the face finders on rendered faces and photographs",
@@ -152,7 +154,7 @@ def add_commands(sub) -> None:
     p.add_argument("--seed", type=int_in(0, 2**63 - 1), default=0,
                    help="seed of the held-out views (default: 0)")
     p.add_argument("--out", help="also write the table to this Markdown file")
-    p.set_defaults(func=_cmd_faces)
+    p.set_defaults(func=_cmd_faces, out_kind="file")
 
     p = sub.add_parser(
         "gaze", help="the paper's Fig. 6 and Fig. 7: what the learning module learned",
@@ -163,4 +165,4 @@ def add_commands(sub) -> None:
                     "fig7.gif (one rendered trial after learning) and gaze.json.")
     add_cell(p)
     p.add_argument("--out", default="runs/gaze", help="output folder (default: runs/gaze)")
-    p.set_defaults(func=_cmd_gaze)
+    p.set_defaults(func=_cmd_gaze, out_kind="folder")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 
 from .._files import check_writable
 from ..errors import JointAttentionError
@@ -46,6 +47,11 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
         if args.caregivers != 1:
             raise JointAttentionError("--caregivers-of: the file's caregivers pose; expected no "
                                       "--caregivers")
+        if (os.path.exists(args.out) and os.path.exists(args.caregivers_of)
+                and os.path.samefile(args.out, args.caregivers_of)):
+            raise JointAttentionError(f"OUT {args.out} conflicts with --caregivers-of "
+                                      f"{args.caregivers_of}: the same file, which would be "
+                                      "overwritten by its own new poses; expected another OUT")
         identities = caregivers_of(args.caregivers_of, config.world)
         recorded = load(args.caregivers_of).meta
         if recorded.get("seed") == args.seed and recorded.get("stream", "world") == stream:
@@ -95,7 +101,7 @@ def add_commands(sub) -> None:
     p.add_argument("--caregivers", type=int_in(0, 1000), default=0, metavar="K",
                    help="also write identities.png: the faces of K caregivers of the world, "
                         "one new scene each (default: 0, none)")
-    p.set_defaults(func=_cmd_render)
+    p.set_defaults(func=_cmd_render, out_kind="folder")
 
     p = sub.add_parser("datasets", help="make or check caregiver data sets",
                        description="Caregiver data sets in the paper's protocol.")
@@ -127,7 +133,7 @@ def add_commands(sub) -> None:
                         "sets split evenly among them")
     q.add_argument("--quiet", action="store_true", help="no progress bar")
     q.add_argument("out", metavar="OUT", help="output file, ending in .npz")
-    q.set_defaults(func=_cmd_datasets_make)
+    q.set_defaults(func=_cmd_datasets_make, out_kind="file", out_what="OUT")
     q = dsub.add_parser("check", help="validate a data-set file and summarise it",
                         description="Validate FILE (default: the shipped data sets).")
     q.add_argument("file", metavar="FILE", nargs="?", help="a data-set .npz file")

@@ -29,6 +29,8 @@ Layer 7 (beside the analysis, which it never imports): it may import the runner 
 below it.
 """
 
+import warnings
+
 try:
     import gymnasium as gym
 except ImportError:  # pragma: no cover - depends on the installed extras
@@ -72,3 +74,9 @@ for _id, _kwargs in _variants().items():
         gym.register(id=_id, entry_point="jointattention.env:JointAttentionEnv",
                      vector_entry_point="jointattention.env.vector:JointAttentionVectorEnv"
                      if fast else None, max_episode_steps=40, kwargs=_kwargs)
+
+# v2 stays current: v3 is v2 rendered faster, not its successor, so Gymnasium's "out of date"
+# warning (it warns of any lower version) would be noise before every make of a v2 id that
+# has a v3. v1 still warns: v2 replaces it.
+warnings.filterwarnings("ignore", message=r".*The environment JointAttention(-N\d+)?-v2 is out "
+                        "of date", category=DeprecationWarning)

@@ -12,10 +12,10 @@ for others each worker records them once (rendering) unless the configuration na
 from __future__ import annotations
 
 from collections.abc import Callable
-from importlib import resources
 
 import numpy as np
 
+from .._readers import shipped_path
 from ..config import ConditionConfig, Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets, load
 from ..errors import ConfigError
@@ -51,8 +51,7 @@ def shipped_held_out(kind: str) -> CaregiverDatasets:
     src/jointattention/data/caregiver_125.npz --seed 0``; ``unseen caregivers``:
     ``jointattention datasets make --n 400 --caregivers 16 --held-out --seed 0``.
     """
-    with resources.as_file(resources.files("jointattention.data") / SHIPPED[kind]) as p:
-        return load(p)
+    return load(shipped_path(SHIPPED[kind]))
 
 
 def held_out_datasets(world: WorldConfig, caregivers: int, poses: int, seed: int,

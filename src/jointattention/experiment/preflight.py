@@ -1,21 +1,23 @@
 """Everything a run needs, checked before anything is written.
 
-The configuration checks itself when it is built; here are the checks that need the disk and
-the whole run: the output folders, the data sets (loaded and validated) and the bound on
-work. A run that fails them writes nothing.
+The configuration checks itself when it is built; here are the checks that need the disk, the
+machine and the whole run: the output folders, the data sets (loaded and validated), the bound
+on work and the memory a cell's learning needs. A run that fails them writes nothing.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Mapping
 from pathlib import Path
 
-from ..config import Config
+from ..config import Config, condition_named, model_options
 from ..errors import ConfigError
 from .cells import datasets_of
 from .results import check_run_dir
 
-__all__ = ["MAX_CELLS", "check_runs", "n_cells"]
+__all__ = ["MAX_CELLS", "check_memory", "check_runs", "free_memory_bytes", "learning_bytes",
+           "n_cells"]
 
 MAX_CELLS = 100_000  # the beyond preset has 250; raise it with --max-cells / max_cells
 
@@ -25,12 +27,71 @@ def n_cells(config: Config) -> int:
     return len(config.experiment.conditions) * config.experiment.n_seeds
 
 
+def learning_bytes(options, face_size_px: tuple[int, int]) -> tuple[int, str]:
+    """The bytes a model's learning state takes at most, and the option that sizes it.
+
+    Only the states that grow with an option: the population code's replay memory and the
+    episodic memory (each ``capacity`` trials long); the rest are kilobytes. ("", 0) for
+    the others.
+    """
+    learner = getattr(options, "learner", None)
+    if learner == "population":
+        from ..agent.face_features import n_features
+        from ..models.population import PopulationModule
+
+        o = options.population
+        n = n_features(face_size_px, o.cell_px, o.n_orientations, o.features != "hog",
+                       o.features != "pixels")
+        return (PopulationModule.replay_bytes(n, o.replay_capacity),
+                f"model.population.replay_capacity = {o.replay_capacity:,}")
+    if learner == "memory":
+        o = options.memory
+        # codes, links (6), places (2) and counts per trial; the places left out likewise
+        per_trial = o.code_dims + 9 + (o.code_dims + 2) * o.leave_out_empty
+        return o.capacity * per_trial * 8, f"model.memory.capacity = {o.capacity:,}"
+    return 0, ""
+
+
+def free_memory_bytes() -> int | None:
+    """The memory free for a new allocation (Linux's MemAvailable); None if unknown."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def check_memory(config: Config, conditions: list[str] | None = None) -> None:
+    """Refuse, with the estimate, a cell whose learning needs more memory than is free.
+
+    ``conditions``: the names of the cells' conditions (default: all of the experiment's).
+    An option inside its range can still be more than this machine holds.
+    """
+    free = free_memory_bytes()
+    if free is None:
+        return
+    fw = config.world.face_window
+    for name in conditions or [c.name for c in config.experiment.conditions]:
+        options = model_options(config, condition_named(config, name))
+        need, option = learning_bytes(options, (fw.width_px, fw.height_px))
+        if need > free:
+            raise ConfigError(f"condition {name!r}: {option} needs about {need / 2**30:,.1f} GiB "
+                              f"of memory to learn, more than the {free / 2**30:,.1f} GiB free "
+                              "here; expected a smaller capacity")
+
+
 def check_runs(runs: Mapping[Path, Config], *, max_cells: int = MAX_CELLS) -> None:
     """Refuse, with one error naming what is wrong, runs into ``runs`` (folder -> config).
 
     Each folder must be new, empty, or a run folder of the same configuration and data sets;
-    each configuration's data sets must load; all the runs together must have at most
-    ``max_cells`` cells.
+    each configuration's data sets must load and each cell's learning fit in the memory free;
+    all the runs together must have at most ``max_cells`` cells.
     """
     total = sum(n_cells(config) for config in runs.values())
     if total > max_cells:
@@ -39,6 +100,7 @@ def check_runs(runs: Mapping[Path, Config], *, max_cells: int = MAX_CELLS) -> No
     checked = set()
     for out, config in runs.items():
         check_run_dir(Path(out), config)
+        check_memory(config)
         if config.datasets not in checked:
             datasets_of(config)
             checked.add(config.datasets)

@@ -16,6 +16,7 @@ from ..errors import FileError
 from .cells import datasets_file, datasets_of
 from .evaluate import who_posed
 from .held_out import final_held_out, run_cell_measured
+from .preflight import check_memory
 from .recorded import training_file
 from .results import datasets_sha256
 
@@ -40,6 +41,7 @@ def train(config: Config, condition: str, seed_index: int = 0,
     """
     cond = condition_named(check_config(config), condition)
     check_savable(config, condition)  # before learning, not after
+    check_memory(config, [condition])  # an in-range capacity may not fit this machine
     records, agent = _learn(config, cond, seed_index, progress)
     return LearnedModel(agent, config, condition, held_out=final_held_out(records),
                         **provenance(config))

@@ -23,6 +23,7 @@ from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..deploy.follower import GazeFollower
 from ..deploy.saved import LearnedModel
+from ..errors import DatasetError
 from ..experiment.cells import datasets_of, evaluator, random_scene
 from ..experiment.probes import angle_deg
 from ..experiment.trial import SceneTrial, run_trial
@@ -33,7 +34,19 @@ from ..world.recording import capture_face_window, caregivers_of
 from ..world.rendered import RenderedScenes
 
 __all__ = ["TABLE_HEAD", "ClosedLoopResult", "FollowingAgent", "caregivers_shown",
-           "closed_loop"]
+           "check_windows", "closed_loop"]
+
+
+def check_windows(ds: CaregiverDatasets, model: LearnedModel, where: str) -> None:
+    """Refuse data sets whose face windows are not the model's size, before any trial.
+
+    ``where``: how the data sets are named in the error.
+    """
+    fw = model.config.world.face_window
+    if ds.window_size_px != (fw.width_px, fw.height_px):
+        w, h = ds.window_size_px
+        raise DatasetError(f"{where}: face windows of {w}x{h} pixels; expected the model's "
+                           f"{fw.width_px}x{fw.height_px} (its world's face_window)")
 
 
 def caregivers_shown(ds: CaregiverDatasets, world: WorldConfig) -> list[Caregiver] | None:
@@ -114,6 +127,7 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
     """
     config = model.config
     ds = datasets if datasets is not None else datasets_of(config)
+    check_windows(ds, model, "datasets")
     people = caregivers_shown(ds, config.world)
     kin = HeadKinematics.from_config(config.world)
     evaluate = evaluator(config)

@@ -1,16 +1,17 @@
-"""A progress bar over a run's cells, then one status line per later phase.
+"""Progress bars: over a run's cells then one status line per later phase, and a lazy one.
 
 The runners report progress as messages (:func:`~jointattention.experiment.backends.run_jobs`,
 :func:`~.reproduce.reproduce`); :class:`CellBar` turns them into a tqdm bar on stderr. When the
 cells are done and a later phase begins (the ceilings, the tables and figures), the bar is
-closed first, so that a status line never lands inside it.
+closed first, so that a status line never lands inside it. :class:`LazyBar` is drawn at its
+first unit of work, so that a command refused before any work draws no bar.
 """
 
 from __future__ import annotations
 
 import sys
 
-__all__ = ["PHASES", "CellBar"]
+__all__ = ["PHASES", "CellBar", "LazyBar"]
 
 PHASES = {  # a runner's phase message, and the status line it shows
     "ceilings": "measuring the oracle ceilings",
@@ -58,3 +59,28 @@ class CellBar:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+class LazyBar:
+    """A tqdm progress bar drawn at its first update: a command refused before it draws none.
+
+    ``update_to(n)`` moves it to ``n`` done; the keywords are tqdm's.
+    """
+
+    def __init__(self, **kwargs):
+        self.kwargs, self.bar = kwargs, None
+
+    def update_to(self, n: int) -> None:
+        """Show ``n`` done (drawing the bar the first time)."""
+        if self.bar is None:
+            from tqdm import tqdm
+
+            self.bar = tqdm(**self.kwargs)
+        self.bar.update(n - self.bar.n)
+
+    def __enter__(self) -> LazyBar:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        if self.bar is not None:
+            self.bar.close()

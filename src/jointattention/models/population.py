@@ -92,11 +92,20 @@ class PopulationModule:
         self._x, self._features = np.empty(n_in), np.empty(self.n_features)
         self._score = np.empty(o.n_bins)
         self.direction_rad_ = 0.0
-        self.replay_features_ = np.zeros((o.replay_capacity, self.n_features))
-        self.replay_thetas_ = np.zeros((o.replay_capacity, 2))
-        self.replay_directions_ = np.zeros((o.replay_capacity, self.MAX_PLACES))
-        self.replay_counts_ = np.zeros(o.replay_capacity, np.int64)
+        self._replay_memory(0)  # sized when learning first needs it: a loaded model never does
         self.n_kept_ = 0
+
+    def _replay_memory(self, capacity: int) -> None:
+        """Make the replay memory's arrays, ``capacity`` trials long (zeros)."""
+        self.replay_features_ = np.zeros((capacity, self.n_features))
+        self.replay_thetas_ = np.zeros((capacity, 2))
+        self.replay_directions_ = np.zeros((capacity, self.MAX_PLACES))
+        self.replay_counts_ = np.zeros(capacity, np.int64)
+
+    @classmethod
+    def replay_bytes(cls, n_features: int, capacity: int) -> int:
+        """The bytes of a full replay memory (see :meth:`_replay_memory`)."""
+        return capacity * (n_features + 2 + cls.MAX_PLACES + 1) * 8
 
     def learning_only(self) -> tuple[np.ndarray, ...]:
         """The arrays that only learning reads (the replay memory): a frozen copy needs none."""
@@ -145,6 +154,8 @@ class PopulationModule:
     def arrays(self) -> PopulationArrays:
         """The module's state as the kernels take it (its own arrays; see ``sync``)."""
         o, p, f = self.host.options.population, self.population, self.feature_stats
+        if self.host.learning and len(self.replay_counts_) < o.replay_capacity:
+            self._replay_memory(o.replay_capacity)  # nothing kept yet: it was never learning
         return PopulationArrays(
             self.spec, p.kappa, float(o.learning_rate), float(o.hidden_rate),
             float(o.average_rate), p.readout_code, bool(o.standardise),
