@@ -55,7 +55,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
     a list gives one seed (or None) per sub-environment. A seed of another kind, a list of
     another length or a malformed action (not ``num_envs`` x 2 finite numbers; booleans are
     not numbers here) raises one :class:`~jointattention.errors.ArgumentError` naming it, as
-    the single environment does.
+    the single environment does. The environment pickles and deep-copies at any time, and a
+    copy continues every episode as the original would.
     ``render()`` (``render_mode="rgb_array"``) shows the first sub-environment's face window.
     """
 
@@ -257,6 +258,18 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
     def close_extras(self, **kwargs) -> None:
         """Nothing to free: no renderer."""
+
+    def __getstate__(self) -> dict:
+        """All of it but numba's list of the generators, which does not pickle.
+
+        The generators themselves pickle (their states are the list's: see ``_start``), so a
+        copy continues every episode as the original would; its list is made anew at its
+        first start.
+        """
+        return {**self.__dict__, "_rng_list": None}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
 
 
 def _masked(info: dict, mask: np.ndarray) -> dict:
