@@ -65,7 +65,7 @@ def test_report_renders_in_headless_chromium(run, tmp_path):
                     "--disable-background-networking", "--disable-component-update",
                     "--disable-sync", "--no-first-run", f"--user-data-dir={tmp_path / 'p'}",
                     "--window-size=1000,2400", f"--screenshot={shot}", page.as_uri()],
-                   check=True, capture_output=True, timeout=120)
+                   check=True, capture_output=True, timeout=600)
     import cv2
 
     img = cv2.imread(str(shot))
