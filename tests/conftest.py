@@ -1,4 +1,4 @@
-"""Shared fixtures: a world per test, and a skip where no off-screen OpenGL exists."""
+"""Shared fixtures: a world per test, a skip where no off-screen OpenGL exists, no deadlines."""
 
 from __future__ import annotations
 
@@ -6,8 +6,16 @@ import os
 
 import matplotlib
 import pytest
+from hypothesis import HealthCheck, settings
 
 from jointattention.world.gl import suggested_backend
+
+# No wall-clock limits in the tests (times are measured by `jointattention bench`): a first
+# example may compile a kernel or start a process, and the machine may be shared, so
+# Hypothesis's deadline and its too-slow health check would fail on load, not on behaviour.
+settings.register_profile("jointattention", deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])
+settings.load_profile("jointattention")
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from jointattention.agent.attention import attended_object, most_interesting, visual_feedback
@@ -73,6 +73,12 @@ def test_sigmoid_gate_is_a_rising_rate(t):
     t = np.sort(t)
     r = SigmoidGate(midpoint_steps=1e5, width_steps=2e4).rate_at(t)
     assert np.all((r >= 0) & (r <= 1)) and np.all(np.diff(r) >= 0)
+
+
+def test_hypothesis_keeps_no_deadline_in_this_suite():
+    """Hypothesis runs with conftest's profile: no deadline for a slow first example."""
+    assert settings.default.deadline is None
+    assert HealthCheck.too_slow in settings.default.suppress_health_check
 
 
 def test_gate_values():

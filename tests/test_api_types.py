@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -56,3 +58,36 @@ def test_a_config_argument_that_is_not_a_config_is_refused_by_name(name, value):
     """
     with pytest.raises(ArgumentError, match=r"^config .*: expected a Config"):
         CONFIG_ARGUMENTS[name](value)
+
+
+MODEL = Path(__file__).parents[1] / "docs" / "robot" / "paper_n5_seed0.npz"  # shipped
+OTHER_ARGUMENTS = {  # (call, the name its error must say); each a wrong kind, never run
+    "reproduce(workers='2')": (lambda: ja.reproduce(CONFIG, "/nonexistent/x", workers="2"),
+                               "workers"),
+    "reproduce(workers=2.5)": (lambda: ja.reproduce(CONFIG, "/nonexistent/x", workers=2.5),
+                               "workers"),
+    "run_experiment(workers=True)": (
+        lambda: ja.run_experiment(CONFIG, "/nonexistent/x", workers=True), "workers"),
+    "import_recording(face_size_px=0)": (
+        lambda: ja.import_recording("/nonexistent", face_size_px=0), "face_size_px"),
+    "import_recording(face_size_px=(30, 0))": (
+        lambda: ja.import_recording("/nonexistent", face_size_px=(30, 0)), "face_size_px"),
+    "import_recording(face='x')": (lambda: ja.import_recording("/nonexistent", face="x"),
+                                   "face"),
+    "import_recording(template='x')": (
+        lambda: ja.import_recording("/nonexistent", face="template", template="x"),
+        "template"),
+    "load_model(robot='x')": (lambda: ja.load_model(MODEL, robot="x"), "robot"),
+    "save_model('x', ...)": (lambda: ja.save_model("x", "/nonexistent/m.npz", config=CONFIG,
+                                                   condition="n5-sigmoid"), "agent"),
+    "run_cell(condition='x')": (lambda: ja.run_cell(CONFIG, "x", 0), "condition"),
+}
+
+
+@pytest.mark.parametrize("name", OTHER_ARGUMENTS)
+def test_an_argument_of_the_wrong_kind_is_one_named_error(name):
+    """Workers, sizes, finders, robots, agents and conditions of the wrong kind: one line."""
+    call, named = OTHER_ARGUMENTS[name]
+    with pytest.raises(ja.JointAttentionError, match=rf"^{named}[ =:]") as err:
+        call()
+    assert "\n" not in str(err.value) and "expected" in str(err.value)

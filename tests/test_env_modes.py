@@ -250,6 +250,47 @@ def test_the_native_vector_env_refuses_images_and_bad_actions():
             envs.step(bad)
 
 
+def test_the_native_vector_env_checks_seeds_and_refuses_boolean_actions():
+    """Seeds of the wrong kind, range or count, and boolean actions, are one named error."""
+    envs = gym.make_vec("JointAttentionFace-v2", num_envs=4,
+                        vectorization_mode="vector_entry_point")
+    for bad, named in (([1, 2], "2 seeds for 4"), (-1, r"seed=-1: .*\[0, "), (0.5, "seed=0.5"),
+                       (2**70, "seed="), (2**63 - 3, "seed="), (True, "seed=True"),
+                       ([0, 1, 2, -1], r"seed\[3\]"), ("x", "seed='x'")):
+        with pytest.raises(ArgumentError, match=named) as err:
+            envs.reset(seed=bad)
+        assert "\n" not in str(err.value)
+    envs.reset(seed=2**63 - 4)  # the last sub-environment's seed is the largest integer
+    first, _ = envs.reset(seed=[5, None, 6, None])
+    again, _ = envs.reset(seed=[5, 1, 6, 2])
+    assert np.array_equal(first["face"][[0, 2]], again["face"][[0, 2]])
+    with pytest.raises(ArgumentError, match="dtype bool"):
+        envs.step(np.ones((4, 2), bool))
+    one = JointAttentionEnv(obs_mode="face")
+    one.reset(seed=0)
+    with pytest.raises(ArgumentError, match="dtype bool"):
+        one.step(np.array([True, False]))
+
+
+@pytest.mark.parametrize("autoreset_mode", ["NextStep", "SameStep"])
+@pytest.mark.parametrize("env_id", ["JointAttentionFace-N5-v2", "JointAttentionDetections-N3-v1"])
+def test_a_copy_of_the_native_vector_env_continues_every_episode(env_id, autoreset_mode):
+    """Pickled or deep-copied mid-episode, the vector env's copy steps as the original does."""
+    envs = gym.make_vec(env_id, num_envs=4, vectorization_mode="vector_entry_point",
+                        autoreset_mode=autoreset_mode)
+    envs.reset(seed=3)
+    rng = np.random.default_rng(0)
+    for _ in range(25):
+        envs.step(rng.uniform(-1, 1, (4, 2)))
+    copies = [pickle.loads(pickle.dumps(envs)), copy.deepcopy(envs)]
+    actions = rng.uniform(-1, 1, (150, 4, 2))
+    original = [envs.step(a) for a in actions]
+    # episodes restart in the copied part: the copies' generators carry on too
+    assert sum(int((step[2] | step[3]).sum()) for step in original) > 20
+    for other in copies:
+        assert all(_equal(other.step(a), step) for a, step in zip(actions, original, strict=True))
+
+
 @pytest.mark.parametrize("env_id", ["JointAttentionFace-N5-v2", "JointAttentionDetections-N10-v1"])
 def test_same_step_autoreset_equals_a_sync_vector_env(env_id):
     """With autoreset_mode="SameStep" the native env restarts episodes as SyncVectorEnv does."""

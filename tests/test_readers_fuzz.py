@@ -17,7 +17,8 @@ from jointattention.errors import JointAttentionError
 from jointattention.jobs.sweep import load_sweep
 
 SETTINGS = settings(max_examples=60, deadline=None,
-                    suppress_health_check=[HealthCheck.function_scoped_fixture])
+                    suppress_health_check=[HealthCheck.function_scoped_fixture,
+                                           HealthCheck.too_slow])
 _names = itertools.count()
 
 # the members a model or data-set file has, with hostile arrays in them

@@ -314,7 +314,7 @@ for window, theta in cases:
 print("ok", np.hypot(*m.lm_command(np.zeros((h, w), np.uint8), (0.1, -0.1))) > 0)
 """
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          timeout=120)
+                          timeout=600)
     assert proc.returncode == 0, proc.stderr
     lines = proc.stdout.splitlines()
     assert lines[:6] == ["refused face_window"] * 6

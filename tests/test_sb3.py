@@ -47,6 +47,31 @@ def test_the_native_adapter_steps_as_sb3s_dummy_vec_env(env_id):
     assert episodes > 20
 
 
+def test_the_native_adapter_checks_its_arguments_at_the_door():
+    """Bad seeds, make_vec's own arguments and boolean actions are one named error line."""
+    from gymnasium.vector import AutoresetMode
+
+    from jointattention.errors import ArgumentError, ConfigError
+
+    env_id = "JointAttentionFace-N1-v2"
+    for seed in (-1, 0.5, 2**70, True, "x"):
+        with pytest.raises(ArgumentError, match=r"seed=.*expected an integer in \[0, "):
+            NativeVecEnv(env_id, num_envs=2, seed=seed)
+    for name, value in (("autoreset_mode", "NextStep"), ("vectorization_mode", "sync"),
+                        ("wrappers", [])):
+        with pytest.raises(ConfigError, match=f"{name}=.*expected it not given"):
+            NativeVecEnv(env_id, num_envs=2, **{name: value})
+    with pytest.raises(ConfigError, match="num_envs"):
+        NativeVecEnv(env_id, num_envs="2")
+    env = NativeVecEnv(env_id, num_envs=2, seed=0, autoreset_mode=AutoresetMode.SAME_STEP)
+    with pytest.raises(ArgumentError, match="seed=-1"):
+        env.seed(-1)
+    env.reset()
+    with pytest.raises(ArgumentError, match="dtype bool"):
+        env.step(np.ones((2, 2), bool))
+    env.step(np.zeros((2, 2), np.float32))  # still usable after a refusal
+
+
 def test_ppo_trains_through_the_native_adapter():
     """PPO learns a few rollouts on 64 native environments; SB3's evaluation runs on them."""
     from stable_baselines3 import PPO

@@ -24,11 +24,12 @@ def _shape_text(shape: tuple | None) -> str:
 
 
 def floats(name: str, value, shape: tuple | None, *, what: str = "numbers",
-           finite: bool = True) -> np.ndarray:
+           finite: bool = True, kinds: str = "biuf") -> np.ndarray:
     """``value`` as a C-contiguous float64 array of ``shape`` (None: any length; any shape).
 
-    Refused (ArgumentError naming ``name``) if it is not numeric, has another shape, or holds
-    NaN or infinity (unless ``finite`` is False).
+    Refused (ArgumentError naming ``name``) if it is not numeric (its dtype's kind not in
+    ``kinds``: "uf" refuses booleans too), has another shape, or holds NaN or infinity (unless
+    ``finite`` is False).
     """
     a = None
     if not isinstance(value, (str, bytes)):
@@ -36,7 +37,7 @@ def floats(name: str, value, shape: tuple | None, *, what: str = "numbers",
             a = np.asarray(value)
         except (TypeError, ValueError, OverflowError):  # ragged lists, huge integers
             a = None
-    ok = a is not None and a.dtype.kind in "biuf" and (shape is None or (
+    ok = a is not None and a.dtype.kind in kinds and (shape is None or (
         a.ndim == len(shape) and all(d is None or d == n
                                      for d, n in zip(shape, a.shape, strict=True))))
     if not ok or (finite and not np.isfinite(a).all()):

@@ -26,21 +26,25 @@ Rows whose face is not found are reported (:class:`Missed`), never silently drop
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import math
+import numbers
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
-from ._checks import check_path
+from ._arrays import floats
+from ._checks import check_path, short_repr
 from ._readers import read_image, read_text
 from ._version import __version__
 from .agent.faces import face_template, window_of
-from .agent.finders import DEFAULT_FACE, finder_for
+from .agent.finders import DEFAULT_FACE, check_finder, finder_for
+from .config import FaceWindowConfig
 from .datasets import CaregiverDatasets, default_datasets
-from .errors import DatasetError, FileError
+from .errors import ArgumentError, DatasetError, FileError
 
 __all__ = ["COLUMNS", "CSV_NAME", "MAX_ROWS", "Missed", "import_recording"]
 
@@ -49,6 +53,7 @@ COLUMNS = ("image", "pan_rad", "tilt_rad", "command_pan_rad", "command_tilt_rad"
 _TARGET = ("target_x_m", "target_y_m", "target_z_m")
 _OPTIONAL = (*_TARGET, "caregiver")
 MAX_ROWS = 1_000_000
+_WINDOW_FIELDS = {f.name: f for f in dataclasses.fields(FaceWindowConfig)}
 
 
 @dataclass(frozen=True)
@@ -131,6 +136,26 @@ def _checked(row: dict, i: int, where: Path, folder: Path) -> dict:
     return out
 
 
+def _window_size(value) -> tuple[int, int]:
+    """``face_size_px`` as (width, height) in world.face_window's range, else one ArgumentError."""
+    lo, hi = (_WINDOW_FIELDS["width_px"].metadata[k] for k in ("lo", "hi"))
+    pair = isinstance(value, (tuple, list)) and len(value) == 2
+    if not pair or not all(not isinstance(v, bool) and isinstance(v, numbers.Integral)
+                           and lo <= v <= hi for v in value):
+        raise ArgumentError(f"face_size_px={short_repr(value)}: expected (width, height), two "
+                            f"integers in [{lo}, {hi}] (world.face_window's range)")
+    return int(value[0]), int(value[1])
+
+
+def _template(value) -> np.ndarray:
+    """A face template: grey levels (h, w) of at least 4 x 4, as uint8; else one ArgumentError."""
+    a = floats("template", value, (None, None), what="grey levels from 0 to 255")
+    if min(a.shape) < 4 or a.min() < 0 or a.max() > 255:
+        raise ArgumentError(f"template: shape {a.shape}, values {a.min():g} to {a.max():g}; "
+                            "expected at least 4 x 4 grey levels from 0 to 255")
+    return np.rint(a).astype(np.uint8)
+
+
 def import_recording(folder: str | Path, *, face: str = DEFAULT_FACE,
                      template: np.ndarray | None = None, face_size_px: tuple[int, int] = (30, 25),
                      min_score: float | None = None,
@@ -145,6 +170,10 @@ def import_recording(folder: str | Path, *, face: str = DEFAULT_FACE,
     Every row and image is checked before the data sets are built; nothing is written here.
     """
     check_path(folder, "folder")
+    check_finder(face, min_score)
+    face_size_px = _window_size(face_size_px)
+    if template is not None:
+        template = _template(template)
     folder = Path(folder)
     if not folder.is_dir():
         raise FileError(f"{folder}: not a folder; expected a recording folder with "

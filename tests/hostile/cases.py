@@ -517,6 +517,32 @@ def png_bytes(width: int = 64, height: int = 48, *, idat: bytes | None = None) -
             + _chunk(b"IEND", b""))
 
 
+def rgb_png(image: np.ndarray) -> bytes:
+    """An RGB PNG of ``image`` (H, W, 3) uint8."""
+    rows = b"".join(b"\x00" + row.tobytes() for row in np.ascontiguousarray(image, np.uint8))
+    ihdr = struct.pack(">IIBBBBB", image.shape[1], image.shape[0], 8, 2, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + _chunk(b"IHDR", ihdr) + _chunk(b"IDAT", zlib.compress(rows))
+            + _chunk(b"IEND", b""))
+
+
+def face_png() -> bytes:
+    """A camera image holding the shipped data sets' mean face, 4x larger, on grey.
+
+    The template face finder (its template is that mean face) finds it.
+    """
+    face = np.rint(_shipped_arrays()["face"].astype(float).mean(axis=0))
+    big = np.kron(face, np.ones((4, 4)))
+    image = np.full((2 * big.shape[0], 2 * big.shape[1]), face.mean())
+    top, left = big.shape[0] // 2, big.shape[1] // 2
+    image[top:top + big.shape[0], left:left + big.shape[1]] = big
+    return rgb_png(np.repeat(np.clip(image, 0, 255).astype(np.uint8)[..., None], 3, axis=2))
+
+
+RECORDING = {"rec/recording.csv": "image,pan_rad,tilt_rad,command_pan_rad,command_tilt_rad\n"
+                                  "face.png,0.1,0.0,0.05,0.0\n",
+             "rec/face.png": face_png}
+
+
 def huge_png(width: int, height: int) -> bytes:
     """A PNG whose header (with a correct CRC) claims ``width`` x ``height`` pixels."""
     return png_bytes(width, height, idat=zlib.compress(b"\x00" * 256))
@@ -732,10 +758,10 @@ def sweep_case(id: str, fault: str, spec: str, *, names: str = "", base: str | N
 def api_case(id: str, fault: str, source: str, *, names: str = "",
              files: dict | None = None, expect: str = "error",
              check: Callable | None = None, env: dict | None = None,
-             subprocess_only: bool = False) -> Case:
+             subprocess_only: bool = False, skip: Callable[[], str | None] | None = None) -> Case:
     """A case that runs Python ``source`` (with ``files`` written first)."""
     return Case(id, fault, files_case(files or {}, source), expect, names, check, env,
-                subprocess_only)
+                subprocess_only, skip)
 
 
 # 1. Names become paths unchecked ------------------------------------------------------------
@@ -1384,10 +1410,74 @@ add(api_case("env-gym-step-action-nan", "env-args",
 add(api_case("env-reset-options-bogus", "env-args",
              f"{ENV}JointAttentionEnv().reset(seed=0, options={{'bogus': 1}})",
              names="options|bogus", expect="any"))
+
 for _tag, _seed in (("string", "'x'"), ("float", "2.5"), ("negative", "-1"),
                     ("list", "[1, 2]")):
     add(api_case(f"env-reset-seed-{_tag}", "env-args",
                  f"{ENV}JointAttentionEnv().reset(seed={_seed})", names="seed"))
+add(api_case("env-step-action-bool", "env-args",
+             f"{ENV}env = JointAttentionEnv(obs_mode='face')\nenv.reset(seed=0)\n"
+             "env.step(np.array([True, False]))", names="action"))
+
+# The native vector environment and the Stable-Baselines3 adapter: the single env's checks.
+VEC = (f"{GYM}import numpy as np\nv = gymnasium.make_vec('JointAttentionFace-v2', num_envs=4, "
+       "vectorization_mode='vector_entry_point')\n")
+
+
+def _says_range(tmp: Path, text: str) -> bool:
+    """The message says which integers a seed may be."""
+    return "[0, " in text
+
+
+for _tag, _seed, _name in (
+    ("list-short", "[1, 2]", "seed"),  # 2 seeds for 4 sub-environments
+    ("list-negative", "[0, 1, 2, -1]", "seed[3]"),
+    ("negative", "-1", "seed"),
+    ("float", "0.5", "seed"),
+    ("2e70", "2**70", "seed"),  # beyond the engine's integers
+    ("last-beyond-int64", "2**63 - 2", "seed"),  # sub-environment 3 would take 2**63 + 1
+):
+    add(api_case(f"env-vector-reset-seed-{_tag}", "env-args", f"{VEC}v.reset(seed={_seed})",
+                 names=_name, check=None if _tag.startswith("list") else _says_range))
+add(api_case("env-vector-step-actions-bool", "env-args",
+             f"{VEC}v.reset(seed=0)\nv.step(np.ones((4, 2), bool))", names="actions"))
+# A copy made mid-episode steps as the original does, episodes restarting on both.
+_CONTINUES = ("v.reset(seed=3)\nrng = np.random.default_rng(0)\n"
+              "for _ in range(25):\n    v.step(rng.uniform(-1, 1, (4, 2)))\n"
+              "w = {copy}\n"
+              "for _ in range(100):\n    a = rng.uniform(-1, 1, (4, 2))\n"
+              "    x, y = v.step(a), w.step(a)\n"
+              "    assert all(np.array_equal(x[0][k], y[0][k]) for k in x[0])\n"
+              "    assert all(np.array_equal(x[i], y[i]) for i in (1, 2, 3))\n")
+for _tag, _copy in (("pickle", "pickle.loads(pickle.dumps(v))"), ("deepcopy", "copy.deepcopy(v)")):
+    add(api_case(f"env-vector-{_tag}-mid-episode-continues", "env-args",
+                 f"{VEC}import copy, pickle\n" + _CONTINUES.format(copy=_copy), expect="ok"))
+
+
+def no_sb3() -> str | None:
+    """A skip reason where Stable-Baselines3 (the rl extra) is not installed."""
+    import importlib.util
+
+    if importlib.util.find_spec("stable_baselines3") is None:
+        return "needs Stable-Baselines3 (the rl extra: make test-rl)"
+    return None
+
+
+SB3 = ("import numpy as np\nfrom jointattention.env.sb3 import NativeVecEnv\n"
+       "E = 'JointAttentionFace-N1-v2'\n")
+for _tag, _source, _name in (
+    ("seed-negative", "NativeVecEnv(E, num_envs=2, seed=-1)", "seed"),
+    ("seed-float", "NativeVecEnv(E, num_envs=2, seed=0.5)", "seed"),
+    ("seed-2e70", "NativeVecEnv(E, num_envs=2, seed=2**70)", "seed"),
+    ("autoreset-mode", "NativeVecEnv(E, num_envs=2, autoreset_mode='NextStep')",
+     "autoreset_mode"),
+    ("vectorization-mode", "NativeVecEnv(E, num_envs=2, vectorization_mode='sync')",
+     "vectorization_mode"),
+    ("seed-method-negative", "NativeVecEnv(E, num_envs=2).seed(-1)", "seed"),
+    ("step-actions-bool", "v = NativeVecEnv(E, num_envs=2, seed=0)\nv.reset()\n"
+                          "v.step(np.ones((2, 2), bool))", "actions"),
+):
+    add(api_case(f"sb3-native-{_tag}", "env-args", SB3 + _source, names=_name, skip=no_sb3))
 
 # 11. Messages -------------------------------------------------------------------------------
 
@@ -1566,6 +1656,30 @@ for _tag, _src, _name in (
 ):
     add(api_case(f"api-{_tag}", "config-types", _src, names=_name,
                  files={"c.toml": tiny_toml()}))
+
+# The Python API's other arguments: one named error, never a bare TypeError or a division by 0.
+_API = "import jointattention as ja\nc = ja.load_config('c.toml')\n"
+_IMPORT = "ja.import_recording('rec', face='template', "
+for _tag, _src, _name in (
+    ("reproduce-workers-string", "ja.reproduce(c, 'out', workers='2')", "workers"),
+    ("reproduce-workers-float", "ja.reproduce(c, 'out', workers=2.5)", "workers"),
+    ("reproduce-workers-bool", "ja.reproduce(c, 'out', workers=True)", "workers"),
+    ("run-experiment-workers-string", "ja.run_experiment(c, 'out', workers='2')", "workers"),
+    ("import-recording-face-size-zero", _IMPORT + "face_size_px=0)", "face_size_px"),
+    ("import-recording-face-size-string", _IMPORT + "face_size_px='x')", "face_size_px"),
+    ("import-recording-face-height-zero", _IMPORT + "face_size_px=(30, 0))", "face_size_px"),
+    ("import-recording-face-width-zero", _IMPORT + "face_size_px=(0, 25))", "face_size_px"),
+    ("import-recording-face-unknown", "ja.import_recording('rec', face='x')", "face"),
+    ("import-recording-min-score-string", _IMPORT + "min_score='x')", "min_score"),
+    ("import-recording-template-string", _IMPORT + "template='x')", "template"),
+    ("load-model-robot-string",
+     f"ja.load_model({str(REPO / 'docs/robot/paper_n5_seed0.npz')!r}, robot='x')", "robot"),
+    ("save-model-agent-string", "ja.save_model('x', 'm.npz', config=c, condition='n1')",
+     "agent"),
+    ("run-cell-condition-string", "ja.run_cell(c, 'x', 0)", "condition"),
+):
+    add(api_case(f"api-{_tag}", "config-types", _API + _src, names=_name,
+                 files={"c.toml": tiny_toml(), **RECORDING}))
 
 
 # Issue 61: the output place first, the shipped files, memory in range, contradictions, quiet

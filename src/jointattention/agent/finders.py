@@ -10,15 +10,33 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
+from .._checks import short_repr
+from ..errors import ArgumentError
 from .blazeface import BlazeFace
 from .face_calibration import Calibration
 from .faces import Face, FaceFinder
 
-__all__ = ["DEFAULT_FACE", "FACE_METHODS", "BlazeFaceFinder", "finder_for"]
+__all__ = ["DEFAULT_FACE", "FACE_METHODS", "BlazeFaceFinder", "check_finder", "finder_for"]
 
 # the robot's face finders, default first
 FACE_METHODS = ("blazeface", "template", "haar")
 DEFAULT_FACE = FACE_METHODS[0]  # the finder of follow, the closed loop and the finder cut
+
+
+def check_finder(face, min_score=None) -> None:
+    """One ArgumentError line unless ``face`` is a finder and ``min_score`` one of its scores."""
+    if not isinstance(face, str) or face not in FACE_METHODS:
+        raise ArgumentError(f"face {short_repr(face)}: expected one of {', '.join(FACE_METHODS)}")
+    if min_score is None:
+        return
+    probability = face == "blazeface"
+    number = not isinstance(min_score, bool) and isinstance(min_score, (int, float))
+    inside = number and (0 < min_score < 1 if probability else -1 <= min_score <= 1)  # NaN: no
+    if not inside:
+        what = "above 0 and below 1 (a probability" if probability else (
+            "from -1 to 1 (a normalised correlation")
+        raise ArgumentError(f"min_score {short_repr(min_score)}: expected a number {what}, for "
+                            f"face {face!r})")
 
 
 class BlazeFaceFinder:

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._arrays import angles
 from ..agent.faces import Face, window_of
-from ..agent.finders import DEFAULT_FACE, FACE_METHODS, finder_for
+from ..agent.finders import DEFAULT_FACE, FACE_METHODS, check_finder, finder_for
 from ..errors import ArgumentError
 from .saved import LearnedModel, Robot, load_model
 
@@ -63,11 +63,8 @@ class GazeFollower:
 
     def __init__(self, model: LearnedModel, face: str = DEFAULT_FACE,
                  min_score: float | None = None, *, refine: bool = True):
-        if face not in FACE_METHODS:
-            raise ArgumentError(f"face {face!r}: expected one of {', '.join(FACE_METHODS)}")
+        check_finder(face, min_score)
         self.model, self.face = model, face
-        if min_score is not None:
-            _check_min_score(min_score, face)
         self.finder = finder_for(face, model.face_template() if face == "template" else None,
                                  min_score, refine=refine)
 
@@ -111,15 +108,3 @@ class GazeFollower:
                 raise ArgumentError(f"theta_rad: {name} {np.rad2deg(value):.1f} deg is outside "
                                     f"the model's robot's joint range [{lo}, {hi}] deg")
         return theta
-
-
-def _check_min_score(min_score, face: str) -> None:
-    """One ArgumentError line unless ``min_score`` is a score of ``face``'s finder."""
-    probability = face == "blazeface"
-    number = not isinstance(min_score, bool) and isinstance(min_score, (int, float))
-    inside = number and (0 < min_score < 1 if probability else -1 <= min_score <= 1)  # NaN: no
-    if not inside:
-        what = "above 0 and below 1 (a probability" if probability else (
-            "from -1 to 1 (a normalised correlation")
-        raise ArgumentError(f"min_score {min_score!r}: expected a number {what}, for face "
-                            f"{face!r})")

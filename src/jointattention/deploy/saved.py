@@ -51,13 +51,13 @@ from pathlib import Path
 import numpy as np
 
 from .._arrays import angles, windows
-from .._checks import check_path
+from .._checks import check_path, short_repr
 from .._files import save_npz
 from .._readers import loads_json, loads_toml, read_npz
 from .._version import __version__
 from ..agent.protocol import Body
 from ..config import Config, check_config, condition_named, load_config, model_options, to_toml
-from ..errors import ConfigError, FileError
+from ..errors import ArgumentError, ConfigError, FileError
 from ..models.bootstrap import BootstrapAgent
 from ..models.registry import MODELS, ModelOptions
 
@@ -178,6 +178,9 @@ def save_model(agent: BootstrapAgent, path: str | Path, *, config: Config, condi
     their scenes), ``caregivers`` who posed them.
     """
     path, config = Path(check_path(path, "path")), check_config(config)
+    if not isinstance(agent, BootstrapAgent):  # the teacher and developmental agents are ones
+        raise ArgumentError(f"agent {short_repr(agent)}: expected a learned agent of the "
+                            "bootstrap, teacher or developmental model")
     if path.suffix != ".npz":
         raise FileError(f"{path}: expected a model file name ending in .npz")
     options = check_savable(config, condition)
@@ -260,6 +263,9 @@ def load_model(path: str | Path, *, robot: Robot | None = None) -> LearnedModel:
     ``robot``: the body it will run on; a model learned on another is refused.
     """
     where = str(check_path(path, "path"))
+    if robot is not None and not isinstance(robot, Robot):
+        raise ArgumentError(f"robot {short_repr(robot)}: expected a Robot (Robot.of(config)) "
+                            "or None")
     archive = read_npz(path, "a model .npz file (jointattention train --out)")
     missing = [k for k in ("schema_version", "meta") if k not in archive]
     if missing:

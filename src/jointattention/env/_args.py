@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from pathlib import Path
 from typing import ClassVar
 
@@ -11,12 +12,13 @@ import numpy as np
 from gymnasium.utils import EzPickle
 
 from .._arrays import floats
-from .._checks import check_int, short_repr
+from .._checks import MAX_INT, check_int, short_repr
 from ..config import Config, load_config
 from ..errors import ArgumentError, ConfigError
 from ..world.options import FAST_CAMERA
 
-__all__ = ["RENDER_QUALITIES", "EpisodePickle", "check_action", "env_config", "refuse_options"]
+__all__ = ["RENDER_QUALITIES", "EpisodePickle", "check_action", "check_seed", "env_config",
+           "first_seed", "refuse_options", "vector_seeds"]
 
 
 def check_action(action, shape: tuple[int, ...] = (2,), name: str = "action") -> np.ndarray:
@@ -25,7 +27,43 @@ def check_action(action, shape: tuple[int, ...] = (2,), name: str = "action") ->
             and action.dtype.kind == "f" and math.isfinite(action[0])
             and math.isfinite(action[1])):
         return action.astype(float)  # an RL library's action: checked at little cost
-    return floats(name, action, shape, what="numbers (pan, tilt)")
+    # not booleans: True/False are no head turn, and NumPy would take them as 1/0 radians
+    return floats(name, action, shape, what="numbers (pan, tilt)", kinds="iuf")
+
+
+def check_seed(seed, name: str = "seed", hi: int = MAX_INT) -> int | None:
+    """A reset's seed: None or an integer in [0, ``hi``], else one ArgumentError naming it."""
+    return None if seed is None else check_int(name, seed, 0, hi, ArgumentError)
+
+
+def vector_seeds(seed, n: int) -> list[int | None]:
+    """The seeds of ``n`` sub-environments from a vector reset's ``seed``, as SyncVectorEnv's.
+
+    None: none; an integer s: s + i for sub-environment i (so s + n - 1 must fit the
+    engine's integers); a list: one seed (an integer or None) per sub-environment.
+    """
+    if isinstance(seed, (list, tuple)):
+        if len(seed) != n:
+            raise ArgumentError(f"seed={short_repr(seed)}: {len(seed)} seeds for {n} "
+                                f"sub-environments; expected a list of {n} (an integer or None "
+                                "each), an integer or None")
+        return [check_seed(s, f"seed[{i}]") for i, s in enumerate(seed)]
+    first = first_seed(seed, n, f"a list of {n} seeds or None")
+    return [None] * n if first is None else [first + i for i in range(n)]
+
+
+def first_seed(seed, n: int, others: str = "or None") -> int | None:
+    """The seed ``s`` of ``n`` sub-environments that take s + i: None or an integer that fits.
+
+    Else one ArgumentError naming the range; ``others`` says what else is taken.
+    """
+    if seed is None:
+        return None
+    hi = MAX_INT - (n - 1)
+    if isinstance(seed, bool) or not isinstance(seed, numbers.Integral) or not 0 <= seed <= hi:
+        raise ArgumentError(f"seed={short_repr(seed)}: expected an integer in [0, {hi}] "
+                            f"(sub-environment i takes seed + i), {others}")
+    return int(seed)
 
 
 def refuse_options(options: dict | None) -> None:

@@ -14,13 +14,13 @@ from gymnasium import spaces
 
 from .._checks import check_int
 from ..config import Config
-from ..errors import ArgumentError, ConfigError
+from ..errors import ConfigError
 from ..experiment.cells import datasets_of, evaluator, random_scene
 from ..experiment.trial import END_STEPS, SceneTrial
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
 from ..world.options import N_OBJECTS
-from ._args import EpisodePickle, check_action, env_config, refuse_options
+from ._args import EpisodePickle, check_action, check_seed, env_config, refuse_options
 from ._looks import OBS_MODES, detection_rows, info_of, observation_space, scaled
 
 __all__ = ["JointAttentionEnv"]
@@ -201,8 +201,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
 
         ``seed``: None or an integer >= 0. ``options``: none are taken (None or {}).
         """
-        if seed is not None:
-            check_int("seed", seed, 0, 2**63 - 1, ArgumentError)
+        check_seed(seed)
         refuse_options(options)
         super().reset(seed=seed)
         if self._world is None:

@@ -23,6 +23,7 @@ import time
 
 import gymnasium as gym
 import numpy as np
+from gymnasium.vector import AutoresetMode
 
 try:
     from stable_baselines3.common.callbacks import BaseCallback
@@ -31,10 +32,23 @@ except ImportError:  # pragma: no cover - depends on the installed extras
     raise ImportError('jointattention.env.sb3 needs Stable-Baselines3; expected it installed: '
                       'pip install "jointattention[rl]"') from None
 
+from .._checks import check_int, short_repr
 from ..errors import ConfigError
 from . import ENV_IDS
+from ._args import check_action, first_seed
+from .vector import MAX_ENVS
 
 __all__ = ["EpisodeLog", "NativeVecEnv", "success_rate"]
+
+# make_vec's arguments that NativeVecEnv gives itself, and what it gives
+_ITS_OWN = {"autoreset_mode": "'SameStep', what SB3 expects",
+            "vectorization_mode": "'vector_entry_point'", "vector_kwargs": "none",
+            "wrappers": "none"}
+
+
+def _same_step(mode) -> bool:
+    """Whether ``mode`` is Gymnasium's same-step autoreset (NativeVecEnv's own; harmless)."""
+    return mode is AutoresetMode.SAME_STEP or (isinstance(mode, str) and mode == "SameStep")
 
 
 class NativeVecEnv(VecEnv):
@@ -45,13 +59,26 @@ class NativeVecEnv(VecEnv):
             ``JointAttentionDetections...``; the v2 ids for SB3's default networks).
         num_envs: how many sub-environments.
         seed: the first reset's seed (sub-environment ``i`` gets ``seed + i``), or None.
-        **kwargs: arguments of the environment (``n_objects``, ``reward``, ...).
+        **kwargs: arguments of the environment (``n_objects``, ``reward``, ...); not
+            ``make_vec``'s ``autoreset_mode`` or ``vectorization_mode``, which it sets.
+
+    Its arguments, seeds (here or by ``seed()``) and actions are checked as the environment's
+    are: a wrong one is one :class:`~jointattention.errors.ConfigError` or
+    :class:`~jointattention.errors.ArgumentError` naming it, before any work.
     """
 
     def __init__(self, env_id: str, num_envs: int = 64, seed: int | None = None, **kwargs):
-        if env_id not in ENV_IDS or gym.spec(env_id).vector_entry_point is None:
-            raise ConfigError(f"env_id={env_id!r}: expected a registered id without images "
-                              "(JointAttentionFace... or JointAttentionDetections...)")
+        if (not isinstance(env_id, str) or env_id not in ENV_IDS
+                or gym.spec(env_id).vector_entry_point is None):
+            raise ConfigError(f"env_id={short_repr(env_id)}: expected a registered id without "
+                              "images (JointAttentionFace... or JointAttentionDetections...)")
+        check_int("num_envs", num_envs, 1, MAX_ENVS)
+        seed = first_seed(seed, num_envs)
+        for name in _ITS_OWN:
+            if name in kwargs and not (name == "autoreset_mode" and _same_step(kwargs[name])):
+                raise ConfigError(f"{name}={short_repr(kwargs[name])}: NativeVecEnv sets it "
+                                  f"itself ({_ITS_OWN[name]}); expected it not given")
+        kwargs.pop("autoreset_mode", None)
         self.venv = gym.make_vec(env_id, num_envs=num_envs,
                                  vectorization_mode="vector_entry_point",
                                  autoreset_mode="SameStep", **kwargs)
@@ -71,9 +98,13 @@ class NativeVecEnv(VecEnv):
         self._returns[:], self._lengths[:] = 0, 0
         return obs
 
+    def seed(self, seed: int | None = None) -> list[int | None]:
+        """Seed the next reset: sub-environment ``i`` gets ``seed + i`` (None: a random seed)."""
+        return super().seed(first_seed(seed, self.num_envs))
+
     def step_async(self, actions: np.ndarray) -> None:
-        """Keep the actions for :meth:`step_wait`."""
-        self._actions = np.asarray(actions)
+        """Keep the actions for :meth:`step_wait` (checked here: one error line if malformed)."""
+        self._actions = check_action(actions, (self.num_envs, 2), "actions")
 
     def step_wait(self):
         """Step all sub-environments: (observations, rewards, dones, infos)."""

@@ -27,13 +27,14 @@ from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING
 from ..world.kinematics import separation_rad
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
-from ._args import check_action, refuse_options
+from ._args import check_action, refuse_options, vector_seeds
 from ._looks import DETECTION_COLUMNS, MAX_DETECTIONS, _row_bounds, scaled
 from ._vector_kernels import rows_all, start_all, step_all
 from .joint_attention import JointAttentionEnv
 
-__all__ = ["JointAttentionVectorEnv"]
+__all__ = ["MAX_ENVS", "JointAttentionVectorEnv"]
 
+MAX_ENVS = 100_000  # sub-environments: each holds a few arrays of n_objects rows
 
 
 class JointAttentionVectorEnv(gym.vector.VectorEnv):
@@ -50,7 +51,12 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
             episode's observation, and the last one in ``info["final_obs"]``, with the last
             info in ``info["final_info"]``; what Stable-Baselines3 expects).
 
-    Seeds as ``SyncVectorEnv``: ``reset(seed=s)`` seeds sub-environment ``i`` with ``s + i``.
+    Seeds as ``SyncVectorEnv``: ``reset(seed=s)`` seeds sub-environment ``i`` with ``s + i``;
+    a list gives one seed (or None) per sub-environment. A seed of another kind, a list of
+    another length or a malformed action (not ``num_envs`` x 2 finite numbers; booleans are
+    not numbers here) raises one :class:`~jointattention.errors.ArgumentError` naming it, as
+    the single environment does. The environment pickles and deep-copies at any time, and a
+    copy continues every episode as the original would.
     ``render()`` (``render_mode="rgb_array"``) shows the first sub-environment's face window.
     """
 
@@ -59,7 +65,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
     def __init__(self, num_envs: int, max_episode_steps: int | None = None,
                  autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP, **kwargs):
-        self.num_envs = check_int("num_envs", num_envs, 1, 100_000)
+        self.num_envs = check_int("num_envs", num_envs, 1, MAX_ENVS)
         modes = (AutoresetMode.NEXT_STEP, AutoresetMode.SAME_STEP)
         if autoreset_mode not in modes and autoreset_mode not in [m.value for m in modes]:
             raise ConfigError(f"autoreset_mode={autoreset_mode!r}: expected "
@@ -153,10 +159,13 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._n_steps[:] = steps
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
-        """Start an episode in every sub-environment (``seed + i`` for sub-environment i)."""
+        """Start an episode in every sub-environment (``seed + i`` for sub-environment i).
+
+        ``seed``: None, an integer >= 0, or a list of ``num_envs`` seeds (each an integer >= 0
+        or None). ``options``: none are taken (None or {}).
+        """
+        seeds = vector_seeds(seed, self.num_envs)
         refuse_options(options)
-        seeds = seed if isinstance(seed, list) else (
-            [None] * self.num_envs if seed is None else [seed + i for i in range(self.num_envs)])
         self._start(np.arange(self.num_envs), seeds)
         self._look(np.arange(self.num_envs))
         self._needs_reset[:] = False
@@ -249,6 +258,18 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
     def close_extras(self, **kwargs) -> None:
         """Nothing to free: no renderer."""
+
+    def __getstate__(self) -> dict:
+        """All of it but numba's list of the generators, which does not pickle.
+
+        The generators themselves pickle (their states are the list's: see ``_start``), so a
+        copy continues every episode as the original would; its list is made anew at its
+        first start.
+        """
+        return {**self.__dict__, "_rng_list": None}
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
 
 
 def _masked(info: dict, mask: np.ndarray) -> dict:

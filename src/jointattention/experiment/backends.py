@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ctypes
 import logging
+import numbers
 import os
 import shutil
 import signal
@@ -22,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._checks import short_repr
 from ..config import ConditionConfig, Config
 from ..errors import ConfigError, JointAttentionError
 from .results import load_cell, save_cell
@@ -157,11 +159,19 @@ def _ray(run: CellFunction, jobs: Sequence[CellJob], workers: int,
 
 
 def check_backend(backend: str, address: str | None, workers: int = 1) -> None:
-    """Refuse an unknown backend, or an address without Ray, before anything is written."""
-    if not 0 <= workers <= MAX_WORKERS:
-        raise ConfigError(f"--workers {workers}: expected 0 (one per core) to {MAX_WORKERS}")
-    if backend not in BACKENDS:
-        raise ConfigError(f"backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+    """Refuse an unknown backend, or an address without Ray, before anything is written.
+
+    Also the API's ``workers`` of another kind (the command line's is an integer already).
+    """
+    if (isinstance(workers, bool) or not isinstance(workers, numbers.Integral)
+            or not 0 <= workers <= MAX_WORKERS):
+        raise ConfigError(f"workers={short_repr(workers)}: expected an integer from 0 (one per "
+                          f"core) to {MAX_WORKERS}")
+    if not isinstance(backend, str) or backend not in BACKENDS:
+        raise ConfigError(f"backend {short_repr(backend)}: expected one of {', '.join(BACKENDS)}")
+    if address is not None and not isinstance(address, str):
+        raise ConfigError(f"address {short_repr(address)}: expected a Ray cluster's address "
+                          "(host:port) or None")
     if address and backend != "ray":
         raise ConfigError("--address: joins a Ray cluster; expected --backend ray with it")
 

@@ -13,11 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .._checks import check_int
+from .._checks import check_int, short_repr
 from ..agent.attention import attended_object
 from ..agent.protocol import Agent, Body
 from ..config import ConditionConfig, Config, check_config, model_options
 from ..datasets import CaregiverDatasets, default_datasets, load, shipped_file
+from ..errors import ArgumentError
 from ..rng import stream
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
@@ -28,9 +29,9 @@ from .probes import lm_errors_deg, probe_sets
 from .recorded import training_file
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
-__all__ = ["body_of", "datasets_file", "datasets_of", "engine_of", "evaluator", "fast_world",
-           "make_agent", "measure_ceiling", "oracle_wins", "random_scene", "run_cell",
-           "trial_geometries", "trial_geometry"]
+__all__ = ["body_of", "check_condition", "datasets_file", "datasets_of", "engine_of",
+           "evaluator", "fast_world", "make_agent", "measure_ceiling", "oracle_wins",
+           "random_scene", "run_cell", "trial_geometries", "trial_geometry"]
 
 _CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learning steps)
 
@@ -120,6 +121,14 @@ def evaluator(config: Config) -> Callable:
     return partial(attended_object, d_th_px=config.agent.d_th_px(config.world.camera.width_px))
 
 
+def check_condition(condition) -> ConditionConfig:
+    """``condition`` if it is a :class:`ConditionConfig`, else one ArgumentError naming it."""
+    if not isinstance(condition, ConditionConfig):
+        raise ArgumentError(f"condition {short_repr(condition)}: expected a ConditionConfig "
+                            "(one of config.experiment.conditions)")
+    return condition
+
+
 def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
              progress: Callable[[int], None] | None = None, checkpoints: Sequence[int] = (),
              on_checkpoint: Callable[[int, Agent], None] | None = None,
@@ -141,6 +150,7 @@ def run_cell(config: Config, condition: ConditionConfig, seed_index: int,
     (:func:`engine_of`); both give the same records.
     """
     check_config(config)
+    check_condition(condition)
     check_int("seed_index", seed_index, 0, 2**31 - 1)
     ds = datasets_of(config)
     agent = make_agent(config, condition, seed_index, ds)

@@ -255,7 +255,7 @@ def screenshot(page: str | Path, png: str | Path, *, width_px: int = 1200,
              "--disable-background-networking", "--disable-component-update", "--disable-sync",
              "--no-first-run", f"--user-data-dir={profile}/p",
              f"--window-size={width_px},{height_px}", f"--screenshot={shot}",
-             page.resolve().as_uri()], capture_output=True, timeout=300)
+             page.resolve().as_uri()], capture_output=True, timeout=600)
         if done.returncode != 0 or not shot.is_file():
             last = (done.stderr.decode(errors="replace").strip().splitlines() or ["no output"])
             raise JointAttentionError(f"{browser} drew no screenshot of {page} ({last[-1]}); "
