@@ -3,13 +3,15 @@
 Usage::
 
     python scripts/hostile_corpus.py [--src DIR] [--timeout 20] [--only SUBSTR] [--json OUT]
+                                     [--markdown OUT.md]
 
 Each case runs as ``python -m jointattention ...`` (or ``python -c ...`` for API cases) with
 ``PYTHONPATH=DIR`` (default: this repository's ``src``) and ``MUJOCO_GL=egl`` unless the case
 sets its own environment, in a fresh temporary directory as its working directory, one at a
 time, killed after ``--timeout`` seconds. It prints one line per case, then how many cases
 ended in each outcome, overall and per fault class (see the outcomes in
-``tests/hostile/cases.py``), and with ``--json`` writes every case's outcome to a file.
+``tests/hostile/cases.py``); with ``--json`` it writes every case's outcome to a file, and
+with ``--markdown`` the table it prints (the manual includes docs/bad-input/corpus.md).
 
 This process imports nothing of ``jointattention``, so it can measure any source tree.
 """
@@ -60,6 +62,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="only the cases whose id contains SUBSTR (or whose fault is it)")
     parser.add_argument("--json", type=Path, metavar="OUT",
                         help="also write every case's outcome to this JSON file")
+    parser.add_argument("--markdown", type=Path, metavar="OUT.md",
+                        help="also write the table, with the command and its time, to this file")
     args = parser.parse_args(argv)
     src = args.src.resolve()
     if not (src / "jointattention" / "__init__.py").is_file():
@@ -80,8 +84,16 @@ def main(argv: list[str] | None = None) -> int:
               f"{case.id}", file=sys.stderr, flush=True)
     wall_s = time.perf_counter() - start
     assert "jointattention" not in sys.modules, "the corpus must not import jointattention"
-    print(_table(results))
+    table = _table(results)
+    print(table)
     print(f"\n{len(results)} cases in {wall_s / 60:.1f} min")
+    if args.markdown:
+        command = "python scripts/hostile_corpus.py" + (f" --timeout {args.timeout:g}"
+                                                        if args.timeout != 20.0 else "")
+        args.markdown.write_text(
+            f"{table}\n\n(`{command}`, {time.strftime('%d %B %Y')}: {len(results)} cases, one "
+            f"at a time in their own processes, {wall_s / 60:.1f} min on this machine.)\n",
+            encoding="utf-8")
     if args.json:
         by_outcome: dict[str, list[str]] = {}
         for r in results:

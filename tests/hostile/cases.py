@@ -1761,23 +1761,32 @@ for _cmd, _argv in (("evaluate", EVALUATE), ("closed-loop", PROC_OUT["closed-loo
     add(Case(f"{_cmd}-out-empty-string", "output-paths", model_case([*_argv, "--out", ""]),
              names="--out"))
 
-_HELD: list = []  # output locks a case holds while it runs (released at exit)
-atexit.register(lambda: [held.__exit__(None, None, None) for held in reversed(_HELD)])
+_HELD: list = []  # processes holding an output lock while a case runs (ended at exit)
+atexit.register(lambda: [held.kill() for held in _HELD])
+
+_HOLD = """import sys, time
+try:
+    from jointattention._files import output_lock
+except ImportError:
+    print("none", flush=True); sys.exit()
+with output_lock(sys.argv[1]):
+    print("held", flush=True)
+    time.sleep(3600)
+"""
 
 
 def _hold_output(rel: str) -> Callable[[Path], None]:
     """An edit: hold the output lock of ``rel``, as another command writing it would.
 
-    A tree without output locks has nothing to hold: there the case runs unlocked.
+    Held by a process of the tree under test (this one imports nothing of it); a tree without
+    output locks has nothing to hold: there the case runs unlocked.
     """
     def edit(tmp: Path) -> None:
-        try:
-            from jointattention._files import output_lock
-        except ImportError:
-            return
-        held = output_lock(tmp / rel)
-        held.__enter__()
+        held = subprocess.Popen([sys.executable, "-c", _HOLD, str(tmp / rel)],
+                                stdout=subprocess.PIPE, text=True,
+                                env={**os.environ, "PYTHONPATH": str(SRC)})
         _HELD.append(held)
+        held.stdout.readline()  # "held" once the lock is taken ("none": no locks there)
     return edit
 
 
