@@ -220,3 +220,24 @@ def test_the_readme_commands_run_in_a_fresh_shell_after_its_activation_line():
         capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("ablation ")
+
+
+def test_reproduce_from_python_shows_the_cli_s_progress_when_asked(tmp_path, capsys):
+    """``reproduce(progress=True)`` draws the cell bar and the phase lines on stderr.
+
+    Anything else that is not a callable is refused before any file is written.
+    """
+    from jointattention import load_config, reproduce
+    from jointattention.errors import JointAttentionError
+
+    config = load_config({"experiment": {
+        "n_steps": 200, "n_seeds": 1, "bin_steps": 100, "n_ceiling_trials": 20,
+        "conditions": [{"name": "n3-sigmoid", "n_objects": 3}]}})
+    with pytest.raises(JointAttentionError, match="progress"):
+        reproduce(config, tmp_path / "refused", progress="yes")
+    assert not (tmp_path / "refused").exists()
+    result = reproduce(config, tmp_path / "run", progress=True)
+    err = capsys.readouterr().err
+    assert "cells" in err and "writing the tables and figures" in err
+    assert result.summary().splitlines()[1].startswith(f"{sum(c.holds for c in result.claims)} "
+                                                      f"of {len(result.claims)} claims hold")
