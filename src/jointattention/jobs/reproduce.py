@@ -166,7 +166,7 @@ class RunResult:
             found = [p.name for p in self.files if p.suffix == suffix]
             return f"{self.out}/" + "{" + ", ".join(found) + "}" if found else "none"
 
-        on = f" on {workers} workers" if workers else ""
+        on = f" on {workers} worker{'s' * (workers != 1)}" if workers else ""
         return "\n".join([
             f"{self.out}: {self.cells_run} of {self.cells_total} cells run in "
             f"{self.cells_min:.1f} min{on}; the whole run {self.wall_min:.1f} min; "
