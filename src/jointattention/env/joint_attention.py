@@ -12,9 +12,10 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from .._checks import check_int
-from ..config import Config
-from ..errors import ConfigError
+from .._checks import check_int, short_repr
+from ..config import Config, load_config
+from ..datasets import CaregiverDatasets
+from ..errors import ArgumentError, ConfigError, DatasetError
 from ..experiment.cells import datasets_of, evaluator, random_scene
 from ..experiment.trial import END_STEPS, SceneTrial
 from ..world.fast import FastScene
@@ -23,11 +24,48 @@ from ..world.options import N_OBJECTS
 from ._args import EpisodePickle, check_action, check_seed, env_config, refuse_options
 from ._looks import OBS_MODES, detection_rows, info_of, observation_space, scaled
 
-__all__ = ["JointAttentionEnv"]
+__all__ = ["CAREGIVERS", "JointAttentionEnv", "split_datasets"]
 
 REWARDS = ("external", "intrinsic")
+# the splits of caregivers=..., and the held-out kinds (experiment.held_out.KINDS) they serve
+CAREGIVERS = ("training", "new-poses", "unseen")
+_KINDS = {"new-poses": "new poses", "unseen": "unseen caregivers"}
 _ARGS = ("config", "obs_mode", "n_objects", "n_poses", "reward", "max_steps", "width",
-         "height", "render_quality", "normalize_actions", "scaled_obs", "render_mode")
+         "height", "render_quality", "normalize_actions", "scaled_obs", "render_mode",
+         "caregivers")
+
+
+def check_caregivers(caregivers) -> str:
+    """``caregivers`` if it names a split (:data:`CAREGIVERS`), else one ArgumentError."""
+    if not isinstance(caregivers, str) or caregivers not in CAREGIVERS:
+        raise ArgumentError(f"caregivers={short_repr(caregivers)}: expected one of "
+                            f"{', '.join(map(repr, CAREGIVERS))}")
+    return caregivers
+
+
+def split_datasets(config: Config, caregivers: str) -> CaregiverDatasets:
+    """The data sets of split ``caregivers`` (:data:`CAREGIVERS`) of ``config``'s run.
+
+    ``"training"``: the run's training sets (:func:`~jointattention.experiment.cells.datasets_of`);
+    ``"new-poses"`` and ``"unseen"``: its held-out sets of new poses of the training caregivers
+    and of caregivers no training set holds
+    (:func:`~jointattention.experiment.held_out.held_out_sets`: the shipped ones for the
+    shipped training sets, else the configuration's files or a recording of the world's
+    held-out stream). Training sets a robot recorded have held-out sets only as files: without
+    them, one ConfigError.
+    """
+    if check_caregivers(caregivers) == "training":
+        return datasets_of(config)
+    from ..experiment.held_out import held_out_sets  # only the held-out splits need it
+
+    kind = _KINDS[caregivers]
+    sets = held_out_sets(config)
+    if kind not in sets:
+        field = "poses" if caregivers == "new-poses" else "caregivers"
+        raise ConfigError(f"caregivers={caregivers!r}: the training sets name no simulated "
+                          f"caregiver, so no {kind} can be recorded; expected a data-set file "
+                          f"in experiment.held_out.{field}")
+    return sets[kind]
 
 
 class JointAttentionEnv(gym.Env, EpisodePickle):
@@ -80,6 +118,25 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         is the caregiver's target;
       - ``"intrinsic"``: 1 if the internal evaluator fired, whichever object it was.
       The other one is in ``info["external_reward"]`` / ``info["intrinsic_reward"]``.
+      An episode's return is therefore 0 or 1, and the mean return is the success rate.
+      Each registered id's ``spec.reward_threshold`` says when it is solved: 0.9 times the
+      oracle gaze-line follower's mean return at the id's object count (5 where the id names
+      none) in the fast world (:data:`~jointattention.env.REWARD_THRESHOLDS`).
+
+    **Caregivers** (``caregivers=``), the split of a held-out evaluation:
+      - ``"training"`` (default): the training caregivers, as always: in the modes without
+        images the run's training sets (``config.datasets``, by default the 125 shipped); in
+        ``"image"`` mode a caregiver identity drawn at each seeded reset.
+      - ``"new-poses"``: new poses of the training caregivers; ``"unseen"``: caregivers that no
+        training set holds, drawn from the world's held-out stream. In the modes without
+        images, each episode is one of the run's held-out sets of that kind
+        (:func:`~jointattention.experiment.held_out.held_out_sets`: for the shipped training
+        sets the shipped ``held_out_poses.npz`` (250 sets) and ``held_out_caregivers.npz``
+        (400 sets, 16 caregivers); for other training sets the files of
+        ``[experiment.held_out]`` or a recording of the world's held-out stream, made once).
+        In ``"image"`` mode, each scene (or each pose of the ``n_poses`` pool) is posed by
+        one of the people who posed those sets, in a new pose.
+      The split changes nothing else: the same spaces, distractors, steps and rewards.
 
     **Info**, the same keys and shapes at every step: ``"detections"``, the detector's report
     as a dict of the arrays of :class:`~jointattention.agent.detections.Detections` padded to
@@ -114,6 +171,8 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         scaled_obs: observations scaled near [-1, 1] (default: False, raw; see above).
         render_mode: ``None`` or ``"rgb_array"`` (``"image"`` mode: an overview of the room;
             the other modes: the face window, as RGB).
+        caregivers: which caregivers the episodes show (see **Caregivers** above):
+            ``"training"`` (default), ``"new-poses"`` or ``"unseen"``.
 
     Arguments of the wrong type or out of range raise
     :class:`~jointattention.errors.ConfigError` naming the argument; a malformed action (not 2
@@ -137,15 +196,18 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
                  reward: str = "external", max_steps: int | None = None,
                  width: int | None = None, height: int | None = None,
                  render_quality: str = "full", normalize_actions: bool = False,
-                 scaled_obs: bool = False, render_mode: str | None = None, **unknown):
+                 scaled_obs: bool = False, render_mode: str | None = None,
+                 caregivers: str = "training", **unknown):
         if unknown:
             raise ConfigError(f"{sorted(unknown)[0]}=...: unknown argument; expected one of "
                               f"{', '.join(_ARGS)}")
+        check_caregivers(caregivers)
         EpisodePickle.__init__(self, config, obs_mode=obs_mode, n_objects=n_objects,
                                n_poses=n_poses, reward=reward, max_steps=max_steps, width=width,
                                height=height, render_quality=render_quality,
                                normalize_actions=normalize_actions,
-                               scaled_obs=scaled_obs, render_mode=render_mode)
+                               scaled_obs=scaled_obs, render_mode=render_mode,
+                               caregivers=caregivers)
         cfg = env_config(config, obs_mode, width, height, render_quality)
         self.n_objects = N_OBJECTS if n_objects is None else check_int("n_objects", n_objects,
                                                                        1, 20)
@@ -167,16 +229,19 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
                           else check_int("max_steps", max_steps, 1, 100_000))
         self.config, self.obs_mode, self.reward = cfg, obs_mode, reward
         self.render_mode, self.normalize_actions = render_mode, normalize_actions
-        self.scaled_obs = scaled_obs
+        self.scaled_obs, self.caregivers = scaled_obs, caregivers
         self.kinematics = HeadKinematics.from_config(cfg.world)
         kin = self.kinematics
-        self._world = self._datasets = None
+        self._world = self._datasets = self._people = None
         if obs_mode == "image":
             from ..world.simulator import World  # MuJoCo only where it renders
 
+            if caregivers != "training":  # the split's people, from the sets of the config
+                self._people = _people_of(config if isinstance(config, Config)
+                                          else load_config(config), caregivers)
             self._world = World(cfg.world, n_objects=self.n_objects)
         else:
-            self._datasets = datasets_of(cfg)
+            self._datasets = split_datasets(cfg, caregivers)
         face_hw = (cfg.world.face_window.height_px, cfg.world.face_window.width_px)
         if self._datasets is not None:
             face_hw = self._datasets.face.shape[1:]
@@ -228,6 +293,8 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         from ..world.scene import sample_caregiver, sample_scene, with_new_distractors
 
         world, rng = self.config.world, self.np_random
+        if self._people is not None:
+            return self._held_out_scene(seeded)
         if seeded or self._caregiver is None:
             self._caregiver = sample_caregiver(world, rng)
             self._poses = [sample_scene(world, rng, self._caregiver, self.n_objects)
@@ -238,6 +305,26 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
             state = sample_scene(world, rng, self._caregiver, self.n_objects)
         self._world.set_scene(state)
         self._scene_state = state
+        return self._world.face_angle_rad
+
+    def _held_out_scene(self, seeded: bool) -> np.ndarray:
+        """``"image"`` mode, a held-out split: a new scene posed by one of the split's people.
+
+        Each pose (each episode's, or each of the pool's) draws its caregiver from them, so
+        that one seed's episodes show all of them.
+        """
+        from ..world.scene import sample_scene, with_new_distractors
+
+        world, rng, people = self.config.world, self.np_random, self._people
+        if seeded or not self._poses:
+            self._poses = [sample_scene(world, rng, people[rng.integers(len(people))],
+                                        self.n_objects) for _ in range(self.n_poses or 0)]
+        if self._poses:
+            state = with_new_distractors(self._poses[rng.integers(len(self._poses))], world, rng)
+        else:
+            state = sample_scene(world, rng, people[rng.integers(len(people))], self.n_objects)
+        self._world.set_scene(state)
+        self._scene_state, self._caregiver = state, state.caregiver
         return self._world.face_angle_rad
 
     def step(self, action):
@@ -294,3 +381,17 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         """Free the renderer."""
         if self._world is not None:
             self._world.close()
+
+
+def _people_of(config: Config, caregivers: str) -> list:
+    """``"image"`` mode: the caregivers who posed split ``caregivers``'s data sets.
+
+    The new poses' people are the training caregivers; the unseen ones, people drawn from the
+    world's held-out stream (:data:`~jointattention.world.recording.HELD_OUT`).
+    """
+    from ..world.recording import caregivers_of
+
+    try:
+        return caregivers_of(split_datasets(config, caregivers), config.world)
+    except DatasetError as err:
+        raise ConfigError(f"caregivers={caregivers!r}: {err}") from None
