@@ -1371,7 +1371,7 @@ for _tag, _kwargs, _name in (
     ("max-steps-float", "max_steps=2.5", "max_steps"),
     ("max-steps-1e9", "max_steps=10**9", "max_steps"),
     ("reward-unknown", "reward='bogus'", "reward"),
-    ("render-mode-human", "render_mode='human'", "render_mode"),
+    ("render-mode-unknown", "render_mode='screen'", "render_mode"),
     ("config-int", "config=42", "config"),
     ("config-missing-file", "config='missing.toml'", "missing.toml"),
     ("config-dict", "config={'seed': 1}", "config"),
@@ -1442,6 +1442,13 @@ for _tag, _seed, _name in (
 ):
     add(api_case(f"env-vector-reset-seed-{_tag}", "env-args", f"{VEC}v.reset(seed={_seed})",
                  names=_name, check=None if _tag.startswith("list") else _says_range))
+# render_mode="human" without pygame: the extra to install, in one line (a fresh process:
+# the case hides pygame from the importer).
+add(api_case("env-render-mode-human-without-pygame", "env-args",
+             f"import sys\nsys.modules['pygame'] = None\n{ENV}"
+             "JointAttentionEnv(obs_mode='face', render_mode='human')",
+             names="render_mode", check=lambda tmp, text: "jointattention[human]" in text,
+             subprocess_only=True))
 add(api_case("env-vector-caregivers-unknown", "env-args",
              VEC.replace("vectorization_mode='vector_entry_point'",
                          "vectorization_mode='vector_entry_point', caregivers='test'"),

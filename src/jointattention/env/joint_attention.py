@@ -30,9 +30,19 @@ REWARDS = ("external", "intrinsic")
 # the splits of caregivers=..., and the held-out kinds (experiment.held_out.KINDS) they serve
 CAREGIVERS = ("training", "new-poses", "unseen")
 _KINDS = {"new-poses": "new poses", "unseen": "unseen caregivers"}
+RENDER_MODES = (None, "rgb_array", "human")
 _ARGS = ("config", "obs_mode", "n_objects", "n_poses", "reward", "max_steps", "width",
          "height", "render_quality", "normalize_actions", "scaled_obs", "render_mode",
          "caregivers")
+
+
+def needs_pygame() -> None:
+    """``render_mode="human"`` shows its frames with pygame: one ConfigError if it is missing."""
+    import importlib.util
+
+    if importlib.util.find_spec("pygame") is None:  # found, not imported: no banner yet
+        raise ConfigError('render_mode=\'human\': needs pygame, which is not installed; '
+                          'expected the human extra: pip install "jointattention[human]"')
 
 
 def check_caregivers(caregivers) -> str:
@@ -169,8 +179,10 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
             (``world.options.FAST_CAMERA``).
         normalize_actions: actions in [-1, 1] (default: False, radians).
         scaled_obs: observations scaled near [-1, 1] (default: False, raw; see above).
-        render_mode: ``None`` or ``"rgb_array"`` (``"image"`` mode: an overview of the room;
-            the other modes: the face window, as RGB).
+        render_mode: ``None``, ``"rgb_array"`` (``"image"`` mode: an overview of the room;
+            the other modes: the face window, as RGB) or ``"human"``: the same frames in a
+            window, shown at every reset and step (``render_fps`` 5), which needs pygame: the
+            ``human`` extra (``pip install "jointattention[human]"``).
         caregivers: which caregivers the episodes show (see **Caregivers** above):
             ``"training"`` (default), ``"new-poses"`` or ``"unseen"``.
 
@@ -189,7 +201,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
     image ids alone): v2 with ``render_quality="fast"``.
     """
 
-    metadata: ClassVar[dict] = {"render_modes": ["rgb_array"], "render_fps": 5}
+    metadata: ClassVar[dict] = {"render_modes": ["rgb_array", "human"], "render_fps": 5}
 
     def __init__(self, config: Config | str | Path | None = None, *, obs_mode: str = "image",
                  n_objects: int | None = None, n_poses: int | None = None,
@@ -213,10 +225,12 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
                                                                        1, 20)
         for name, value, choices in (("obs_mode", obs_mode, OBS_MODES),
                                      ("reward", reward, REWARDS),
-                                     ("render_mode", render_mode, (None, "rgb_array"))):
+                                     ("render_mode", render_mode, RENDER_MODES)):
             if not isinstance(value, (str, type(None))) or value not in choices:
                 raise ConfigError(f"{name}={value!r}: expected one of "
                                   f"{', '.join(map(repr, choices))}")
+        if render_mode == "human":
+            needs_pygame()
         for name, value in (("normalize_actions", normalize_actions),
                             ("scaled_obs", scaled_obs)):
             if not isinstance(value, bool):
@@ -252,6 +266,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         self.action_space = spaces.Box(-high.astype(np.float32), high.astype(np.float32), (2,),
                                        np.float32)
         self._caregiver, self._poses, self._face, self._scene_state = None, [], None, None
+        self._window = None  # render_mode="human": pygame's window, opened at the first frame
         self._trial: SceneTrial | None = None
         self._evaluate = evaluator(cfg)
 
@@ -277,7 +292,10 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
             scene = self._world.fast_scene()
         self._trial = SceneTrial(scene, self.kinematics.clip(start), kinematics=self.kinematics,
                                  max_steps=self.max_steps, evaluate=self._evaluate)
-        return self._look()
+        out = self._look()
+        if self.render_mode == "human":
+            self._show()
+        return out
 
     def _fast_episode(self, rng: np.random.Generator) -> tuple[int, FastScene]:
         """The modes without images: a data set's index and its scene with random distractors.
@@ -337,6 +355,8 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         obs, info = self._look()
         terminated = trial.end is not None and trial.end != END_STEPS
         truncated = trial.end == END_STEPS
+        if self.render_mode == "human":
+            self._show()
         return obs, info[f"{self.reward}_reward"], terminated, truncated, info
 
     def _look(self):
@@ -367,10 +387,32 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
     def render(self):
         """With ``render_mode="rgb_array"``: the room, or the face window (modes without images).
 
-        The room is seen from the experimenter's camera; the face window is shown as RGB.
+        The room is seen from the experimenter's camera; the face window is shown as RGB. With
+        ``"human"`` the frames are shown at every reset and step, and this returns None.
         """
         if self.render_mode != "rgb_array":
             return None
+        return self._frame()
+
+    def _show(self) -> None:
+        """``render_mode="human"``: show the frame in pygame's window, at ``render_fps``."""
+        import pygame
+
+        frame = self._frame()
+        # a face window is 30 x 25 pixels: enlarged whole pixels to about 300 wide
+        zoom = max(1, 300 // frame.shape[1])
+        frame = np.repeat(np.repeat(frame, zoom, axis=0), zoom, axis=1)
+        if self._window is None:
+            pygame.display.init()  # the display alone: pygame.init() would open the sound too
+            self._window = pygame.display.set_mode((frame.shape[1], frame.shape[0]))
+            self._clock = pygame.time.Clock()
+        self._window.blit(pygame.surfarray.make_surface(frame.swapaxes(0, 1)), (0, 0))
+        pygame.event.pump()
+        self._clock.tick(self.metadata["render_fps"])
+        pygame.display.flip()
+
+    def _frame(self) -> np.ndarray:
+        """The frame ``render`` shows: the room's overview, or the face window as RGB."""
         if self._world is not None:
             return self._world.render("overview")
         face = self._face if self._face is not None else np.zeros(
@@ -378,9 +420,14 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         return np.repeat(face[..., None], 3, axis=2)
 
     def close(self):
-        """Free the renderer."""
+        """Free the renderer, and close the window of ``render_mode="human"``."""
         if self._world is not None:
             self._world.close()
+        if self._window is not None:
+            import pygame
+
+            pygame.display.quit()
+            self._window = None
 
 
 def _people_of(config: Config, caregivers: str) -> list:
