@@ -129,9 +129,11 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
       - ``"intrinsic"``: 1 if the internal evaluator fired, whichever object it was.
       The other one is in ``info["external_reward"]`` / ``info["intrinsic_reward"]``.
       An episode's return is therefore 0 or 1, and the mean return is the success rate.
-      Each registered id's ``spec.reward_threshold`` says when it is solved: 0.9 times the
+      Each v2 and v3 id's ``spec.reward_threshold`` says when it is solved: 0.9 times the
       oracle gaze-line follower's mean return at the id's object count (5 where the id names
-      none) in the fast world (:data:`~jointattention.env.REWARD_THRESHOLDS`).
+      none) and reward, in the fast world of the default configuration
+      (:data:`~jointattention.env.REWARD_THRESHOLDS`; the intrinsic reward's oracle fires
+      every time, so those ids are solved at 0.9).
 
     **Caregivers** (``caregivers=``), the split of a held-out evaluation:
       - ``"training"`` (default): the training caregivers, as always: in the modes without
