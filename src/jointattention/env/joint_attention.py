@@ -5,6 +5,7 @@ Its docstring is its manual. Needs the ``gym`` extra (``pip install "jointattent
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import ClassVar
 
@@ -405,7 +406,18 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         zoom = max(1, 300 // frame.shape[1])
         frame = np.repeat(np.repeat(frame, zoom, axis=0), zoom, axis=1)
         if self._window is None:
-            pygame.display.init()  # the display alone: pygame.init() would open the sound too
+            # No screen (no DISPLAY, WAYLAND_DISPLAY or SDL_VIDEODRIVER): SDL's dummy driver.
+            # SDL would otherwise pick its EGL "offscreen" driver, whose exit ends the EGL
+            # display MuJoCo renders with (check_env makes every declared render mode).
+            headless = not any(os.environ.get(k) for k in ("DISPLAY", "WAYLAND_DISPLAY",
+                                                           "SDL_VIDEODRIVER"))
+            if headless:
+                os.environ["SDL_VIDEODRIVER"] = "dummy"
+            try:
+                pygame.display.init()  # the display alone: pygame.init() opens the sound too
+            finally:
+                if headless:
+                    del os.environ["SDL_VIDEODRIVER"]
             self._window = pygame.display.set_mode((frame.shape[1], frame.shape[0]))
             self._clock = pygame.time.Clock()
         self._window.blit(pygame.surfarray.make_surface(frame.swapaxes(0, 1)), (0, 0))
