@@ -49,3 +49,15 @@ def test_the_native_vector_env_refuses_human_mode():
     with pytest.raises(ConfigError, match="render_mode='human'"):
         gym.make_vec("JointAttentionFace-v2", num_envs=2, vectorization_mode="vector_entry_point",
                      render_mode="human")
+
+
+def test_human_mode_without_a_screen_shows_nothing_and_renders_on(monkeypatch):
+    """No DISPLAY, WAYLAND_DISPLAY or SDL_VIDEODRIVER: no window; MuJoCo still renders after."""
+    pytest.importorskip("pygame", reason="needs the human extra")
+    for name in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER"):
+        monkeypatch.delenv(name, raising=False)
+    env = gym.make("JointAttentionFace-N3-v2", render_mode="human")
+    env.reset(seed=0)
+    env.step(np.zeros(2, np.float32))
+    assert env.unwrapped._window is None
+    env.close()

@@ -185,7 +185,8 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         render_mode: ``None``, ``"rgb_array"`` (``"image"`` mode: an overview of the room;
             the other modes: the face window, as RGB) or ``"human"``: the same frames in a
             window, shown at every reset and step (``render_fps`` 5), which needs pygame: the
-            ``human`` extra (``pip install "jointattention[human]"``).
+            ``human`` extra (``pip install "jointattention[human]"``). Without a screen (none
+            of ``DISPLAY``, ``WAYLAND_DISPLAY``, ``SDL_VIDEODRIVER`` set) nothing is shown.
         caregivers: which caregivers the episodes show (see **Caregivers** above):
             ``"training"`` (default), ``"new-poses"`` or ``"unseen"``.
 
@@ -399,6 +400,10 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
 
     def _show(self) -> None:
         """``render_mode="human"``: show the frame in pygame's window, at ``render_fps``."""
+        if not any(os.environ.get(k) for k in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")):
+            # No screen to show it on: SDL would pick its EGL "offscreen" driver, whose exit
+            # ends the EGL display MuJoCo renders with (and check_env makes every mode).
+            return
         import pygame
 
         frame = self._frame()
@@ -406,18 +411,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         zoom = max(1, 300 // frame.shape[1])
         frame = np.repeat(np.repeat(frame, zoom, axis=0), zoom, axis=1)
         if self._window is None:
-            # No screen (no DISPLAY, WAYLAND_DISPLAY or SDL_VIDEODRIVER): SDL's dummy driver.
-            # SDL would otherwise pick its EGL "offscreen" driver, whose exit ends the EGL
-            # display MuJoCo renders with (check_env makes every declared render mode).
-            headless = not any(os.environ.get(k) for k in ("DISPLAY", "WAYLAND_DISPLAY",
-                                                           "SDL_VIDEODRIVER"))
-            if headless:
-                os.environ["SDL_VIDEODRIVER"] = "dummy"
-            try:
-                pygame.display.init()  # the display alone: pygame.init() opens the sound too
-            finally:
-                if headless:
-                    del os.environ["SDL_VIDEODRIVER"]
+            pygame.display.init()  # the display alone: pygame.init() opens the sound too
             self._window = pygame.display.set_mode((frame.shape[1], frame.shape[0]))
             self._clock = pygame.time.Clock()
         self._window.blit(pygame.surfarray.make_surface(frame.swapaxes(0, 1)), (0, 0))
