@@ -51,8 +51,8 @@ def test_the_native_vector_env_refuses_human_mode():
                      render_mode="human")
 
 
-def test_human_mode_without_a_screen_shows_nothing_and_renders_on(monkeypatch):
-    """No DISPLAY, WAYLAND_DISPLAY or SDL_VIDEODRIVER: no window; MuJoCo still renders after."""
+def test_human_mode_without_a_screen_opens_no_window(monkeypatch):
+    """No DISPLAY, WAYLAND_DISPLAY or SDL_VIDEODRIVER: reset and step open no window."""
     pytest.importorskip("pygame", reason="needs the human extra")
     for name in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER"):
         monkeypatch.delenv(name, raising=False)
