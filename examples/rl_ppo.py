@@ -3,13 +3,17 @@
 The RL agent gets the external reward: 1 when the object it centres is the caregiver's target.
 That is the answer the bootstrap model must find by itself (its evaluator fires on any object).
 Both see the same fast world: a data set's face window and head angle, random distractors.
+PPO learns by the first recipe of docs/reinforcement-learning.md: ``JointAttentionFace-N{n}-v2``
+(observations already scaled near [-1, 1]), 8 environments, ``MultiInputPolicy`` and SB3's
+defaults (``--smoke``: shorter rollouts, so that a few hundred steps make one).
 
     pip install "jointattention[rl]"
     python examples/rl_ppo.py --n-objects 1 3 --steps 300000 --out runs/rl
 
 writes ``curves.csv`` and ``curves.png`` (success per episode against environment steps for PPO,
-the bootstrap model's learning time, and a uniform-random policy's level) and prints a table:
-final success (the last bin), and the steps each needs to reach 0.9 of the lower final.
+the bootstrap model's learning time, and a uniform-random policy's level) and ``curves.md``, the
+table it prints: final success (the last bin), and the steps each needs to reach 0.9 of the
+lower final.
 ``--smoke`` runs a few hundred steps (the test suite runs it).
 """
 
@@ -27,32 +31,23 @@ import jointattention.env  # noqa: F401  (registers the environments)
 from jointattention import ConditionConfig, load_config, run_cell
 
 
-class FlatFace(gym.ObservationWrapper):
-    """The face window (scaled to [-0.5, 0.5]) and the head angle as one float vector."""
+def train_ppo(n_objects: int, steps: int, seed: int,
+              smoke: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """PPO's training episodes: (environment steps at the episode's end, success).
 
-    def __init__(self, env: gym.Env):
-        super().__init__(env)
-        h, w = env.observation_space["face"].shape
-        self.observation_space = gym.spaces.Box(-np.inf, np.inf, (h * w + 2,), np.float32)
-
-    def observation(self, observation):
-        """The flat vector of one observation."""
-        face = observation["face"].ravel() / 255.0 - 0.5
-        return np.concatenate([face, observation["head_angle"]]).astype(np.float32)
-
-
-def train_ppo(n_objects: int, steps: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
-    """PPO's training episodes: (environment steps at the episode's end, success)."""
+    SB3's ``MultiInputPolicy`` takes v2's dict of scaled observations as it is (it flattens
+    and joins the face and the head angle): no wrapper.
+    """
     from stable_baselines3 import PPO
     from stable_baselines3.common.env_util import make_vec_env
 
     from jointattention.env.sb3 import EpisodeLog
 
     log = EpisodeLog()
-    envs = make_vec_env(f"JointAttentionFace-N{n_objects}-v1", n_envs=8, seed=seed,
-                        wrapper_class=FlatFace)
-    model = PPO("MlpPolicy", envs, n_steps=min(256, max(steps // 8, 16)), batch_size=256,
-                seed=seed, device="cpu", verbose=0)
+    envs = make_vec_env(f"JointAttentionFace-N{n_objects}-v2", n_envs=8, seed=seed)
+    # --smoke: 64-step rollouts, else PPO's 2,048 x 8 would be one rollout of 16,384 steps
+    short = {"n_steps": 64} if smoke else {}
+    model = PPO("MultiInputPolicy", envs, seed=seed, device="cpu", verbose=0, **short)
     model.learn(steps, callback=log)
     envs.close()
     return np.array(log.ends), np.array(log.wins, dtype=float)
@@ -62,7 +57,7 @@ def random_level(n_objects: int, episodes: int, seed: int) -> float:
     """The success of uniform-random actions, per episode."""
     from jointattention.env.sb3 import success_rate
 
-    return success_rate(None, gym.make(f"JointAttentionFace-N{n_objects}-v1"), episodes, seed)
+    return success_rate(None, gym.make(f"JointAttentionFace-N{n_objects}-v2"), episodes, seed)
 
 
 def bootstrap(n_objects: int, steps: int, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -107,7 +102,7 @@ def main() -> None:
     rows, table = [], []
     for n in args.n_objects:
         chance = random_level(n, 50 if args.smoke else 2000, args.seed)
-        ppo = curve(*train_ppo(n, steps, args.seed), edges)
+        ppo = curve(*train_ppo(n, steps, args.seed, args.smoke), edges)
         boot = curve(*bootstrap(n, steps, args.seed), edges)
         rows += [(n, "ppo", m, v) for m, v in zip(mids, ppo, strict=True)]
         rows += [(n, "bootstrap", m, v) for m, v in zip(mids, boot, strict=True)]
@@ -118,12 +113,13 @@ def main() -> None:
     with open(out / "curves.csv", "w", newline="") as f:
         csv.writer(f).writerows([("n_objects", "model", "steps", "success"), *rows])
     _figure(rows, args.n_objects, out / "curves.png")
-    print("| objects | random | PPO final | bootstrap final | level: 0.9 x the lower final | "
-          "PPO steps to it | bootstrap steps to it |")
-    print("|---|---|---|---|---|---|---|")
-    for n, chance, p, b, level, sp, sb in table:
-        print(f"| {n} | {chance:.3f} | {p:.3f} | {b:.3f} | {level:.3f} | {sp:,.0f} | {sb:,.0f} |")
-    print(out / "curves.csv", out / "curves.png")
+    lines = ["| objects | random | PPO final | bootstrap final | level: 0.9 x the lower final | "
+             "PPO steps to it | bootstrap steps to it |", "|---|---|---|---|---|---|---|"]
+    lines += [f"| {n} | {chance:.3f} | {p:.3f} | {b:.3f} | {level:.3f} | {sp:,.0f} | {sb:,.0f} |"
+              for n, chance, p, b, level, sp, sb in table]
+    (out / "curves.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+    print(out / "curves.csv", out / "curves.png", out / "curves.md")
 
 
 def _figure(rows, counts, path: Path) -> None:

@@ -110,7 +110,7 @@ def test_face_window_is_kept_for_the_episode():
 @pytest.mark.parametrize(("kwargs", "match"), [
     ({"reward": "extrinsic"}, "expected one of 'external', 'intrinsic'"),
     ({"n_objects": 0}, r"expected an integer in \[1, 20\]"),
-    ({"render_mode": "human"}, "expected one of None, 'rgb_array'"),
+    ({"render_mode": "screen"}, "expected one of None, 'rgb_array', 'human'"),
     ({"config": "no-such-preset"}, "no such preset"),
     ({"render_quality": "low"}, "expected one of 'full', 'fast'"),
     ({"render_quality": "fast", "obs_mode": "face"}, "expected 'full' with obs_mode='face'"),

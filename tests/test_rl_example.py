@@ -14,7 +14,7 @@ EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "rl_ppo.py"
 
 
 def test_the_ppo_example_trains_a_few_hundred_steps(tmp_path):
-    """``examples/rl_ppo.py --smoke`` trains PPO, runs the bootstrap model and writes curves."""
+    """``examples/rl_ppo.py --smoke`` trains PPO on v2, runs the bootstrap model, writes curves."""
     pytest.importorskip("stable_baselines3", reason="needs the rl extra: make test-rl")
     proc = subprocess.run([sys.executable, str(EXAMPLE), "--smoke", "--n-objects", "3",
                            "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
@@ -25,3 +25,5 @@ def test_the_ppo_example_trains_a_few_hundred_steps(tmp_path):
     assert all(0 <= float(r["success"]) <= 1 for r in rows if r["success"] != "nan")
     assert (tmp_path / "curves.png").stat().st_size > 1000
     assert "| 3 |" in proc.stdout
+    assert (tmp_path / "curves.md").read_text().splitlines()[2].startswith("| 3 |")
+    assert "out of date" not in proc.stderr  # the example makes current (v2) ids

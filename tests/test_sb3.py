@@ -97,3 +97,27 @@ def test_ppo_with_sb3_defaults_learns_the_one_object_face_env():
                 device="cpu").learn(250_000)
     env = gym.make("JointAttentionFace-N1-v2")
     assert success_rate(model, env, 300, seed=10_000, deterministic=False) >= 0.8
+
+
+@pytest.mark.parametrize("split", ["new-poses", "unseen"])
+def test_the_native_adapter_takes_the_held_out_split(split):
+    """NativeVecEnv(..., caregivers=split) steps as DummyVecEnv on the split's held-out faces."""
+    from stable_baselines3.common.env_util import make_vec_env
+
+    from jointattention.config import Config
+    from jointattention.experiment.held_out import held_out_sets
+
+    env_id = "JointAttentionFace-N3-v2"
+    native = NativeVecEnv(env_id, num_envs=4, seed=5, caregivers=split)
+    dummy = make_vec_env(env_id, 4, seed=5, env_kwargs={"caregivers": split})
+    obs = native.reset()
+    assert _equal(obs, dummy.reset())
+    kind = {"new-poses": "new poses", "unseen": "unseen caregivers"}[split]
+    faces = set(map(bytes, held_out_sets(Config())[kind].face))
+    rng = np.random.default_rng(1)
+    for _ in range(60):
+        shown = np.round((obs["face"] + 0.5) * 255).astype(np.uint8)
+        assert set(map(bytes, shown)) <= faces
+        actions = rng.uniform(-1, 1, (4, 2)).astype(np.float32)
+        (obs, r1, d1, _), (o2, r2, d2, _) = native.step(actions), dummy.step(actions)
+        assert _equal(obs, o2) and np.array_equal(r1, r2) and np.array_equal(d1, d2)

@@ -1371,10 +1371,12 @@ for _tag, _kwargs, _name in (
     ("max-steps-float", "max_steps=2.5", "max_steps"),
     ("max-steps-1e9", "max_steps=10**9", "max_steps"),
     ("reward-unknown", "reward='bogus'", "reward"),
-    ("render-mode-human", "render_mode='human'", "render_mode"),
+    ("render-mode-unknown", "render_mode='screen'", "render_mode"),
     ("config-int", "config=42", "config"),
     ("config-missing-file", "config='missing.toml'", "missing.toml"),
     ("config-dict", "config={'seed': 1}", "config"),
+    ("caregivers-unknown", "caregivers='held-out'", "caregivers"),
+    ("caregivers-none", "caregivers=None", "caregivers"),
 ):
     # A mapping is a configuration to load_config: the environment may take it, or refuse it.
     add(api_case(f"env-{_tag}", "env-args", f"{ENV}JointAttentionEnv({_kwargs})", names=_name,
@@ -1384,6 +1386,7 @@ for _tag, _kwargs, _name in (
     ("gym-make-n-objects-zero", "n_objects=0", "n_objects"),
     ("gym-make-max-steps-nan", "max_steps=float('nan')", "max_steps"),
     ("gym-make-n-objects-string", "n_objects='five'", "n_objects"),
+    ("gym-make-caregivers-unknown", "caregivers='Unseen'", "caregivers"),
 ):
     add(api_case(f"env-{_tag}", "env-args",
                  f"{GYM}gymnasium.make('JointAttention-v1', {_kwargs})", names=_name))
@@ -1439,6 +1442,17 @@ for _tag, _seed, _name in (
 ):
     add(api_case(f"env-vector-reset-seed-{_tag}", "env-args", f"{VEC}v.reset(seed={_seed})",
                  names=_name, check=None if _tag.startswith("list") else _says_range))
+# render_mode="human" without pygame: the extra to install, in one line (a fresh process:
+# the case hides pygame from the importer).
+add(api_case("env-render-mode-human-without-pygame", "env-args",
+             f"import sys\nsys.modules['pygame'] = None\n{ENV}"
+             "JointAttentionEnv(obs_mode='face', render_mode='human')",
+             names="render_mode", check=lambda tmp, text: "jointattention[human]" in text,
+             subprocess_only=True))
+add(api_case("env-vector-caregivers-unknown", "env-args",
+             VEC.replace("vectorization_mode='vector_entry_point'",
+                         "vectorization_mode='vector_entry_point', caregivers='test'"),
+             names="caregivers"))
 add(api_case("env-vector-step-actions-bool", "env-args",
              f"{VEC}v.reset(seed=0)\nv.step(np.ones((4, 2), bool))", names="actions"))
 # A copy made mid-episode steps as the original does, episodes restarting on both.
@@ -1474,6 +1488,7 @@ for _tag, _source, _name in (
     ("vectorization-mode", "NativeVecEnv(E, num_envs=2, vectorization_mode='sync')",
      "vectorization_mode"),
     ("seed-method-negative", "NativeVecEnv(E, num_envs=2).seed(-1)", "seed"),
+    ("caregivers-unknown", "NativeVecEnv(E, num_envs=2, caregivers='held-out')", "caregivers"),
     ("step-actions-bool", "v = NativeVecEnv(E, num_envs=2, seed=0)\nv.reset()\n"
                           "v.step(np.ones((2, 2), bool))", "actions"),
 ):

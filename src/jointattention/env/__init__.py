@@ -19,6 +19,13 @@ v2 id has a v1 twin with the raw observations (uint8 grey levels, radians, pixel
 with images also have a v3: v2 rendered with ``render_quality="fast"`` (no multisampling,
 coarser spheres; about 2.5x the steps on a CPU).
 
+Every v2 and v3 spec has a ``reward_threshold`` (:data:`REWARD_THRESHOLDS`): an episode's return
+is 0 or 1, and an id is solved at a mean return of 0.9 times the oracle gaze-line follower's at
+its object count (5 where the id names none) and reward, as
+``python scripts/reward_thresholds.py`` measured them (10^5 trials each, in
+``reward_thresholds.json`` beside this module). ``caregivers="new-poses"`` or ``"unseen"``
+makes an id's held-out split (:class:`JointAttentionEnv`'s **Caregivers**).
+
 Other arguments go to :func:`gymnasium.make` as keywords, as usual. The ids without images
 have a ``vector_entry_point``: ``gymnasium.make_vec(id, num_envs=N,
 vectorization_mode="vector_entry_point")`` steps all N in one compiled kernel
@@ -30,6 +37,7 @@ below it.
 """
 
 import warnings
+from pathlib import Path
 
 try:
     import gymnasium as gym
@@ -37,13 +45,15 @@ except ImportError:  # pragma: no cover - depends on the installed extras
     raise ImportError('jointattention.env needs Gymnasium; expected it installed: '
                       'pip install "jointattention[gym]"') from None
 
+from .._readers import read_json
+from ..world.options import N_OBJECTS
 from ._looks import DETECTION_COLUMNS, MAX_DETECTIONS, detections_of
 from .joint_attention import JointAttentionEnv
 from .trial import EnvTrial
 from .wrappers import FaceWindowObservation
 
-__all__ = ["DETECTION_COLUMNS", "ENV_ID", "ENV_IDS", "MAX_DETECTIONS", "EnvTrial",
-           "FaceWindowObservation", "JointAttentionEnv", "detections_of"]
+__all__ = ["DETECTION_COLUMNS", "ENV_ID", "ENV_IDS", "MAX_DETECTIONS", "REWARD_THRESHOLDS",
+           "EnvTrial", "FaceWindowObservation", "JointAttentionEnv", "detections_of"]
 
 ENV_ID = "JointAttention-v1"
 _MODES = {"": "image", "Face": "face", "Detections": "detections"}
@@ -68,12 +78,26 @@ def _variants() -> dict[str, dict]:
 
 ENV_IDS = tuple(_variants())
 
+
+def _thresholds() -> dict[str, float]:
+    """Each v2 and v3 id's reward threshold: ``fraction`` x the oracle's ceiling (the file's)."""
+    data = read_json(Path(__file__).with_name("reward_thresholds.json"),
+                     "the oracle's ceilings (python scripts/reward_thresholds.py)")
+    ceiling = data["ceiling"]
+    return {i: round(data["fraction"] * ceiling[kwargs.get("reward", "external")][
+        str(kwargs.get("n_objects", N_OBJECTS))], 4)
+        for i, kwargs in _variants().items() if not i.endswith("-v1")}
+
+
+REWARD_THRESHOLDS = _thresholds()
+
 for _id, _kwargs in _variants().items():
     if _id not in gym.registry:
         fast = _kwargs["obs_mode"] != "image"
         gym.register(id=_id, entry_point="jointattention.env:JointAttentionEnv",
                      vector_entry_point="jointattention.env.vector:JointAttentionVectorEnv"
-                     if fast else None, max_episode_steps=40, kwargs=_kwargs)
+                     if fast else None, max_episode_steps=40, kwargs=_kwargs,
+                     reward_threshold=REWARD_THRESHOLDS.get(_id))
 
 # v2 stays current: v3 is v2 rendered faster, not its successor, so Gymnasium's "out of date"
 # warning (it warns of any lower version) would be noise before every make of a v2 id that

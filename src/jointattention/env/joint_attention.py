@@ -5,6 +5,7 @@ Its docstring is its manual. Needs the ``gym`` extra (``pip install "jointattent
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import ClassVar
 
@@ -12,9 +13,10 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from .._checks import check_int
-from ..config import Config
-from ..errors import ConfigError
+from .._checks import check_int, short_repr
+from ..config import Config, load_config
+from ..datasets import CaregiverDatasets
+from ..errors import ArgumentError, ConfigError, DatasetError
 from ..experiment.cells import datasets_of, evaluator, random_scene
 from ..experiment.trial import END_STEPS, SceneTrial
 from ..world.fast import FastScene
@@ -23,11 +25,58 @@ from ..world.options import N_OBJECTS
 from ._args import EpisodePickle, check_action, check_seed, env_config, refuse_options
 from ._looks import OBS_MODES, detection_rows, info_of, observation_space, scaled
 
-__all__ = ["JointAttentionEnv"]
+__all__ = ["CAREGIVERS", "JointAttentionEnv", "split_datasets"]
 
 REWARDS = ("external", "intrinsic")
+# the splits of caregivers=..., and the held-out kinds (experiment.held_out.KINDS) they serve
+CAREGIVERS = ("training", "new-poses", "unseen")
+_KINDS = {"new-poses": "new poses", "unseen": "unseen caregivers"}
+RENDER_MODES = (None, "rgb_array", "human")
 _ARGS = ("config", "obs_mode", "n_objects", "n_poses", "reward", "max_steps", "width",
-         "height", "render_quality", "normalize_actions", "scaled_obs", "render_mode")
+         "height", "render_quality", "normalize_actions", "scaled_obs", "render_mode",
+         "caregivers")
+
+
+def needs_pygame() -> None:
+    """``render_mode="human"`` shows its frames with pygame: one ConfigError if it is missing."""
+    import importlib.util
+
+    if importlib.util.find_spec("pygame") is None:  # found, not imported: no banner yet
+        raise ConfigError('render_mode=\'human\': needs pygame, which is not installed; '
+                          'expected the human extra: pip install "jointattention[human]"')
+
+
+def check_caregivers(caregivers) -> str:
+    """``caregivers`` if it names a split (:data:`CAREGIVERS`), else one ArgumentError."""
+    if not isinstance(caregivers, str) or caregivers not in CAREGIVERS:
+        raise ArgumentError(f"caregivers={short_repr(caregivers)}: expected one of "
+                            f"{', '.join(map(repr, CAREGIVERS))}")
+    return caregivers
+
+
+def split_datasets(config: Config, caregivers: str) -> CaregiverDatasets:
+    """The data sets of split ``caregivers`` (:data:`CAREGIVERS`) of ``config``'s run.
+
+    ``"training"``: the run's training sets (:func:`~jointattention.experiment.cells.datasets_of`);
+    ``"new-poses"`` and ``"unseen"``: its held-out sets of new poses of the training caregivers
+    and of caregivers no training set holds
+    (:func:`~jointattention.experiment.held_out.held_out_sets`: the shipped ones for the
+    shipped training sets, else the configuration's files or a recording of the world's
+    held-out stream). Training sets a robot recorded have held-out sets only as files: without
+    them, one ConfigError.
+    """
+    if check_caregivers(caregivers) == "training":
+        return datasets_of(config)
+    from ..experiment.held_out import held_out_sets  # only the held-out splits need it
+
+    kind = _KINDS[caregivers]
+    sets = held_out_sets(config)
+    if kind not in sets:
+        field = "poses" if caregivers == "new-poses" else "caregivers"
+        raise ConfigError(f"caregivers={caregivers!r}: the training sets name no simulated "
+                          f"caregiver, so no {kind} can be recorded; expected a data-set file "
+                          f"in experiment.held_out.{field}")
+    return sets[kind]
 
 
 class JointAttentionEnv(gym.Env, EpisodePickle):
@@ -80,6 +129,27 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         is the caregiver's target;
       - ``"intrinsic"``: 1 if the internal evaluator fired, whichever object it was.
       The other one is in ``info["external_reward"]`` / ``info["intrinsic_reward"]``.
+      An episode's return is therefore 0 or 1, and the mean return is the success rate.
+      Each v2 and v3 id's ``spec.reward_threshold`` says when it is solved: 0.9 times the
+      oracle gaze-line follower's mean return at the id's object count (5 where the id names
+      none) and reward, in the fast world of the default configuration
+      (:data:`~jointattention.env.REWARD_THRESHOLDS`; the intrinsic reward's oracle fires
+      every time, so those ids are solved at 0.9).
+
+    **Caregivers** (``caregivers=``), the split of a held-out evaluation:
+      - ``"training"`` (default): the training caregivers, as always: in the modes without
+        images the run's training sets (``config.datasets``, by default the 125 shipped); in
+        ``"image"`` mode a caregiver identity drawn at each seeded reset.
+      - ``"new-poses"``: new poses of the training caregivers; ``"unseen"``: caregivers that no
+        training set holds, drawn from the world's held-out stream. In the modes without
+        images, each episode is one of the run's held-out sets of that kind
+        (:func:`~jointattention.experiment.held_out.held_out_sets`: for the shipped training
+        sets the shipped ``held_out_poses.npz`` (250 sets) and ``held_out_caregivers.npz``
+        (400 sets, 16 caregivers); for other training sets the files of
+        ``[experiment.held_out]`` or a recording of the world's held-out stream, made once).
+        In ``"image"`` mode, each scene (or each pose of the ``n_poses`` pool) is posed by
+        one of the people who posed those sets, in a new pose.
+      The split changes nothing else: the same spaces, distractors, steps and rewards.
 
     **Info**, the same keys and shapes at every step: ``"detections"``, the detector's report
     as a dict of the arrays of :class:`~jointattention.agent.detections.Detections` padded to
@@ -112,8 +182,13 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
             (``world.options.FAST_CAMERA``).
         normalize_actions: actions in [-1, 1] (default: False, radians).
         scaled_obs: observations scaled near [-1, 1] (default: False, raw; see above).
-        render_mode: ``None`` or ``"rgb_array"`` (``"image"`` mode: an overview of the room;
-            the other modes: the face window, as RGB).
+        render_mode: ``None``, ``"rgb_array"`` (``"image"`` mode: an overview of the room;
+            the other modes: the face window, as RGB) or ``"human"``: the same frames in a
+            window, shown at every reset and step (``render_fps`` 5), which needs pygame: the
+            ``human`` extra (``pip install "jointattention[human]"``). Without a screen (none
+            of ``DISPLAY``, ``WAYLAND_DISPLAY``, ``SDL_VIDEODRIVER`` set) nothing is shown.
+        caregivers: which caregivers the episodes show (see **Caregivers** above):
+            ``"training"`` (default), ``"new-poses"`` or ``"unseen"``.
 
     Arguments of the wrong type or out of range raise
     :class:`~jointattention.errors.ConfigError` naming the argument; a malformed action (not 2
@@ -130,31 +205,36 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
     image ids alone): v2 with ``render_quality="fast"``.
     """
 
-    metadata: ClassVar[dict] = {"render_modes": ["rgb_array"], "render_fps": 5}
+    metadata: ClassVar[dict] = {"render_modes": ["rgb_array", "human"], "render_fps": 5}
 
     def __init__(self, config: Config | str | Path | None = None, *, obs_mode: str = "image",
                  n_objects: int | None = None, n_poses: int | None = None,
                  reward: str = "external", max_steps: int | None = None,
                  width: int | None = None, height: int | None = None,
                  render_quality: str = "full", normalize_actions: bool = False,
-                 scaled_obs: bool = False, render_mode: str | None = None, **unknown):
+                 scaled_obs: bool = False, render_mode: str | None = None,
+                 caregivers: str = "training", **unknown):
         if unknown:
             raise ConfigError(f"{sorted(unknown)[0]}=...: unknown argument; expected one of "
                               f"{', '.join(_ARGS)}")
+        check_caregivers(caregivers)
         EpisodePickle.__init__(self, config, obs_mode=obs_mode, n_objects=n_objects,
                                n_poses=n_poses, reward=reward, max_steps=max_steps, width=width,
                                height=height, render_quality=render_quality,
                                normalize_actions=normalize_actions,
-                               scaled_obs=scaled_obs, render_mode=render_mode)
+                               scaled_obs=scaled_obs, render_mode=render_mode,
+                               caregivers=caregivers)
         cfg = env_config(config, obs_mode, width, height, render_quality)
         self.n_objects = N_OBJECTS if n_objects is None else check_int("n_objects", n_objects,
                                                                        1, 20)
         for name, value, choices in (("obs_mode", obs_mode, OBS_MODES),
                                      ("reward", reward, REWARDS),
-                                     ("render_mode", render_mode, (None, "rgb_array"))):
+                                     ("render_mode", render_mode, RENDER_MODES)):
             if not isinstance(value, (str, type(None))) or value not in choices:
                 raise ConfigError(f"{name}={value!r}: expected one of "
                                   f"{', '.join(map(repr, choices))}")
+        if render_mode == "human":
+            needs_pygame()
         for name, value in (("normalize_actions", normalize_actions),
                             ("scaled_obs", scaled_obs)):
             if not isinstance(value, bool):
@@ -167,16 +247,19 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
                           else check_int("max_steps", max_steps, 1, 100_000))
         self.config, self.obs_mode, self.reward = cfg, obs_mode, reward
         self.render_mode, self.normalize_actions = render_mode, normalize_actions
-        self.scaled_obs = scaled_obs
+        self.scaled_obs, self.caregivers = scaled_obs, caregivers
         self.kinematics = HeadKinematics.from_config(cfg.world)
         kin = self.kinematics
-        self._world = self._datasets = None
+        self._world = self._datasets = self._people = None
         if obs_mode == "image":
             from ..world.simulator import World  # MuJoCo only where it renders
 
+            if caregivers != "training":  # the split's people, from the sets of the config
+                self._people = _people_of(config if isinstance(config, Config)
+                                          else load_config(config), caregivers)
             self._world = World(cfg.world, n_objects=self.n_objects)
         else:
-            self._datasets = datasets_of(cfg)
+            self._datasets = split_datasets(cfg, caregivers)
         face_hw = (cfg.world.face_window.height_px, cfg.world.face_window.width_px)
         if self._datasets is not None:
             face_hw = self._datasets.face.shape[1:]
@@ -187,6 +270,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         self.action_space = spaces.Box(-high.astype(np.float32), high.astype(np.float32), (2,),
                                        np.float32)
         self._caregiver, self._poses, self._face, self._scene_state = None, [], None, None
+        self._window = None  # render_mode="human": pygame's window, opened at the first frame
         self._trial: SceneTrial | None = None
         self._evaluate = evaluator(cfg)
 
@@ -212,7 +296,10 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
             scene = self._world.fast_scene()
         self._trial = SceneTrial(scene, self.kinematics.clip(start), kinematics=self.kinematics,
                                  max_steps=self.max_steps, evaluate=self._evaluate)
-        return self._look()
+        out = self._look()
+        if self.render_mode == "human":
+            self._show()
+        return out
 
     def _fast_episode(self, rng: np.random.Generator) -> tuple[int, FastScene]:
         """The modes without images: a data set's index and its scene with random distractors.
@@ -228,6 +315,8 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         from ..world.scene import sample_caregiver, sample_scene, with_new_distractors
 
         world, rng = self.config.world, self.np_random
+        if self._people is not None:
+            return self._held_out_scene(seeded)
         if seeded or self._caregiver is None:
             self._caregiver = sample_caregiver(world, rng)
             self._poses = [sample_scene(world, rng, self._caregiver, self.n_objects)
@@ -240,6 +329,26 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         self._scene_state = state
         return self._world.face_angle_rad
 
+    def _held_out_scene(self, seeded: bool) -> np.ndarray:
+        """``"image"`` mode, a held-out split: a new scene posed by one of the split's people.
+
+        Each pose (each episode's, or each of the pool's) draws its caregiver from them, so
+        that one seed's episodes show all of them.
+        """
+        from ..world.scene import sample_scene, with_new_distractors
+
+        world, rng, people = self.config.world, self.np_random, self._people
+        if seeded or not self._poses:
+            self._poses = [sample_scene(world, rng, people[rng.integers(len(people))],
+                                        self.n_objects) for _ in range(self.n_poses or 0)]
+        if self._poses:
+            state = with_new_distractors(self._poses[rng.integers(len(self._poses))], world, rng)
+        else:
+            state = sample_scene(world, rng, people[rng.integers(len(people))], self.n_objects)
+        self._world.set_scene(state)
+        self._scene_state, self._caregiver = state, state.caregiver
+        return self._world.face_angle_rad
+
     def step(self, action):
         """Turn the head by ``action`` (clipped to the action space), look, evaluate."""
         trial = self._trial
@@ -250,6 +359,8 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         obs, info = self._look()
         terminated = trial.end is not None and trial.end != END_STEPS
         truncated = trial.end == END_STEPS
+        if self.render_mode == "human":
+            self._show()
         return obs, info[f"{self.reward}_reward"], terminated, truncated, info
 
     def _look(self):
@@ -280,10 +391,36 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
     def render(self):
         """With ``render_mode="rgb_array"``: the room, or the face window (modes without images).
 
-        The room is seen from the experimenter's camera; the face window is shown as RGB.
+        The room is seen from the experimenter's camera; the face window is shown as RGB. With
+        ``"human"`` the frames are shown at every reset and step, and this returns None.
         """
         if self.render_mode != "rgb_array":
             return None
+        return self._frame()
+
+    def _show(self) -> None:
+        """``render_mode="human"``: show the frame in pygame's window, at ``render_fps``."""
+        if not any(os.environ.get(k) for k in ("DISPLAY", "WAYLAND_DISPLAY", "SDL_VIDEODRIVER")):
+            # No screen to show it on: SDL would pick its EGL "offscreen" driver, whose exit
+            # ends the EGL display MuJoCo renders with (and check_env makes every mode).
+            return
+        import pygame
+
+        frame = self._frame()
+        # a face window is 30 x 25 pixels: enlarged whole pixels to about 300 wide
+        zoom = max(1, 300 // frame.shape[1])
+        frame = np.repeat(np.repeat(frame, zoom, axis=0), zoom, axis=1)
+        if self._window is None:
+            pygame.display.init()  # the display alone: pygame.init() opens the sound too
+            self._window = pygame.display.set_mode((frame.shape[1], frame.shape[0]))
+            self._clock = pygame.time.Clock()
+        self._window.blit(pygame.surfarray.make_surface(frame.swapaxes(0, 1)), (0, 0))
+        pygame.event.pump()
+        self._clock.tick(self.metadata["render_fps"])
+        pygame.display.flip()
+
+    def _frame(self) -> np.ndarray:
+        """The frame ``render`` shows: the room's overview, or the face window as RGB."""
         if self._world is not None:
             return self._world.render("overview")
         face = self._face if self._face is not None else np.zeros(
@@ -291,6 +428,25 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         return np.repeat(face[..., None], 3, axis=2)
 
     def close(self):
-        """Free the renderer."""
+        """Free the renderer, and close the window of ``render_mode="human"``."""
         if self._world is not None:
             self._world.close()
+        if self._window is not None:
+            import pygame
+
+            pygame.display.quit()
+            self._window = None
+
+
+def _people_of(config: Config, caregivers: str) -> list:
+    """``"image"`` mode: the caregivers who posed split ``caregivers``'s data sets.
+
+    The new poses' people are the training caregivers; the unseen ones, people drawn from the
+    world's held-out stream (:data:`~jointattention.world.recording.HELD_OUT`).
+    """
+    from ..world.recording import caregivers_of
+
+    try:
+        return caregivers_of(split_datasets(config, caregivers), config.world)
+    except DatasetError as err:
+        raise ConfigError(f"caregivers={caregivers!r}: {err}") from None

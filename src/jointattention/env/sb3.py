@@ -59,7 +59,8 @@ class NativeVecEnv(VecEnv):
             ``JointAttentionDetections...``; the v2 ids for SB3's default networks).
         num_envs: how many sub-environments.
         seed: the first reset's seed (sub-environment ``i`` gets ``seed + i``), or None.
-        **kwargs: arguments of the environment (``n_objects``, ``reward``, ...); not
+        **kwargs: arguments of the environment (``n_objects``, ``reward``, ``caregivers``
+            for a held-out split, ...); not
             ``make_vec``'s ``autoreset_mode`` or ``vectorization_mode``, which it sets.
 
     Its arguments, seeds (here or by ``seed()``) and actions are checked as the environment's
@@ -172,8 +173,8 @@ def success_rate(model, env: gym.Env, episodes: int, seed: int | None = None,
                  deterministic: bool = True) -> float:
     """The share of ``episodes`` episodes of ``env`` in which ``model``'s policy is rewarded.
 
-    ``env`` is a single Gymnasium environment (e.g. ``gym.make(id, config=...)`` with held-out
-    data sets); the first reset takes ``seed``. ``model`` None: uniform random actions (the
+    ``env`` is a single Gymnasium environment (e.g. ``gym.make(id, caregivers="unseen")``, a
+    held-out split); the first reset takes ``seed``. ``model`` None: uniform random actions (the
     action space seeded with ``seed``), the floor.
     """
     wins, (obs, _) = 0, env.reset(seed=seed)

@@ -78,6 +78,9 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
             raise ConfigError("obs_mode='image': the native vector environment steps the modes "
                               "without images; expected 'face' or 'detections' (or make_vec's "
                               "async mode for images)")
+        if kwargs.get("render_mode") == "human":
+            raise ConfigError("render_mode='human': a window shows one environment; expected "
+                              "None or 'rgb_array' (the first sub-environment's face window)")
         # One environment knows the spaces, the world and the data sets; each sub-environment
         # has only its own generator, drawn as Env.reset draws it.
         self._env = one = JointAttentionEnv(**kwargs)

@@ -235,18 +235,24 @@ def _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached
     return records(results)
 
 
-def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None) -> float:
+def measure_ceiling(config: Config, n_objects: int, n_trials: int | None = None,
+                    reward: str = "external") -> float:
     """Success of the oracle gaze-line follower over ``n_trials`` trials in the same world.
 
-    ``n_trials``: 1 to 10^7 (default: ``experiment.n_ceiling_trials``).
+    ``n_trials``: 1 to 10^7 (default: ``experiment.n_ceiling_trials``). ``reward``:
+    ``"external"`` (default), the share of trials it ends on the target; ``"intrinsic"``, on
+    any object (the evaluator fired), in the same trials.
     """
     check_config(config)
     check_int("n_objects", n_objects, 1, 20)
     if n_trials is not None:
         check_int("n_trials", n_trials, 1, 10**7)
+    if reward not in ("external", "intrinsic"):
+        raise ArgumentError(f"reward={short_repr(reward)}: expected 'external' or 'intrinsic'")
     n_trials = config.experiment.n_ceiling_trials if n_trials is None else n_trials
     return oracle_wins(datasets_of(config), config, n_objects, n_trials,
-                       stream(config.seed, "ceiling", n_objects)) / n_trials
+                       stream(config.seed, "ceiling", n_objects),
+                       any_object=reward == "intrinsic") / n_trials
 
 
 _PACKED: dict = {}  # fast_world's: {(id of the data sets, count, world): (them, the packing)}
@@ -270,8 +276,10 @@ def fast_world(config: Config, ds: CaregiverDatasets, n_objects: int):
 
 
 def oracle_wins(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials: int,
-                rng: np.random.Generator) -> int:
+                rng: np.random.Generator, any_object: bool = False) -> int:
     """How many of ``n_trials`` trials on ``ds`` the oracle gaze-line follower ends on the target.
+
+    ``any_object``: on any object (the evaluator fired) instead.
 
     :class:`~.oracle.OracleAgent`'s trials (:func:`random_scene` from ``rng``), in one compiled
     loop (:func:`~.oracle.oracle_trials`).
@@ -280,4 +288,5 @@ def oracle_wins(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials:
     return placed(oracle_trials(world, ds.theta_face_rad + ds.command_rad, rng,
                                 float(np.deg2rad(config.agent.lm_step_deg)),
                                 float(config.agent.d_th_px(world.width_px)),
-                                int(config.agent.max_steps), n_trials), world)
+                                int(config.agent.max_steps), n_trials, bool(any_object)),
+                  world)

@@ -47,8 +47,12 @@ def oracle_step(target_pan, target_tilt, pan, tilt, step_rad) -> tuple[float, fl
 
 
 @jit
-def oracle_trials(world, theta_target_rad, rng, step_rad, d_th_px, max_steps, n_trials) -> int:
+def oracle_trials(world, theta_target_rad, rng, step_rad, d_th_px, max_steps, n_trials,
+                  any_object=False) -> int:
     """How many of ``n_trials`` trials the oracle ends on the target (-1: objects not placed).
+
+    ``any_object``: count the trials it ends on any object instead (the evaluator fired: the
+    intrinsic reward's ceiling).
 
     The compiled engine's trials (:mod:`._compiled_loop`: the same draws as
     :func:`~.cells.random_scene` and :class:`~.trial.SceneTrial`) with :class:`OracleAgent`'s
@@ -74,5 +78,5 @@ def oracle_trials(world, theta_target_rad, rng, step_rad, d_th_px, max_steps, n_
             pan, tilt, limit_hit = move_head(pan, tilt, d_pan, d_tilt, lim[0], lim[1], lim[2],
                                              lim[3])
             n_steps += 1
-        wins += attended == target
+        wins += (attended >= 0) if any_object else (attended == target)
     return wins

@@ -98,10 +98,11 @@ def _env_rate(envs, n_steps: int) -> float:
 def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
     """Steps per second of the environment in each observation mode, single and vectorised.
 
-    Random actions, resets included; vector environments count the steps of all their
-    sub-environments (async: 2 processes, started with spawn). Beside them, their bound: the
-    kernels of one step alone (:func:`step_bound`), and how far each is from it. Empty if
-    Gymnasium is not installed.
+    The current ids (v2; v3 for fast images), each single one as registered but without
+    ``gym.make``'s wrappers. Random actions, resets included; vector environments count the
+    steps of all their sub-environments (async: 2 processes, started with spawn). Beside them,
+    their bound: the kernels of one step alone (:func:`step_bound`), and how far each is from
+    it. Empty if Gymnasium is not installed.
     """
     try:
         import gymnasium as gym
@@ -109,32 +110,36 @@ def run_env_benchmark(n_steps: int = 600) -> list[tuple[str, float, str]]:
         from ..env import JointAttentionEnv
     except ImportError:
         return []
+    def current(env_id: str, **kwargs) -> JointAttentionEnv:
+        """The environment of the registered ``env_id``, without gym.make's wrappers."""
+        return JointAttentionEnv(**{**gym.spec(env_id).kwargs, **kwargs})
+
     plain = Config()
     jagged = dataclasses.replace(plain, world=with_camera(plain.world, antialias_samples=0))
-    rows = [("JointAttention-v1 steps, image (rendered)",
-             _env_rate(JointAttentionEnv(), n_steps), "steps/s"),
-            ("JointAttention-v1 steps, image, antialias_samples = 0",
-             _env_rate(JointAttentionEnv(config=jagged), n_steps), "steps/s"),
+    rows = [("JointAttention-v2 steps, image (rendered)",
+             _env_rate(current("JointAttention-v2"), n_steps), "steps/s"),
+            ("JointAttention-v2 steps, image, antialias_samples = 0",
+             _env_rate(current("JointAttention-v2", config=jagged), n_steps), "steps/s"),
             ("JointAttention-v3 steps, image, render_quality = 'fast'",
-             _env_rate(JointAttentionEnv(render_quality="fast"), n_steps), "steps/s")]
-    for mode in ("face", "detections"):
-        rows.append((f"JointAttention-v1 steps, {mode} (no rendering)",
-                     _env_rate(JointAttentionEnv(obs_mode=mode), 20 * n_steps), "steps/s"))
-    fast = "JointAttentionFace-v1"
+             _env_rate(current("JointAttention-v3"), n_steps), "steps/s")]
+    for name, mode in (("Face", "face"), ("Detections", "detections")):
+        rows.append((f"JointAttention{name}-v2 steps, {mode} (no rendering)",
+                     _env_rate(current(f"JointAttention{name}-v2"), 20 * n_steps), "steps/s"))
+    fast = "JointAttentionFace-v2"
     for n_envs in (8, 64):
         for mode in ("sync", "vector_entry_point"):
             envs = gym.make_vec(fast, num_envs=n_envs, vectorization_mode=mode)
             name = "native vector" if mode == "vector_entry_point" else "sync vector"
             rows.append((f"{fast} x{n_envs}, {name}",
                          _env_rate(envs, 3 * n_steps * 8 // n_envs), "steps/s"))
-    for env_id, steps in ((fast, 5 * n_steps), ("JointAttention-v1", n_steps // 2)):
+    for env_id, steps in ((fast, 5 * n_steps), ("JointAttention-v2", n_steps // 2)):
         envs = gym.make_vec(env_id, num_envs=2, vectorization_mode="async",
                             vector_kwargs={"context": "spawn"})
         rows.append((f"{env_id} x2, async vector (spawn)", _env_rate(envs, steps), "steps/s"))
     bound, rates = step_bound(), {name: rate for name, rate, _ in rows}
     rows += [("bound: one step's kernels alone (move, project, evaluate), compiled", bound,
               "steps/s"),
-             ("bound / one env, face", bound / rates["JointAttention-v1 steps, face (no "
+             ("bound / one env, face", bound / rates["JointAttentionFace-v2 steps, face (no "
                                                       "rendering)"], "x"),
              ("bound / x64 native vector", bound / rates[f"{fast} x64, native vector"], "x")]
     return rows
