@@ -311,40 +311,28 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         return k, scene
 
     def _new_scene(self, seeded: bool) -> np.ndarray:
-        """``"image"`` mode: show a new scene in the room; returns the start head angle."""
+        """``"image"`` mode: show a new scene in the room; returns the start head angle.
+
+        ``"training"``: one caregiver per seeded reset poses every scene. A held-out split:
+        each pose (each episode's, or each of the ``n_poses`` pool's) draws its caregiver from
+        the split's people, so that one seed's episodes show all of them.
+        """
         from ..world.scene import sample_caregiver, sample_scene, with_new_distractors
 
-        world, rng = self.config.world, self.np_random
-        if self._people is not None:
-            return self._held_out_scene(seeded)
+        world, rng, people = self.config.world, self.np_random, self._people
+
+        def poser():
+            return self._caregiver if people is None else people[rng.integers(len(people))]
+
         if seeded or self._caregiver is None:
-            self._caregiver = sample_caregiver(world, rng)
-            self._poses = [sample_scene(world, rng, self._caregiver, self.n_objects)
+            if people is None:
+                self._caregiver = sample_caregiver(world, rng)
+            self._poses = [sample_scene(world, rng, poser(), self.n_objects)
                            for _ in range(self.n_poses or 0)]
         if self._poses:
             state = with_new_distractors(self._poses[rng.integers(len(self._poses))], world, rng)
         else:
-            state = sample_scene(world, rng, self._caregiver, self.n_objects)
-        self._world.set_scene(state)
-        self._scene_state = state
-        return self._world.face_angle_rad
-
-    def _held_out_scene(self, seeded: bool) -> np.ndarray:
-        """``"image"`` mode, a held-out split: a new scene posed by one of the split's people.
-
-        Each pose (each episode's, or each of the pool's) draws its caregiver from them, so
-        that one seed's episodes show all of them.
-        """
-        from ..world.scene import sample_scene, with_new_distractors
-
-        world, rng, people = self.config.world, self.np_random, self._people
-        if seeded or not self._poses:
-            self._poses = [sample_scene(world, rng, people[rng.integers(len(people))],
-                                        self.n_objects) for _ in range(self.n_poses or 0)]
-        if self._poses:
-            state = with_new_distractors(self._poses[rng.integers(len(self._poses))], world, rng)
-        else:
-            state = sample_scene(world, rng, people[rng.integers(len(people))], self.n_objects)
+            state = sample_scene(world, rng, poser(), self.n_objects)
         self._world.set_scene(state)
         self._scene_state, self._caregiver = state, state.caregiver
         return self._world.face_angle_rad
