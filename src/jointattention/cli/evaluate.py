@@ -11,7 +11,6 @@ import json
 import math
 from pathlib import Path
 
-from .._files import check_writable
 from ..agent.finders import DEFAULT_FACE, FACE_METHODS
 from ..errors import ArgumentError
 from ._common import LazyBar, int_in
@@ -40,7 +39,7 @@ def _cmd_evaluate(args: argparse.Namespace) -> None:
     if args.poses is not None and args.caregivers is None:  # it would be ignored
         raise ArgumentError(f"--poses {args.poses} conflicts with --datasets: it is the data "
                             "sets recorded per caregiver; expected it with --caregivers K")
-    out = None if args.out is None else check_writable(args.out, "folder")
+    out = None if args.out is None else Path(args.out)
     model = load_model(args.model)
     known = learned_from(model, str(args.model))
     if args.datasets is not None:
@@ -108,8 +107,6 @@ def _cmd_closed_loop(args: argparse.Namespace) -> None:
         datasets = load(args.datasets)
         check_windows(datasets, model, f"--datasets {args.datasets}")  # before any bar
         caregivers_shown(datasets, model.config.world)  # who posed them, before rendering
-    if args.out:
-        check_writable(args.out, "file")
     gl.mujoco()  # rendered: refused before any trial if OpenGL cannot start
     rows = list(TABLE_HEAD)
     start = time.perf_counter()

@@ -8,7 +8,6 @@ import math
 import sys
 from pathlib import Path
 
-from .._files import check_writable
 from ..agent.finders import DEFAULT_FACE, FACE_METHODS
 from ..errors import ArgumentError, FileError
 from ._common import LazyBar, add_cell, add_config, int_in
@@ -33,7 +32,6 @@ def _cmd_train(args: argparse.Namespace) -> None:
     check_savable(config, args.condition)
     if not args.out.endswith(".npz"):
         raise FileError(f"{args.out}: expected a model file name ending in .npz")
-    check_writable(args.out, "file")
     ds = datasets_of(config)  # a bad data-set file is refused before learning
     check_memory(config, [args.condition])  # an in-range capacity may not fit this machine
     with tqdm(total=config.experiment.n_steps, desc="learning", unit="step",
@@ -114,7 +112,7 @@ def _cmd_follow(args: argparse.Namespace) -> None:
                                  refine=not args.landmarks_only)
     theta = np.deg2rad(args.theta_deg)
     follower.check_angle(theta)  # before any frame is read
-    out = check_writable(args.out, "folder") if args.out else None
+    out = Path(args.out) if args.out else None
     for name, index, frame in _frames(args):
         look = follower.look(frame, theta)
         record = {"source": name, "frame": index, "theta_deg": list(args.theta_deg),
@@ -144,7 +142,6 @@ def _cmd_datasets_import(args: argparse.Namespace) -> None:
     config = load_config(args.config)
     if not args.out.endswith(".npz"):
         raise FileError(f"{args.out}: expected a file name ending in .npz")
-    check_writable(args.out, "file", "--out")
     template = None
     if args.template is not None:
         from ..agent.faces import face_template

@@ -49,9 +49,7 @@ def _cmd_report(args: argparse.Namespace) -> None:
     from .._files import check_writable
     from ..figures.report import screenshot, write_report
 
-    if args.out:
-        check_writable(args.out, "file")
-    if args.screenshot:
+    if args.screenshot:  # --out is judged with every command's (cli.main)
         check_writable(args.screenshot, "file", "--screenshot")
     page = write_report(args.run, args.out)
     print(page)

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from .._files import check_writable, write_text
+from .._files import write_text
 from ..errors import ArgumentError
 from ..world import gl
 from ._common import add_cell, add_config, int_in
@@ -21,8 +21,6 @@ def _cmd_parity(args: argparse.Namespace) -> None:
     from ..jobs.parity import CAUSES, measure_parity, parity_table
 
     config = load_config(args.config)
-    if args.out:
-        check_writable(args.out, "file")
     gl.mujoco()  # rendering: refused before the progress bar if OpenGL cannot start
     results = {}
     for n in args.objects:
@@ -41,7 +39,6 @@ def _cmd_detect(args: argparse.Namespace) -> None:
     from ..figures.detect import detect_files
 
     config = load_config(args.config)
-    check_writable(args.out, "folder")
     for path, found in detect_files(args.images, Path(args.out), config, args.face):
         print(f"{path}: {len(found.area_px)} bright-colour regions, {len(found.faces)} faces, "
               f"{len(found.edge_regions)} edge-rich regions")
@@ -57,7 +54,6 @@ def _cmd_gaze(args: argparse.Namespace) -> None:
 
     config = load_config(args.preset if args.config is None else args.config)
     condition_named(config, args.condition)  # all checked before the progress bar
-    check_writable(args.out, "folder")
     datasets_of(config)
     check_memory(config, [args.condition])
     gl.mujoco()  # Fig. 7 is rendered: refused before learning if OpenGL cannot start
@@ -83,8 +79,6 @@ def _cmd_faces(args: argparse.Namespace) -> None:
     if args.caregivers > args.n:
         raise ArgumentError(f"faces: --caregivers {args.caregivers} is more than --n {args.n}; "
                             "expected at most one caregiver per view")
-    if args.out:
-        check_writable(args.out, "file")
     gl.mujoco()
 
     bars = []

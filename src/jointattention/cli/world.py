@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 import os
+from pathlib import Path
 
-from .._files import check_writable
 from ..errors import JointAttentionError
 from ._common import add_config, int_in
 from .robot import add_import
@@ -20,7 +20,7 @@ def _cmd_render(args: argparse.Namespace) -> None:
 
     config = load_config(args.config)
     seed = config.seed if args.seed is None else args.seed
-    out = check_writable(args.out, "folder")
+    out = Path(args.out)
     d_th_px = config.agent.d_th_px(config.world.camera.width_px)
     with World(config.world, seed=seed) as world:
         print(robot_view(world, out / "robot_view.png", d_th_px))
@@ -62,7 +62,6 @@ def _cmd_datasets_make(args: argparse.Namespace) -> None:
             raise JointAttentionError(f"--caregivers-of {args.caregivers_of}: "
                                       f"{len(identities)} caregivers; expected at most --n "
                                       f"({args.n}); each poses at least one data set")
-    check_writable(args.out, "file", "OUT")
     with tqdm(total=args.n, desc="data sets", unit="set", disable=args.quiet) as bar:
         ds = make_datasets(config.world, args.n, args.seed, progress=lambda i: bar.update(1),
                            caregivers=args.caregivers, cut=args.cut,
