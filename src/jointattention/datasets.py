@@ -18,6 +18,8 @@ key                dtype     shape        meaning
 ``caregiver``      int       (N,)         schema version 2 only (and required there): which
                                           caregiver (identity index >= 0) posed each data
                                           set, for data sets of several people
+``eyes``           uint8     (N, h, w)    optional: grayscale eye window, cut around both
+                                          eyes from a finer sensor (``[world.eye_window]``)
 ``meta``           str       ()           optional: JSON text, free provenance (camera, seed)
 =================  ========  ===========  ==================================================
 
@@ -51,7 +53,7 @@ __all__ = ["MAX_TARGET_M", "SCHEMA_VERSION", "CaregiverDatasets", "default_datas
 SCHEMA_VERSION = 2  # the newest; version 1 is version 2 without ``caregiver``
 MAX_TARGET_M = 100.0  # a target farther than this from the robot is not a scene it can see
 _REQUIRED = ("schema_version", "face", "theta_face_rad", "command_rad")
-_OPTIONAL = ("target_m", "meta")
+_OPTIONAL = ("target_m", "meta", "eyes")
 _VERSION_FIELDS = {1: (), 2: ("caregiver",)}  # the fields each version adds, all required
 
 
@@ -65,12 +67,21 @@ class CaregiverDatasets:
     target_m: np.ndarray | None = None
     meta: dict = field(default_factory=dict)
     caregiver: np.ndarray | None = None
+    eyes: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         _validate(self, "data sets")
 
     def __len__(self) -> int:
         return len(self.face)
+
+    def subset(self, keep) -> CaregiverDatasets:
+        """The data sets at ``keep`` (indices, a slice or a mask), every field cut alike."""
+        def cut(a):
+            return None if a is None else a[keep]
+        return CaregiverDatasets(self.face[keep], self.theta_face_rad[keep],
+                                 self.command_rad[keep], cut(self.target_m), self.meta,
+                                 cut(self.caregiver), cut(self.eyes))
 
     @property
     def window_size_px(self) -> tuple[int, int]:
@@ -117,6 +128,12 @@ def _validate(ds, where: str) -> None:
         if key == "target_m" and np.max(np.abs(a)) > MAX_TARGET_M:  # a room, not the sky
             _fail(where, key, f"positions in metres within ±{MAX_TARGET_M:g} of the robot",
                   f"a coordinate of {np.max(np.abs(a)):.4g}")
+    eyes = getattr(ds, "eyes", None)
+    if eyes is not None:
+        a = np.asarray(eyes)
+        if a.dtype != np.uint8 or a.ndim != 3 or len(a) != n or min(a.shape[1:]) < 4:
+            _fail(where, "eyes", f"uint8 array of shape ({n}, h, w) with h, w >= 4",
+                  _describe(a))
     caregiver = getattr(ds, "caregiver", None)
     if caregiver is not None:
         a = np.asarray(caregiver)
@@ -138,6 +155,8 @@ def scenes_sha256(datasets: CaregiverDatasets) -> str:
     levels (another OpenGL), so a model is bound to the scenes it learned from by this.
     """
     h = hashlib.sha256(np.array(datasets.face.shape, "<i8").tobytes())
+    if datasets.eyes is not None:
+        h.update(b"eyes" + np.array(datasets.eyes.shape, "<i8").tobytes())
     for a in (datasets.theta_face_rad, datasets.command_rad, datasets.target_m):
         if a is not None:  # + 0.0: -0.0 rounds to the bytes of 0.0
             h.update((np.round(np.asarray(a, float), SCENE_DECIMALS) + 0.0).astype("<f8").tobytes())
@@ -165,6 +184,8 @@ def save(datasets: CaregiverDatasets, path: str | Path) -> Path:
         arrays["target_m"] = datasets.target_m
     if datasets.caregiver is not None:
         arrays["caregiver"] = datasets.caregiver
+    if datasets.eyes is not None:
+        arrays["eyes"] = datasets.eyes
     return save_npz(path, arrays)
 
 
@@ -181,7 +202,7 @@ def load(path: str | Path) -> CaregiverDatasets:
         if key not in keys:
             raise DatasetError(
                 f"{where}: field '{key}' is missing; expected the fields "
-                f"{', '.join(_REQUIRED)} (and optionally target_m, meta)"
+                f"{', '.join(_REQUIRED)} (and optionally target_m, meta, eyes)"
             )
     version = archive["schema_version"]
     if version.shape != () or version.dtype.kind not in "iu":
@@ -211,7 +232,7 @@ def load(path: str | Path) -> CaregiverDatasets:
             _fail(where, "meta", "JSON text of an object", repr(str(archive["meta"]))[:60])
     fields = dict(face=archive["face"], theta_face_rad=archive["theta_face_rad"],
                   command_rad=archive["command_rad"], target_m=archive.get("target_m"),
-                  meta=meta, caregiver=archive.get("caregiver"))
+                  meta=meta, caregiver=archive.get("caregiver"), eyes=archive.get("eyes"))
     _validate(SimpleNamespace(**fields), where)  # errors name the file, not "data sets"
     return CaregiverDatasets(**fields)
 

@@ -840,6 +840,7 @@ NONFINITE = {
     "lm-step-inf": ("[agent]\nlm_step_deg = inf", "agent.lm_step_deg"),
     "offset-minus-inf": ("[world.camera]\noffset_m = [-inf, 0.06, 0.05]",
                          "world.camera.offset_m"),
+    "eye-zoom-nan": ("[world.eye_window]\nzoom = nan", "world.eye_window.zoom"),
 }
 for _tag, (_section, _name) in NONFINITE.items():
     add(config_case(f"config-{_tag}", "nonfinite", tiny_toml(sections=_section), names=_name))
@@ -847,6 +848,8 @@ for _tag in ("learning-rate-nan", "fov-deg-nan", "d-th-fraction-nan", "momentum-
     _section, _name = NONFINITE[_tag]
     add(config_case(f"reproduce-{_tag}", "nonfinite", tiny_toml(sections=_section),
                     "reproduce", names=_name))
+add(config_case("config-eye-window-half-set", "config-types",
+                tiny_toml(sections="[world.eye_window]\nwidth_px = 48"), names="eye_window"))
 add(config_case("config-condition-model-learning-rate-nan", "nonfinite",
                 tiny_toml(conditions=condition("n1", 1, "model = { learning_rate = nan }")),
                 names="learning_rate"))
@@ -952,6 +955,8 @@ CORRUPT_DATASETS: dict[str, Callable[[], bytes | None]] = {
     "schema-version-2": lambda: small_datasets_bytes(schema_version=np.array(2)),
     "meta-not-json": lambda: small_datasets_bytes(meta=np.array("{not json")),
     "zip-of-nothing": lambda: npz_bytes({}),
+    "eyes-float": lambda: small_datasets_bytes(eyes=np.zeros((5, 12, 48))),
+    "eyes-too-few": lambda: small_datasets_bytes(eyes=np.zeros((2, 12, 48), np.uint8)),
 }
 for _tag, _make in CORRUPT_DATASETS.items():
     add(Case(f"datasets-check-{_tag}", "corrupt-files",

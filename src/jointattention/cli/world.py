@@ -83,6 +83,7 @@ def _cmd_datasets_check(args: argparse.Namespace) -> None:
         f"tilt [{cmd[:, 1].min():.1f}, {cmd[:, 1].max():.1f}] deg, "
         f"target positions {'present' if ds.target_m is not None else 'absent'}"
         + ("" if ds.caregiver is None else f", {ds.n_caregivers} caregivers")
+        + ("" if ds.eyes is None else f", eye windows {ds.eyes.shape[2]}x{ds.eyes.shape[1]}")
     )
 
 

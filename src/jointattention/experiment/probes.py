@@ -27,9 +27,7 @@ def probe_sets(ds: CaregiverDatasets, limit: int, seed: int) -> CaregiverDataset
     if not limit or len(ds) <= limit:
         return ds
     keep = np.sort(stream(seed, "probe").choice(len(ds), limit, replace=False))
-    return CaregiverDatasets(ds.face[keep], ds.theta_face_rad[keep], ds.command_rad[keep],
-                             None if ds.target_m is None else ds.target_m[keep], ds.meta,
-                             None if ds.caregiver is None else ds.caregiver[keep])
+    return ds.subset(keep)
 
 
 def angle_deg(a, b) -> np.ndarray:

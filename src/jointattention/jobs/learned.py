@@ -86,9 +86,7 @@ def held_out_poses(config: Config, ds: CaregiverDatasets, n: int) -> CaregiverDa
         raise JointAttentionError("the data sets were not recorded from this world and seed; "
                                   "expected the shipped data sets or ones made by "
                                   "`jointattention datasets make` with this configuration")
-    sl = slice(len(ds), None)
-    return CaregiverDatasets(more.face[sl], more.theta_face_rad[sl], more.command_rad[sl],
-                             more.target_m[sl], more.meta)
+    return more.subset(slice(len(ds), None))
 
 
 def grid_faces(config: Config, seed: int, pan_deg, tilt_deg, distance_m: float = 0.65):

@@ -10,8 +10,9 @@ from __future__ import annotations
 from .kinematics import HeadKinematics
 from .options import WorldConfig
 
-__all__ = ["CAREGIVER_PARTS", "EYE_POS_M", "EYE_RADIUS_M", "HEADLIGHT_AMBIENT", "HEAD_RADII_M",
-           "KEY_LIGHT_DIR", "PUPIL_RADIUS_M", "PUPIL_RGB", "WALLS", "build_mjcf"]
+__all__ = ["CAREGIVER_PARTS", "EYE_POS_M", "EYE_RADIUS_M", "FOVEA_SUPERSAMPLE",
+           "HEADLIGHT_AMBIENT", "HEAD_RADII_M", "KEY_LIGHT_DIR", "PUPIL_RADIUS_M", "PUPIL_RGB",
+           "WALLS", "build_mjcf"]
 
 # The caregiver's head ellipsoid (half width, half depth, half height) at scale 1.
 HEAD_RADII_M = (0.075, 0.085, 0.105)
@@ -32,6 +33,7 @@ PUPIL_RADIUS_M = 0.0075
 PUPIL_RGB = (0.06, 0.05, 0.05)  # the iris and pupil, one sphere: the default (darkest) iris
 HEADLIGHT_AMBIENT = 0.4  # the ambient light's default strength
 KEY_LIGHT_DIR = (-0.1, 0.3, -1.0)  # the key light's default direction
+FOVEA_SUPERSAMPLE = 2  # the fovea renders its window this many times finer, then averages
 WALLS = ("wall_back", "wall_left", "wall_right")
 
 
@@ -68,11 +70,15 @@ def build_mjcf(world: WorldConfig, n_objects: int) -> str:
         for i in range(n_objects)
     )
     # the off-screen buffer is the camera's image, no larger: each frame clears all of it
+    # (or the fovea's, when that is larger: World.render_fovea)
+    fovea = world.eye_window
+    buffer = (max(cam.width_px, FOVEA_SUPERSAMPLE * fovea.width_px),
+              max(cam.height_px, FOVEA_SUPERSAMPLE * fovea.height_px))
     return f"""<mujoco model="jointattention">
   <compiler angle="degree"/>
   <option gravity="0 0 0"/>
   <visual>
-    <global offwidth="{cam.width_px}" offheight="{cam.height_px}"/>
+    <global offwidth="{buffer[0]}" offheight="{buffer[1]}"/>
     <headlight ambient="{_vec([HEADLIGHT_AMBIENT] * 3)}" diffuse="0.25 0.25 0.25" specular="0 0 0"/>
     <quality shadowsize="0" offsamples="{cam.antialias_samples}"
              numslices="{cam.sphere_slices}" numstacks="{cam.sphere_stacks}"/>
@@ -106,6 +112,8 @@ def build_mjcf(world: WorldConfig, n_objects: int) -> str:
         <joint name="tilt" type="hinge" axis="1 0 0" range="{tilt_lo} {tilt_hi}"
                limited="true"/>
         <camera name="eye" pos="{_vec(cam.offset_m)}" xyaxes="1 0 0 0 0 1"
+                fovy="{kin.fovy_deg:.9g}"/>
+        <camera name="fovea" pos="{_vec(cam.offset_m)}" xyaxes="1 0 0 0 0 1"
                 fovy="{kin.fovy_deg:.9g}"/>
       </body>
     </body>

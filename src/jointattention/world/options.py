@@ -20,6 +20,7 @@ __all__ = [
     "N_OBJECTS",
     "CameraConfig",
     "CaregiverConfig",
+    "EyeWindowConfig",
     "FaceWindowConfig",
     "HeadConfig",
     "IdentityConfig",
@@ -169,6 +170,37 @@ class FaceWindowConfig(Section):
 
 
 @dataclass(frozen=True)
+class EyeWindowConfig(Section):
+    """A window on the caregiver's eyes, seen through a fovea finer than the camera.
+
+    Off by default (the paper's robot keeps the face window only). Where head turns differ
+    among people, where the head points is not where the eyes look (docs/people/
+    head_pose_bound.md): reading the eyes takes seeing the irises move, which at the camera's
+    own resolution is under a pixel. The eye window is cut around both eyes from a sensor
+    ``zoom`` times finer than the camera's (as a 1280 x 960 camera is to a 320 x 240 one at 4);
+    the simulator renders only that part of it (:meth:`~.simulator.World.render_fovea`).
+    """
+
+    width_px: int = param(0, "width of the eye window (0: no eye window)", lo=0, hi=256)
+    height_px: int = param(0, "height of the eye window (0: no eye window)", lo=0, hi=256)
+    zoom: float = param(4.0, "the fovea's resolution as a multiple of the camera's", lo=1, hi=16)
+    span: float = param(2.0, "the window's width in eye distances (centre to centre)", lo=1,
+                        hi=6)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        sizes = (self.width_px, self.height_px)
+        if (0 in sizes and sizes != (0, 0)) or 0 < min(sizes) < 4:
+            raise ConfigError(f"eye_window = {self.width_px} x {self.height_px} px: expected "
+                              "both at least 4, or both 0 (no eye window)")
+
+    @property
+    def enabled(self) -> bool:
+        """Whether the robot keeps an eye window."""
+        return self.width_px > 0
+
+
+@dataclass(frozen=True)
 class WorldConfig(Section):
     """What only the experimenter sets: the camera, head, caregiver, objects, light."""
 
@@ -178,6 +210,7 @@ class WorldConfig(Section):
     objects: ObjectsConfig = ObjectsConfig()
     lighting: LightingConfig = LightingConfig()
     face_window: FaceWindowConfig = FaceWindowConfig()
+    eye_window: EyeWindowConfig = EyeWindowConfig()
     identity: IdentityConfig = IdentityConfig()
     room: RoomConfig = RoomConfig()
     sensor: SensorConfig = SensorConfig()

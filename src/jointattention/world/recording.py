@@ -20,12 +20,14 @@ from ..agent.faces import face_window, window_of
 from ..agent.finders import DEFAULT_FACE, finder_for
 from ..datasets import CaregiverDatasets, load
 from ..errors import DatasetError
+from .face import BODIES as EYE_BODIES
 from .identity import Caregiver, caregiver_from_dict, sample_caregiver
+from .mjcf import FOVEA_SUPERSAMPLE
 from .options import WorldConfig
 from .simulator import World
 
-__all__ = ["CUTS", "HELD_OUT", "capture_face_window", "caregivers_of", "face_box", "head_box",
-           "make_datasets", "split_evenly"]
+__all__ = ["CUTS", "HELD_OUT", "capture_eye_window", "capture_face_window", "caregivers_of",
+           "eye_box", "face_box", "head_box", "make_datasets", "split_evenly"]
 
 HELD_OUT = "held-out"  # the stream of held-out recordings; no training world draws from it
 
@@ -50,6 +52,42 @@ def face_box(world: World) -> tuple[np.ndarray, float]:
     """
     centre, height = head_box(world)
     return centre, world.config.face_window.margin * height
+
+
+def eye_box(world: World) -> tuple[np.ndarray, float]:
+    """The image position of the midpoint of the caregiver's eyes, and their distance (px).
+
+    From the eyeballs' centres (they stay where they are as the eyes turn), in camera pixels.
+    """
+    eyes = np.stack([world.data.body(body).xpos for body in EYE_BODIES])
+    uv, _ = world.kinematics.project(eyes, world.head_angle_rad)
+    return uv.mean(axis=0), float(np.linalg.norm(uv[0] - uv[1]))
+
+
+def capture_eye_window(world: World) -> np.ndarray:
+    """The eye window of the robot's current view: grey levels (height, width) of ``eye_window``.
+
+    A field ``span`` eye distances wide around the eyes' midpoint (:func:`eye_box`), seen
+    through the fovea (:meth:`World.render_fovea`), no finer than a sensor ``zoom`` times the
+    camera's: where the field holds fewer of its pixels than the window, it is averaged down to
+    them first.
+    """
+    import cv2
+
+    ew = world.config.eye_window
+    if not ew.enabled:
+        raise ValueError("the world keeps no eye window; expected eye_window.width_px and "
+                         "height_px above 0")
+    centre, distance_px = eye_box(world)
+    field_px = ew.span * distance_px
+    size = (FOVEA_SUPERSAMPLE * ew.width_px, FOVEA_SUPERSAMPLE * ew.height_px)
+    gray = cv2.cvtColor(world.render_fovea(centre, field_px, size), cv2.COLOR_RGB2GRAY)
+    sensor_px = field_px * ew.zoom  # the finer sensor's pixels across the field
+    if sensor_px < ew.width_px:
+        coarse = (max(1, round(sensor_px)), max(1, round(sensor_px * ew.height_px / ew.width_px)))
+        gray = cv2.resize(gray, coarse, interpolation=cv2.INTER_AREA)
+        return cv2.resize(gray, (ew.width_px, ew.height_px), interpolation=cv2.INTER_LINEAR)
+    return cv2.resize(gray, (ew.width_px, ew.height_px), interpolation=cv2.INTER_AREA)
 
 
 def capture_face_window(world: World, image: np.ndarray | None = None) -> np.ndarray:
@@ -124,8 +162,12 @@ def make_datasets(
     if not 1 <= caregivers <= n:
         raise ValueError(f"caregivers = {caregivers}: expected 1 to n = {n} (each caregiver "
                          "poses at least one data set)")
-    fw = config.face_window
+    if cut == "finder" and config.eye_window.enabled:
+        raise ValueError("cut = 'finder' with an eye window: the eye window is cut around the "
+                         "caregiver's eyes as the box is; expected cut = 'box'")
+    fw, ew = config.face_window, config.eye_window
     faces = np.empty((n, fw.height_px, fw.width_px), np.uint8)
+    eyes = np.empty((n, ew.height_px, ew.width_px), np.uint8) if ew.enabled else None
     theta_face = np.empty((n, 2))
     command = np.empty((n, 2))
     target = np.empty((n, 3))
@@ -144,6 +186,8 @@ def make_datasets(
             world.set_head_angle(theta_face[i])
             image = world.render()
             faces[i] = capture_face_window(world, image)
+            if eyes is not None:
+                eyes[i] = capture_eye_window(world)
             if cut == "finder":
                 images.append(image)
             command[i] = world.kinematics.centring_angles(state.target_pos_m) - theta_face[i]
@@ -165,9 +209,8 @@ def make_datasets(
                     without_face=np.flatnonzero(~keep).tolist())
     if identities is not None or caregivers > 1:
         meta["caregivers"] = people
-    if caregivers == 1:
-        return CaregiverDatasets(faces, theta_face, command, target, meta)
-    return CaregiverDatasets(faces, theta_face, command, target, meta, caregiver=who)
+    return CaregiverDatasets(faces, theta_face, command, target, meta,
+                             caregiver=None if caregivers == 1 else who, eyes=eyes)
 
 
 def caregivers_of(datasets: CaregiverDatasets | str | Path,

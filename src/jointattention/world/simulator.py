@@ -60,6 +60,7 @@ class World:
         self.rng = rngs.stream(seed, stream)
         self.caregiver = sample_caregiver(self.config, self.rng)
         self._renderer = None
+        self._fovea_renderers: dict[tuple[int, int], object] = {}
         self._base_size = self.model.geom_size.copy()
         self._base_pos = self.model.body_pos.copy()
         self._base_geom_pos = self.model.geom_pos.copy()
@@ -176,6 +177,32 @@ class World:
             return apply_sensor(img.copy(), self.state.look, self._noise)
         return img.copy()
 
+    def render_fovea(self, centre_px, field_width_px: float, size_px: tuple[int, int]
+                     ) -> np.ndarray:
+        """A part of the robot's view rendered finer: RGB uint8 (height, width, 3) of ``size_px``.
+
+        The part is ``field_width_px`` camera pixels wide (the height in ``size_px``'s aspect),
+        centred on the camera pixel ``centre_px``. It is what a camera of the same pose and a
+        finer sensor sees there: the ``"fovea"`` camera's intrinsics are set to cut exactly
+        that part of the image plane (the same pinhole, so the same perspective), through the
+        scene's sensor effects. The eye window is cut from it
+        (:func:`~.recording.capture_eye_window`).
+        """
+        m, kin = self.model, self.kinematics
+        width, height = size_px
+        cam = m.camera("fovea").id
+        scale = width / field_width_px  # fovea pixels per camera pixel
+        m.cam_sensorsize[cam] = size_px
+        m.cam_resolution[cam] = size_px
+        off_x, off_y = (np.asarray(centre_px, float) - kin.centre_px) * scale
+        m.cam_intrinsic[cam] = [kin.focal_px * scale, kin.focal_px * scale, off_x, off_y]
+        key = (height, width)
+        if key not in self._fovea_renderers:
+            self._fovea_renderers[key] = gl.renderer(m, height, width)
+        r = self._fovea_renderers[key]
+        r.update_scene(self.data, camera="fovea")
+        return apply_sensor(r.render().copy(), self.state.look, self._noise)
+
     def object_geom_ids(self) -> np.ndarray:
         """The MuJoCo geom id of each object (to read segmentation images)."""
         return np.array([self.model.geom(f"obj{i}").id for i in range(self.state.n_objects)])
@@ -211,10 +238,13 @@ class World:
         return None if i is None else int(scene.visible_ids[i])
 
     def close(self) -> None:
-        """Free the renderer's OpenGL context."""
+        """Free the renderers' OpenGL contexts."""
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+        for r in self._fovea_renderers.values():
+            r.close()
+        self._fovea_renderers.clear()
 
     def __enter__(self) -> World:
         return self

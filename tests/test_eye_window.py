@@ -1,0 +1,99 @@
+"""The eye window: a fovea's view of the caregiver's eyes, recorded with the face window."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from jointattention.config import load_config
+from jointattention.datasets import CaregiverDatasets, load, save
+from jointattention.errors import ConfigError, DatasetError
+from jointattention.world.options import EyeWindowConfig
+from jointattention.world.recording import eye_box, make_datasets
+from jointattention.world.simulator import World
+
+PEOPLE = load_config("people").world
+EYES = dataclasses.replace(PEOPLE, eye_window=EyeWindowConfig(width_px=48, height_px=12))
+
+
+def with_camera(world, width_px: int):
+    """``world`` seen by a camera of ``width_px`` (4:3), the rest the same."""
+    return dataclasses.replace(world, camera=dataclasses.replace(
+        world.camera, width_px=width_px, height_px=width_px * 3 // 4))
+
+
+@pytest.fixture(scope="module")
+def recorded() -> CaregiverDatasets:
+    """Twelve data sets of four caregivers, with eye windows."""
+    return make_datasets(EYES, 12, seed=3, caregivers=4)
+
+
+@pytest.mark.parametrize("size", [(0, 12), (48, 0), (3, 12), (48, 2)])
+def test_half_set_or_tiny_eye_windows_are_refused(size):
+    """An eye window with one side 0 or under 4 pixels is one ConfigError naming it."""
+    with pytest.raises(ConfigError, match="eye_window"):
+        EyeWindowConfig(width_px=size[0], height_px=size[1])
+
+
+def test_the_fovea_sees_what_a_finer_camera_sees_there():
+    """The fovea's render is the crop of a camera zoom times finer, to a fraction of a level."""
+    zoom = 4
+    fine = with_camera(PEOPLE, PEOPLE.camera.width_px * zoom)
+    with World(PEOPLE, seed=3) as world, World(fine, seed=3) as finer:
+        for w in (world, finer):
+            w.set_head_angle(w.face_angle_rad + [0.02, -0.01])  # the eyes off the centre
+        plain = dataclasses.replace(world.state.look, blur_sd_px=0.0, gain=1.0, noise_sd=0.0)
+        for w in (world, finer):
+            w.set_scene(dataclasses.replace(w.state, look=plain))
+            w.set_head_angle(w.face_angle_rad + [0.02, -0.01])
+        _, distance = eye_box(world)
+        fine_centre, _ = eye_box(finer)
+        width, height = 96, 32
+        cx, cy = np.rint(fine_centre).astype(int)
+        crop = finer.render()[cy - height // 2: cy + height // 2, cx - width // 2: cx + width // 2]
+        crop_centre = np.array([cx, cy]) - 0.5  # pixel indices: the crop's middle
+        at = (crop_centre - finer.kinematics.centre_px) / zoom + world.kinematics.centre_px
+        fovea = world.render_fovea(at, width / zoom, (width, height))
+    assert distance > 10  # the eyes are in view, apart
+    assert np.abs(fovea.astype(int) - crop).mean() < 0.05  # measured: 0.0
+
+
+def test_recorded_sets_hold_eye_windows_that_round_trip(tmp_path, recorded):
+    """Data sets of a world with an eye window keep one per set, saved and loaded as they are."""
+    assert recorded.eyes.shape == (12, 12, 48) and recorded.eyes.dtype == np.uint8
+    assert recorded.eyes.std() > 5  # not blank: eyes, skin, brows
+    back = load(save(recorded, tmp_path / "sets.npz"))
+    np.testing.assert_array_equal(back.eyes, recorded.eyes)
+    assert back.subset([0, 2]).eyes.shape == (2, 12, 48)
+
+
+def test_the_eye_window_moves_with_the_gaze(recorded):
+    """Two poses of one caregiver give different eye windows; the recording is deterministic."""
+    assert not np.array_equal(recorded.eyes[0], recorded.eyes[1])
+    np.testing.assert_array_equal(make_datasets(EYES, 3, seed=3, caregivers=1).eyes,
+                                  make_datasets(EYES, 3, seed=3, caregivers=1).eyes)
+
+
+def test_the_eye_window_leaves_the_face_windows_as_they_were():
+    """Recording eye windows changes nothing else of the data sets."""
+    with_eyes, without = make_datasets(EYES, 4, seed=5), make_datasets(PEOPLE, 4, seed=5)
+    assert without.eyes is None
+    for field in ("face", "theta_face_rad", "command_rad", "target_m"):
+        np.testing.assert_array_equal(getattr(with_eyes, field), getattr(without, field))
+
+
+def test_the_finder_cut_with_an_eye_window_is_refused():
+    """The finder's cut with an eye window is one ValueError naming both."""
+    with pytest.raises(ValueError, match=r"finder.*eye window"):
+        make_datasets(EYES, 2, seed=1, cut="finder")
+
+
+def test_malformed_eye_windows_are_refused_naming_the_field(tmp_path, recorded):
+    """An eyes field of another length or dtype is one DatasetError naming 'eyes'."""
+    arrays = dict(np.load(save(recorded, tmp_path / "sets.npz")))
+    for bad in (arrays["eyes"][:5], arrays["eyes"].astype(float)):
+        np.savez(tmp_path / "bad.npz", **{**arrays, "eyes": bad})
+        with pytest.raises(DatasetError, match="field 'eyes'"):
+            load(tmp_path / "bad.npz")
