@@ -7,9 +7,15 @@ import dataclasses
 import numpy as np
 import pytest
 
-from jointattention.config import load_config
+from jointattention import GazeFollower, evaluate, load_model, run_cell, train
+from jointattention.agent.face_features import n_features
+from jointattention.agent.gates import SigmoidGate
+from jointattention.config import ConditionConfig, Config, ExperimentConfig, load_config
+from jointattention.config.run import RecordingConfig
 from jointattention.datasets import CaregiverDatasets, load, save
-from jointattention.errors import ConfigError, DatasetError
+from jointattention.errors import ArgumentError, ConfigError, DatasetError
+from jointattention.experiment.cells import datasets_of, make_agent
+from jointattention.models.bootstrap import BootstrapOptions
 from jointattention.world.options import EyeWindowConfig
 from jointattention.world.recording import eye_box, make_datasets
 from jointattention.world.simulator import World
@@ -97,3 +103,69 @@ def test_malformed_eye_windows_are_refused_naming_the_field(tmp_path, recorded):
         np.savez(tmp_path / "bad.npz", **{**arrays, "eyes": bad})
         with pytest.raises(DatasetError, match="field 'eyes'"):
             load(tmp_path / "bad.npz")
+
+
+LEARNERS = [
+    ConditionConfig(name="population", n_objects=5, model={
+        "learner": "population", "vf_fallback": "sweep", "population": {"n_hidden": 16}}),
+    ConditionConfig(name="network", n_objects=3),
+    ConditionConfig(name="memory", n_objects=5, model={"learner": "memory"}),
+]
+RUN = Config(
+    model=BootstrapOptions(gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),
+    world=dataclasses.replace(EYES, eye_window=EyeWindowConfig(width_px=24, height_px=8)),
+    recording=RecordingConfig(caregivers=4, poses_per_caregiver=6, seed=7),
+    experiment=ExperimentConfig(n_steps=3000, n_seeds=1, conditions=tuple(LEARNERS)))
+
+
+def _engine(engine: str) -> Config:
+    return dataclasses.replace(RUN, experiment=dataclasses.replace(RUN.experiment, engine=engine))
+
+
+@pytest.mark.parametrize("condition", LEARNERS, ids=lambda c: c.name)
+def test_learners_with_an_eye_window_run_alike_in_both_engines(condition):
+    """With eye windows, the compiled engine writes the python engine's records, bit for bit."""
+    compiled = run_cell(_engine("compiled"), condition, 0)
+    python = run_cell(_engine("python"), condition, 0)
+    for key in compiled:
+        assert np.array_equal(compiled[key], python[key], equal_nan=True), key
+    assert compiled["n_lm_steps"].sum() > 0
+
+
+def test_the_population_code_reads_the_eye_window():
+    """Its input holds the eye window's features: a blank eye window changes its command."""
+    ds = datasets_of(RUN)
+    agent = make_agent(RUN, LEARNERS[0], 0, ds)
+    assert agent.body.view_size == 30 * 25 + 24 * 8
+    assert agent.module.n_features == n_features((30, 25), 5, 12) + n_features((24, 8), 5, 12)
+    blank = ds.views.copy()
+    blank[:, 30 * 25:] = 128
+    assert not np.allclose(agent.lm_commands(ds.views, ds.theta_face_rad),
+                           agent.lm_commands(blank, ds.theta_face_rad))
+    with pytest.raises(ArgumentError, match="eye window"):
+        agent.lm_commands(ds.face, ds.theta_face_rad)  # the face window alone
+
+
+@pytest.mark.parametrize("kind", [{"kind": "developmental"}, {"kind": "rl"}])
+def test_models_that_read_the_face_window_only_refuse_an_eye_window(kind):
+    """The developmental and RL models refuse a body with an eye window, in one line."""
+    condition = ConditionConfig(name="x", n_objects=3, model=kind)
+    with pytest.raises(ConfigError, match="eye window"):
+        make_agent(RUN, condition, 0, datasets_of(RUN))
+
+
+def test_a_model_with_an_eye_window_is_saved_loaded_and_evaluated(tmp_path):
+    """Saved and loaded, the model keeps its eye window; evaluate reads it; follow refuses it."""
+    model = train(RUN, "population")
+    back = load_model(model.save(tmp_path / "m.npz"))
+    assert back.robot.eye_size_px == (24, 8)
+    ds = datasets_of(RUN)
+    np.testing.assert_array_equal(back.lm_command(ds.view(0), ds.theta_face_rad[0]),
+                                  model.lm_command(ds.view(0), ds.theta_face_rad[0]))
+    result = evaluate(back, ds, n_objects=3, n_trials=20)
+    assert 0.0 <= result.success <= 1.0
+    no_eyes = dataclasses.replace(ds, eyes=None)
+    with pytest.raises(ConfigError, match="eye windows none"):
+        evaluate(back, no_eyes, n_objects=3, n_trials=20)
+    with pytest.raises(ConfigError, match="eye window"):
+        GazeFollower(back)

@@ -13,7 +13,7 @@ import numpy as np
 
 from .errors import ArgumentError
 
-__all__ = ["angles", "flat", "floats", "rows", "same_lengths", "windows"]
+__all__ = ["angles", "flat", "floats", "rows", "same_lengths", "views", "windows"]
 
 
 def _shape_text(shape: tuple | None) -> str:
@@ -57,6 +57,22 @@ def windows(name: str, value, face_size_px, n: int | None = 0) -> np.ndarray:
     w, h = face_size_px
     return floats(name, value, (h, w) if n == 0 else (n, h, w),
                   what=f"grey levels: face windows of {h} x {w} pixels")
+
+
+def views(name: str, value, body, n: int | None = 0) -> np.ndarray:
+    """What ``body`` keeps of a look at the caregiver, flat: (view_size,), or (n, view_size).
+
+    Without an eye window a view is its face window (H, W) (or (n, H, W)), as :func:`windows`
+    takes it; with one, the face window's grey levels then the eye window's, flat
+    (:class:`~jointattention.agent.protocol.Body`).
+    """
+    if body.eye_size_px is None:
+        out = windows(name, value, body.face_size_px, n)
+        return out.reshape(-1) if n == 0 else out.reshape(len(out), -1)
+    (w, h), (ew, eh) = body.face_size_px, body.eye_size_px
+    return floats(name, value, (body.view_size,) if n == 0 else (n, body.view_size),
+                  what=f"grey levels: views of a {h} x {w} face window then a {eh} x {ew} "
+                       "eye window, flat")
 
 
 def flat(name: str, value, size: int) -> np.ndarray:

@@ -89,6 +89,29 @@ class CaregiverDatasets:
         return self.face.shape[2], self.face.shape[1]
 
     @property
+    def eye_window_size_px(self) -> tuple[int, int] | None:
+        """(width, height) of the eye windows, or None without them."""
+        return None if self.eyes is None else (self.eyes.shape[2], self.eyes.shape[1])
+
+    @property
+    def views(self) -> np.ndarray:
+        """What the robot kept of each look: the face windows, and the eye windows if kept.
+
+        The face windows (N, H, W) as they are; with eye windows, each face window's grey
+        levels then its eye window's, flat: (N, H * W + h * w).
+        """
+        if self.eyes is None:
+            return self.face
+        n = len(self.face)
+        return np.hstack([self.face.reshape(n, -1), self.eyes.reshape(n, -1)])
+
+    def view(self, k: int) -> np.ndarray:
+        """Data set ``k``'s view (:attr:`views`)."""
+        if self.eyes is None:
+            return self.face[k]
+        return np.concatenate([self.face[k].reshape(-1), self.eyes[k].reshape(-1)])
+
+    @property
     def n_caregivers(self) -> int | None:
         """How many distinct caregivers the ``caregiver`` field names (None without it)."""
         return None if self.caregiver is None else len(np.unique(self.caregiver))

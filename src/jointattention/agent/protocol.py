@@ -30,11 +30,22 @@ class Body:
         image_size_px: (W, H) of its camera image.
         joint_limits_rad: ((pan_lo, pan_hi), (tilt_lo, tilt_hi)), its joint ranges.
         face_size_px: (width, height) of the caregiver's face window it keeps.
+        eye_size_px: (width, height) of the window on her eyes it keeps through its fovea, or
+            None if it keeps none. With one, what it keeps of a look at her (its *view*) is
+            the face window's grey levels, row by row, then the eye window's: one flat array
+            of :attr:`view_size` (:func:`~jointattention._arrays.views`).
     """
 
     image_size_px: tuple[int, int]
     joint_limits_rad: tuple[tuple[float, float], tuple[float, float]]
     face_size_px: tuple[int, int]
+    eye_size_px: tuple[int, int] | None = None
+
+    @property
+    def view_size(self) -> int:
+        """The grey levels of a view: the face window's, then the eye window's if it keeps one."""
+        (w, h), (ew, eh) = self.face_size_px, self.eye_size_px or (0, 0)
+        return w * h + ew * eh
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ import numpy as np
 from .._arrays import angles
 from ..agent.faces import Face, window_of
 from ..agent.finders import DEFAULT_FACE, FACE_METHODS, check_finder, finder_for
-from ..errors import ArgumentError
+from ..errors import ArgumentError, ConfigError
 from .saved import LearnedModel, Robot, load_model
 
 __all__ = ["FACE_METHODS", "GazeFollower", "Look"]
@@ -64,6 +64,10 @@ class GazeFollower:
     def __init__(self, model: LearnedModel, face: str = DEFAULT_FACE,
                  min_score: float | None = None, *, refine: bool = True):
         check_finder(face, min_score)
+        if model.robot.eye_size_px is not None:
+            raise ConfigError("the model reads an eye window, which the follower cannot cut "
+                              "from a camera image yet; expected a model of a world without "
+                              "[world.eye_window]")
         self.model, self.face = model, face
         self.finder = finder_for(face, model.face_template() if face == "template" else None,
                                  min_score, refine=refine)

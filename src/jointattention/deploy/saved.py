@@ -50,7 +50,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._arrays import angles, windows
+from .._arrays import angles
 from .._checks import check_path, short_repr
 from .._files import save_npz
 from .._readers import loads_json, loads_toml, read_npz
@@ -79,6 +79,7 @@ class Robot:
         pan_limits_deg, tilt_limits_deg: the joint ranges (the head angle is scaled by them).
         face_size_px: (width, height) of the face window.
         lm_step_deg: length of one step of the learning module.
+        eye_size_px: (width, height) of the eye window seen through its fovea, or None.
     """
 
     image_size_px: tuple[int, int]
@@ -87,6 +88,7 @@ class Robot:
     tilt_limits_deg: tuple[float, float]
     face_size_px: tuple[int, int]
     lm_step_deg: float
+    eye_size_px: tuple[int, int] | None = None
 
     @classmethod
     def of(cls, config: Config) -> Robot:
@@ -96,19 +98,22 @@ class Robot:
                    tuple(map(float, w.head.pan_limits_deg)),
                    tuple(map(float, w.head.tilt_limits_deg)),
                    (w.face_window.width_px, w.face_window.height_px),
-                   float(config.agent.lm_step_deg))
+                   float(config.agent.lm_step_deg),
+                   (w.eye_window.width_px, w.eye_window.height_px) if w.eye_window.enabled
+                   else None)
 
     @property
     def body(self) -> Body:
         """What the agent knows of this body."""
         return Body(self.image_size_px, (tuple(np.deg2rad(self.pan_limits_deg)),
                                          tuple(np.deg2rad(self.tilt_limits_deg))),
-                    self.face_size_px)
+                    self.face_size_px, self.eye_size_px)
 
     def differences(self, other: Robot) -> list[str]:
         """The fields in which ``other`` differs from this robot."""
         mine, theirs = asdict(self), asdict(other)
-        return [k for k in mine if not np.allclose(mine[k], theirs[k], rtol=0, atol=1e-9)]
+        return [k for k in mine if (mine[k] is None) != (theirs[k] is None) or (
+            mine[k] is not None and not np.allclose(mine[k], theirs[k], rtol=0, atol=1e-9))]
 
 
 @dataclass(frozen=True)
@@ -133,17 +138,18 @@ class LearnedModel:
     def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
         """The learning module's (dpan, dtilt) in radians, one step long, for a face window.
 
-        ``face_window``: (H, W) grey levels of the robot's face window size; ``theta_rad``: the
-        head's (pan, tilt) at the face. Anything else is refused (ArgumentError) before the
+        ``face_window``: (H, W) grey levels of the robot's face window size (a robot with an
+        eye window: its view, :attr:`~jointattention.agent.protocol.Body.view_size` grey levels
+        flat); ``theta_rad``: the head's (pan, tilt) at the face. Anything else is refused (ArgumentError) before the
         compiled kernels, which read the window by the learned size, see it.
         """
-        window = windows("face_window", face_window, self.robot.face_size_px)
-        return self.agent.lm_command(window, angles("theta_rad", theta_rad))
+        return self.agent.lm_command(face_window, angles("theta_rad", theta_rad))
 
     def face_template(self) -> np.ndarray:
         """The mean of the faces it learned from, (H, W) uint8: a template to find them."""
         w, h = self.robot.face_size_px
-        return np.clip(np.rint(self.agent.faces.mean_), 0, 255).astype(np.uint8).reshape(h, w)
+        mean = self.agent.faces.mean_[: w * h]  # the view's face window (Body.view_size)
+        return np.clip(np.rint(mean), 0, 255).astype(np.uint8).reshape(h, w)
 
     def save(self, path: str | Path) -> Path:
         """Write the model to ``path`` (.npz) atomically (see the module docstring)."""
@@ -248,6 +254,11 @@ def _robot(meta: dict, config: Config, where: str) -> Robot:
     saved = meta["robot"]
     for key, value in asdict(robot).items():
         got = saved.get(key)
+        if value is None or got is None:  # an optional part (eye_size_px; absent before it)
+            if got is not value:
+                raise _field(where, f"meta.robot.{key}", f"{value} (the robot of the file's "
+                             "configuration)", repr(got)[:60])
+            continue
         numbers = got if isinstance(got, list) else [got]
         if (not all(type(v) in (int, float) and math.isfinite(v) for v in numbers)
                 or np.shape(got) != np.shape(value)

@@ -102,10 +102,10 @@ def engine_of(config: Config, condition: ConditionConfig) -> str:
 
 
 def body_of(kin: HeadKinematics, ds: CaregiverDatasets) -> Body:
-    """What the robot knows of its body: its camera's image, its joints, its face window."""
+    """What the robot knows of its body: its camera's image, its joints, its windows."""
     return Body(image_size_px=(kin.width_px, kin.height_px),
                 joint_limits_rad=(kin.pan_limits_rad, kin.tilt_limits_rad),
-                face_size_px=ds.window_size_px)
+                face_size_px=ds.window_size_px, eye_size_px=ds.eye_window_size_px)
 
 
 def make_agent(config: Config, condition: ConditionConfig, seed_index: int,
@@ -222,7 +222,7 @@ def _run_steps(config, condition, seed_index, ds, agent, rngs, progress, reached
             k, scene, face_m = random_scene(config, ds, kin, condition.n_objects, trials)
             if scenes is not None:
                 scene = scenes.show(scene, face_m)
-            face = ds.face[shuffle.integers(len(ds))] if condition.shuffle_faces else ds.face[k]
+            face = ds.view(shuffle.integers(len(ds)) if condition.shuffle_faces else k)
             trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
                                max_steps=config.agent.max_steps, evaluate=evaluate)
             results.append(run_trial(trial, agent, face, observer))

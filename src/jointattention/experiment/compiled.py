@@ -72,7 +72,7 @@ def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_ob
     return LoopWorld(int(n_objects), region, offset, limits, float(kin.focal_px), kin.width_px,
                   kin.height_px, HEAD_RADII_M[2], np.ascontiguousarray(ds.theta_face_rad, float),
                   np.ascontiguousarray(target_m, float), np.ascontiguousarray(face_m, float),
-                  ds.face.reshape(len(ds), -1).astype(float), bool(shuffle_faces))
+                  ds.views.reshape(len(ds), -1).astype(float), bool(shuffle_faces))
 
 
 def _loop_memory(memory, saccade_rad: float) -> LoopMemory:

@@ -27,7 +27,8 @@ def blank_spread_deg(agent, ds: CaregiverDatasets) -> float:
     A blank face (every pixel the data sets' mean grey) at the head angles of the data sets:
     near 0 if the module points one way for a face without gaze.
     """
-    blank = np.full_like(ds.face, int(round(float(ds.face.mean()))))
+    views = ds.views  # the face window, and the eye window if kept: both blank
+    blank = np.full_like(views, int(round(float(views.mean()))))
     psi = _directions(agent, blank, ds.theta_face_rad)
     r = np.hypot(np.cos(psi).mean(), np.sin(psi).mean())
     r = min(max(r, 1e-12), 1.0)  # identical directions can round r above 1
@@ -44,9 +45,18 @@ def mirror_flip_share(agent, ds: CaregiverDatasets, min_pan_deg: float = 10.0,
     every data set's face (N, 2), if already taken.
     """
     side = np.abs(np.rad2deg(ds.command_rad[:, 0])) > min_pan_deg
-    faces, thetas = ds.face[side], ds.theta_face_rad[side]
-    mirrored = np.ascontiguousarray(faces[:, :, ::-1])
+    faces, thetas = ds.views[side], ds.theta_face_rad[side]
+    mirrored = _mirrored_views(ds)[side]
     flip = thetas * [-1.0, 1.0]
     pan = (agent.lm_commands(faces, thetas) if commands is None else commands[side])[:, 0]
     pan_mirrored = agent.lm_commands(mirrored, flip)[:, 0]
     return float(np.mean(np.sign(pan) == -np.sign(pan_mirrored)))
+
+
+def _mirrored_views(ds: CaregiverDatasets) -> np.ndarray:
+    """Each data set's view with its windows flipped left to right (:attr:`~.views`)."""
+    face = np.ascontiguousarray(ds.face[:, :, ::-1])
+    if ds.eyes is None:
+        return face
+    n = len(face)
+    return np.hstack([face.reshape(n, -1), ds.eyes[:, :, ::-1].reshape(n, -1)])

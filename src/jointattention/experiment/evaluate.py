@@ -113,7 +113,7 @@ def frozen_success(agent, ds: CaregiverDatasets, config: Config, n_objects: int,
         k, scene, _ = random_scene(config, ds, kin, n_objects, rng)
         trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
                            max_steps=config.agent.max_steps, evaluate=evaluate)
-        wins += run_trial(trial, frozen, ds.face[k]).success
+        wins += run_trial(trial, frozen, ds.view(k)).success
     return wins / n_trials
 
 
@@ -189,6 +189,12 @@ def evaluate_agent(agent, ds: CaregiverDatasets, config: Config, *, name: str = 
         raise ConfigError(f"{name or 'data sets'}: face windows of {ds.window_size_px[0]}x"
                           f"{ds.window_size_px[1]} px; expected the model's "
                           f"{agent.body.face_size_px[0]}x{agent.body.face_size_px[1]}")
+    mine = getattr(agent.body, "eye_size_px", None)
+    if ds.eye_window_size_px != (None if mine is None else tuple(mine)):
+        def said(size):
+            return "none" if size is None else f"{size[0]}x{size[1]} px"
+        raise ConfigError(f"{name or 'data sets'}: eye windows {said(ds.eye_window_size_px)}; "
+                          f"expected the model's: {said(mine)}")
     if ceiling is None:
         ceiling = oracle_success(ds, config, n_objects, n_trials, seed)
     success = frozen_success(agent, ds, config, n_objects, n_trials, seed)

@@ -163,7 +163,7 @@ def measure_held_out(agent, config: Config, n_objects: int) -> np.ndarray:
             if not hasattr(frozen, "lm_commands"):
                 out[1:4, j] = _errors(frozen, ds)
                 continue
-            commands = frozen.lm_commands(ds.face, ds.theta_face_rad)  # taken once, for both
+            commands = frozen.lm_commands(ds.views, ds.theta_face_rad)  # taken once, for both
             out[1:4, j] = _errors(frozen, ds, commands)
             out[4, j] = blank_spread_deg(frozen, ds)  # the controls (experiment/controls.py)
             out[5, j] = mirror_flip_share(frozen, ds, commands=commands)

@@ -27,7 +27,8 @@ def n_cells(config: Config) -> int:
     return len(config.experiment.conditions) * config.experiment.n_seeds
 
 
-def learning_bytes(options, face_size_px: tuple[int, int]) -> tuple[int, str]:
+def learning_bytes(options, face_size_px: tuple[int, int],
+                   eye_size_px: tuple[int, int] | None = None) -> tuple[int, str]:
     """The bytes a model's learning state takes at most, and the option that sizes it.
 
     Only the states that grow with an option: the population code's replay memory and the
@@ -40,8 +41,8 @@ def learning_bytes(options, face_size_px: tuple[int, int]) -> tuple[int, str]:
         from ..models.population import PopulationModule
 
         o = options.population
-        n = n_features(face_size_px, o.cell_px, o.n_orientations, o.features != "hog",
-                       o.features != "pixels")
+        n = sum(n_features(size, o.cell_px, o.n_orientations, o.features != "hog",
+                           o.features != "pixels") for size in (face_size_px, eye_size_px) if size)
         return (PopulationModule.replay_bytes(n, o.replay_capacity),
                 f"model.population.replay_capacity = {o.replay_capacity:,}")
     if learner == "memory":
@@ -76,10 +77,11 @@ def check_memory(config: Config, conditions: list[str] | None = None) -> None:
     free = free_memory_bytes()
     if free is None:
         return
-    fw = config.world.face_window
+    fw, ew = config.world.face_window, config.world.eye_window
+    windows = [(fw.width_px, fw.height_px)] + [(ew.width_px, ew.height_px)] * ew.enabled
     for name in conditions or [c.name for c in config.experiment.conditions]:
         options = model_options(config, condition_named(config, name))
-        need, option = learning_bytes(options, (fw.width_px, fw.height_px))
+        need, option = learning_bytes(options, *windows)
         if need > free:
             raise ConfigError(f"condition {name!r}: {option} needs about {need / 2**30:,.1f} GiB "
                               f"of memory to learn, more than the {free / 2**30:,.1f} GiB free "

@@ -38,8 +38,8 @@ def angle_deg(a, b) -> np.ndarray:
 def _outputs(agent, ds: CaregiverDatasets) -> np.ndarray:
     """The module's output at each data set's face and head angle, (N, 2)."""
     if hasattr(agent, "lm_commands"):
-        return agent.lm_commands(ds.face, ds.theta_face_rad)
-    return np.array([agent.lm_command(f, t) for f, t in zip(ds.face, ds.theta_face_rad,
+        return agent.lm_commands(ds.views, ds.theta_face_rad)
+    return np.array([agent.lm_command(f, t) for f, t in zip(ds.views, ds.theta_face_rad,
                                                              strict=True)])
 
 

@@ -200,7 +200,7 @@ def learner_cell_rows(config, condition, n_steps: int | None = None
                        on_checkpoint=lambda t, agent: ended.append(agent))
     cell_s = time.perf_counter() - start
     agent, ds = ended[-1], datasets_of(config)
-    faces = np.ascontiguousarray(ds.face.reshape(len(ds), -1), dtype=float)
+    faces = np.ascontiguousarray(ds.views.reshape(len(ds), -1), dtype=float)
     thetas = np.ascontiguousarray(ds.theta_face_rad, dtype=float)
     places = np.ascontiguousarray(thetas + ds.command_rad)
     n_trials, n_learned = len(records["end"]), int((records["end"] == 0).sum())

@@ -50,7 +50,7 @@ def snapshots(config: Config, condition_name: str, seed_index: int, checkpoints,
     wanted = sorted(t for t in set(checkpoints) | {config.experiment.n_steps} if t > 0)
     ds = datasets_of(config)
     untrained = make_agent(config, condition, seed_index, ds)
-    untrained.faces.partial_fit(ds.face.reshape(len(ds), -1))  # it sees the faces, learns none
+    untrained.faces.partial_fit(ds.views.reshape(len(ds), -1))  # it sees the faces, learns none
     kept: dict[int, BootstrapAgent] = {0: untrained}
 
     def keep(t: int, agent: BootstrapAgent) -> None:
@@ -166,7 +166,7 @@ def record_trial(config: Config, agent: BootstrapAgent, n_objects: int, seed: in
             recorder = _Recorder(scene, kin)
             trial = SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
                                max_steps=config.agent.max_steps, evaluate=evaluator(config))
-            r = run_trial(trial, copy.deepcopy(agent), ds.face[k], recorder)
+            r = run_trial(trial, copy.deepcopy(agent), ds.view(k), recorder)
             if r.success and r.n_lm_steps >= min_lm_steps:
                 return recorder.frames, r
     finally:

@@ -33,10 +33,16 @@ __all__ = ["InputSpec", "PopulationArrays", "commands_into",
 
 
 class InputSpec(NamedTuple):
-    """How the module's input is made from a face window and a head angle (for the kernels)."""
+    """How the module's input is made from a view and a head angle (for the kernels).
+
+    A view is the face window's grey levels (``height`` x ``width``), then the eye window's
+    (``eye_height`` x ``eye_width``, 0 x 0 without one): each window gives its features.
+    """
 
     height: int
     width: int
+    eye_height: int
+    eye_width: int
     cell_px: int
     n_orientations: int
     pixels: bool
@@ -48,9 +54,24 @@ class InputSpec(NamedTuple):
 
 @jit
 def features_into(face, spec, out) -> None:
-    """The features ``spec`` asks for of one face window (:func:`face_features_into`)."""
-    face_features_into(face, spec.height, spec.width, spec.cell_px, spec.n_orientations,
-                       spec.pixels, spec.hog, out)
+    """The features ``spec`` asks for of one view: the face window's, then the eye window's.
+
+    Each window's are :func:`face_features_into`'s.
+    """
+    n_face = spec.height * spec.width
+    m_face = _n_features(spec.height, spec.width, spec)
+    face_features_into(face[:n_face], spec.height, spec.width, spec.cell_px,
+                       spec.n_orientations, spec.pixels, spec.hog, out[:m_face])
+    if spec.eye_height > 0:
+        face_features_into(face[n_face:], spec.eye_height, spec.eye_width, spec.cell_px,
+                           spec.n_orientations, spec.pixels, spec.hog, out[m_face:])
+
+
+@jit
+def _n_features(height, width, spec) -> int:
+    """The features of one window of ``height`` x ``width`` (agent.face_features.n_features)."""
+    cells = (width // spec.cell_px) * (height // spec.cell_px) * spec.n_orientations
+    return height * width * spec.pixels + cells * spec.hog
 
 
 @jit

@@ -12,7 +12,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from .._arrays import angles, windows
+from .._arrays import angles, views
 from .._fields import param
 from ..agent.attention import most_interesting, visual_feedback
 from ..agent.detections import Detections
@@ -166,7 +166,7 @@ class BootstrapAgent(NetworkState):
         self.theta_mid_rad = (limits[:, 0] + limits[:, 1]) / 2
         self.theta_half_rad = (limits[:, 1] - limits[:, 0]) / 2
         init_rng, self.gate_rng, self.move_rng = rng.spawn(3)
-        n_in = body.face_size_px[0] * body.face_size_px[1] + 2
+        n_in = body.view_size + 2
         self.learner = LearningModule(
             n_in, options.n_hidden, 2, learning_rate=options.learning_rate,
             momentum=options.momentum, init_scale=options.init_scale, rng=init_rng)
@@ -197,14 +197,14 @@ class BootstrapAgent(NetworkState):
 
     # -- the learning module ---------------------------------------------------------------
     def lm_command(self, face_window: np.ndarray, theta_rad) -> np.ndarray:
-        """The learning module's dtheta for a face window and head angle (outside a trial)."""
-        face = windows("face_window", face_window, self.body.face_size_px).ravel()
+        """The learning module's dtheta for a face window (its view) and head angle."""
+        face = views("face_window", face_window, self.body)
         return self.module.command(face, angles("theta_rad", theta_rad))
 
     def lm_commands(self, face_windows: np.ndarray, thetas_rad: np.ndarray) -> np.ndarray:
-        """:meth:`lm_command` for K face windows (K, H, W) and head angles (K, 2), (K, 2)."""
-        faces = windows("face_windows", face_windows, self.body.face_size_px, None)
-        faces, thetas = faces.reshape(len(faces), -1), angles("thetas_rad", thetas_rad, len(faces))
+        """:meth:`lm_command` for K face windows (K, H, W) (or views) and head angles (K, 2)."""
+        faces = views("face_windows", face_windows, self.body, None)
+        thetas = angles("thetas_rad", thetas_rad, len(faces))
         return self.module.commands(faces, thetas)
 
     def saved_arrays(self) -> dict[str, np.ndarray]:
@@ -246,8 +246,8 @@ class BootstrapAgent(NetworkState):
 
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
-        """Start a trial looking at the caregiver, whose face window the robot keeps."""
-        face = windows("face_window", face_window, self.body.face_size_px).ravel()
+        """Start a trial looking at the caregiver, whose face window (its view) the robot keeps."""
+        face = views("face_window", face_window, self.body)
         self._theta_start = angles("theta_rad", theta_rad)
         if self.learning:
             self.faces.partial_fit(face)

@@ -32,6 +32,7 @@ from .._fields import param
 from .._jit import jit
 from ..agent.options import AgentConfig
 from ..agent.protocol import Body, Outcome
+from ..errors import ConfigError
 from .teacher import TeacherAgent, TeacherOptions
 
 __all__ = ["DevelopmentalAgent", "DevelopmentalOptions", "blur_into", "blur_px",
@@ -146,6 +147,9 @@ class DevelopmentalAgent(TeacherAgent):
 
     def __init__(self, options: DevelopmentalOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
+        if body.eye_size_px is not None:  # it blurs the face window as an image
+            raise ConfigError("the developmental model sees the face window only; expected a "
+                              "world without an eye window ([world.eye_window] 0 x 0)")
         super().__init__(options, mechanisms, body, rng)
         self.criterion_rad_ = math.radians(options.criterion_start_deg)
         self.approved_rate_ = 0.0

@@ -103,8 +103,8 @@ class MemoryModule:
         self.host = host
         (code_rng,) = rng.spawn(1)
         body = host.body
-        self.memory = EpisodicMemory(body.face_size_px[0] * body.face_size_px[1],
-                                     host.options.memory, body.joint_limits_rad, code_rng)
+        self.memory = EpisodicMemory(body.view_size, host.options.memory,
+                                     body.joint_limits_rad, code_rng)
         self.support_, self.evidence_ = -1.0, 0.0
         self._left_out = None  # the current face's places left out (fetched as needed)
 

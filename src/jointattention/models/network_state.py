@@ -27,7 +27,7 @@ class NetworkState:
 
     def saved_shapes(self) -> dict[str, tuple[int, ...]]:
         """The shape of each member of :meth:`saved_arrays` for this agent's options."""
-        net, n_pix = self.learner, self.body.face_size_px[0] * self.body.face_size_px[1]
+        net, n_pix = self.learner, self.body.view_size
         return {"w1": net.w1_.shape, "b1": net.b1_.shape, "w2": net.w2_.shape,
                 "b2": net.b2_.shape, "face_mean": (n_pix,), "face_m2": (n_pix,),
                 "face_n_seen": ()}

@@ -78,13 +78,13 @@ class PopulationModule:
         init_rng, self.replay_rng = rng.spawn(2)
         o = options.population
         self._parts = (o.features != "hog", o.features != "pixels")
-        self.n_features = n_features(body.face_size_px, o.cell_px, o.n_orientations,
-                                     *self._parts)
+        self.n_features = sum(n_features(size, o.cell_px, o.n_orientations, *self._parts)
+                              for size in (body.face_size_px, body.eye_size_px) if size)
         self.population = PopulationCode(self.n_features + 2, o, init_rng)
         self.feature_stats = FaceStandardiser(min_std=1e-3)  # with ``standardise``
         self.feature_stats.statistics(self.n_features)  # its arrays, which the kernels fill
-        w, h = body.face_size_px
-        self.spec = InputSpec(h, w, o.cell_px, o.n_orientations, *self._parts,
+        (w, h), (ew, eh) = body.face_size_px, body.eye_size_px or (0, 0)
+        self.spec = InputSpec(h, w, eh, ew, o.cell_px, o.n_orientations, *self._parts,
                               float(self.feature_stats.min_std),
                               np.asarray(host.theta_mid_rad, float),
                               np.asarray(host.theta_half_rad, float))

@@ -52,6 +52,7 @@ from ..agent.detections import Detections
 from ..agent.learner import FaceStandardiser
 from ..agent.options import AgentConfig
 from ..agent.protocol import LM, Body, Outcome
+from ..errors import ConfigError
 from . import _rl_kernels as kernels
 from .registry import ModelOptions
 
@@ -124,6 +125,9 @@ class RLAgent:
 
     def __init__(self, options: RLOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
+        if body.eye_size_px is not None:
+            raise ConfigError("the RL model reads the face window only; expected a world "
+                              "without an eye window ([world.eye_window] 0 x 0)")
         self.options, self.mechanisms, self.body = options, mechanisms, body
         (self.choice_rng,) = rng.spawn(1)
         n_pix = body.face_size_px[0] * body.face_size_px[1]
