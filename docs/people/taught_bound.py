@@ -10,8 +10,12 @@ PopulationCode`, the population learner's defaults, the mode read out) is taught
 direction from each face to its caregiver's target instead, over ``epochs`` passes of a
 run's training sets, and reads the directions of 32 unseen caregivers x 25 poses (held-out
 seed 5151). Rows: the generalise preset's world (the default world, 128 caregivers), the
-people preset's (256 caregivers), and the people world with the 60x50 face window of
-``docs/people/window.toml``. Writes the median and 90th-percentile angle errors.
+people preset's (256 caregivers), the people world with the 60x50 face window of
+``docs/people/window.toml``, and the people world with an eye window (``[world.eye_window]``
+of 96 x 24 pixels from a fovea 4 times finer than the camera: docs/world.md), whose
+features (:mod:`jointattention.agent.face_features`, as the face window's) are added to the
+input. Writes the median and 90th-percentile
+angle errors.
 """
 
 from __future__ import annotations
@@ -29,17 +33,24 @@ from jointattention.agent.population import PopulationCode, PopulationOptions
 from jointattention.config import load_config
 from jointattention.experiment.cells import datasets_of
 from jointattention.experiment.held_out import held_out_datasets
+from jointattention.world.options import EyeWindowConfig
 
 SEED, N_CAREGIVERS, N_POSES = 5151, 32, 25
-CONFIGS = {"default world (generalise preset)": "generalise", "people world (people preset)":
-           "people", "people world, 60x50 window": str(Path(__file__).parent / "window.toml")}
+EYES = {"width_px": 96, "height_px": 24, "zoom": 4.0}  # the eye window of the last row
+CONFIGS = {  # name: (configuration, with the eye window)
+    "default world (generalise preset)": ("generalise", False),
+    "people world (people preset)": ("people", False),
+    "people world, 60x50 window": (str(Path(__file__).parent / "window.toml"), False),
+    "people world, eye window 96x24 (4x fovea)": ("people", True),
+}
 
 
 def inputs(ds, world) -> np.ndarray:
-    """The population learner's input: face features, then the head angle scaled to [-1, 1]."""
+    """The input: the face's features, the eyes' if kept, then the head angle in [-1, 1]."""
     lo, hi = np.deg2rad([world.head.pan_limits_deg, world.head.tilt_limits_deg]).T
     scaled = (ds.theta_face_rad - (lo + hi) / 2) / ((hi - lo) / 2)
-    return np.hstack([face_features(ds.face.astype(float)), scaled])
+    eyes = [] if ds.eyes is None else [face_features(ds.eyes.astype(float))]
+    return np.hstack([face_features(ds.face.astype(float)), *eyes, scaled])
 
 
 def directions(ds) -> np.ndarray:
@@ -64,8 +75,11 @@ def main() -> None:
     start = time.perf_counter()
     rows = ["| world | training sets | median error, unseen caregivers | 90th percentile |",
             "|---|---|---|---|"]
-    for name, source in CONFIGS.items():
+    for name, (source, eyes) in CONFIGS.items():
         config = load_config(source)
+        if eyes:
+            config = dataclasses.replace(config, world=dataclasses.replace(
+                config.world, eye_window=EyeWindowConfig(**EYES)))
         if args.train_caregivers:  # a small run (the tests'): a few caregivers, four poses each
             config = dataclasses.replace(config, recording=dataclasses.replace(
                 config.recording, caregivers=args.train_caregivers, poses_per_caregiver=4))
