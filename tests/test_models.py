@@ -366,3 +366,7 @@ def test_only_classes_that_say_so_run_compiled():
     assert "does not run model kind" in Changed().compiled_refusal()
     assert "does not run learner 'population'" in Partly(learner="population").compiled_refusal()
     assert Partly().compiled_refusal() is None
+    # The kinds it names are the registries' compiled ones: all four gates, not a copied list.
+    assert "with a gate of kind constant, evidence, performance or sigmoid" in Changed(
+        ).compiled_refusal()
+    assert "of kind bootstrap, developmental, rl or teacher" in Changed().compiled_refusal()

@@ -15,11 +15,14 @@ shows what the memory learns from visual attention's trials alone; the ``memory-
 cells, what it learns when the evidence gate hands faces over.
 
 Run from the repository: ``python docs/beyond/evidence.py`` (about 30 s); it writes
-``docs/beyond/evidence.md``.
+``docs/beyond/evidence.md`` (``--out``). ``--quick``: 3,000 steps, checkpoints at 1,000 and
+2,000 (the tests' run).
 """
 
 from __future__ import annotations
 
+import argparse
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -41,13 +44,13 @@ def auc(right: np.ndarray, wrong: np.ndarray) -> float:
     return float(np.mean(above) + 0.5 * np.mean(right[:, None] == wrong[None, :]))
 
 
-def rows_of(config, name: str, seed: int) -> list[str]:
+def rows_of(config, name: str, seed: int, checkpoints=CHECKPOINTS) -> list[str]:
     """One table row per checkpoint of one cell."""
     ds = datasets_of(config)
     targets = ds.theta_face_rad + ds.command_rad
     rows = []
-    for t, agent in sorted(snapshots(config, name, seed, CHECKPOINTS).items()):
-        if t not in CHECKPOINTS:
+    for t, agent in sorted(snapshots(config, name, seed, checkpoints).items()):
+        if t not in checkpoints:
             continue
         memory, error, evidence = agent.module.memory, [], []
         for face, target in zip(ds.face, targets, strict=True):
@@ -65,13 +68,21 @@ def rows_of(config, name: str, seed: int) -> list[str]:
 
 
 def main() -> None:
-    config = load_config("beyond")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path(__file__).with_name("evidence.md"))
+    parser.add_argument("--quick", action="store_true", help="3,000 steps (the tests' run)")
+    args = parser.parse_args()
+    config, checkpoints = load_config("beyond"), CHECKPOINTS
+    if args.quick:
+        config = dataclasses.replace(config, experiment=dataclasses.replace(
+            config.experiment, n_steps=3_000))
+        checkpoints = (1_000, 2_000)
     rows = ["| cell | seed | learning time (steps) | faces right | evidence AUC | "
             "evidence, right (median) | evidence, wrong (median) |",
             "|---|---|---|---|---|---|---|"]
     for name, seed in CELLS:
-        rows += rows_of(config, name, seed)
-    out = Path(__file__).with_name("evidence.md")
+        rows += rows_of(config, name, seed, checkpoints)
+    out = args.out
     out.write_text(
         "The memory's recalled place for each of the 125 data sets' faces (right: within "
         f"{RIGHT_DEG:.0f}° of the target) and how well its evidence ranks right places above "

@@ -11,11 +11,13 @@ trials allow, at the caregiver's face:
 - the mode of the places found: where the trials agree.
 
 Run from the repository: ``python docs/beyond/mean_vs_mode.py`` (15 s); it writes
-``docs/beyond/mean_vs_mode.md`` and ``mean_vs_mode.png`` (the errors per data set).
+``docs/beyond/mean_vs_mode.md`` and ``mean_vs_mode.png`` (the errors per data set; ``--out
+FILE.md`` writes them elsewhere). ``--quick``: 3,000 steps (the tests' run).
 """
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
 from pathlib import Path
 
@@ -29,7 +31,7 @@ from jointattention.figures._save import new_figure, save_figure
 STEPS, RADIUS_RAD = 300_000, np.radians(2.0)
 
 
-def memory_of(n_objects: int):
+def memory_of(n_objects: int, steps: int = STEPS):
     """The memory of a visual-controller-only cell: every trial the evaluator ended."""
     config = load_config("paper")
     model = {"learner": "memory", "gate": {"kind": "constant", "rate": 0.0},
@@ -37,16 +39,16 @@ def memory_of(n_objects: int):
     condition = dataclasses.replace(config.experiment.conditions[0], n_objects=n_objects,
                                     name=f"n{n_objects}", model=model)
     config = dataclasses.replace(config, experiment=dataclasses.replace(
-        config.experiment, n_steps=STEPS, conditions=(condition,)))
+        config.experiment, n_steps=steps, conditions=(condition,)))
     kept = {}
-    run_cell(config, condition, 0, checkpoints=[STEPS - 1],
+    run_cell(config, condition, 0, checkpoints=[steps - 1],
              on_checkpoint=lambda t, agent: kept.setdefault("memory", agent.module.memory))
     return config, kept["memory"]
 
 
-def errors(n_objects: int) -> tuple[int, float, np.ndarray, np.ndarray]:
+def errors(n_objects: int, steps: int = STEPS) -> tuple[int, float, np.ndarray, np.ndarray]:
     """Trials kept, share on target, per data set the error of the mean and of the mode (deg)."""
-    config, memory = memory_of(n_objects)
+    config, memory = memory_of(n_objects, steps)
     ds = datasets_of(config)
     n = memory.n_stored_
     codes, places = memory.codes_[:, memory.links_[0, :n]].T, memory.aims_[:n]  # per trial
@@ -67,11 +69,17 @@ def errors(n_objects: int) -> tuple[int, float, np.ndarray, np.ndarray]:
 
 
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path(__file__).with_suffix(".md"),
+                        help="the table (.md); the figure goes beside it (.png)")
+    parser.add_argument("--quick", action="store_true", help="3,000 steps (the tests' run)")
+    args = parser.parse_args()
+    steps = 3_000 if args.quick else STEPS
     rows = ["| objects | trials kept | on the target | mean of the taught directions | "
             "mode of the places found |", "|---|---|---|---|---|"]
     fig = new_figure(12.0, 3.4)
     for ax, n_objects in zip(fig.subplots(1, 3), (3, 5, 10), strict=True):
-        n, share, mean, mode = errors(n_objects)
+        n, share, mean, mode = errors(n_objects, steps)
         rows.append(f"| {n_objects} | {n:,} | {share:.2f} | {np.median(mean):.1f}° | "
                     f"{np.median(mode):.1f}° |")
         print(rows[-1], flush=True)
@@ -82,11 +90,11 @@ def main() -> None:
         ax.set_xlabel("angle error at the caregiver's face [deg]")
         ax.set_ylabel("data sets")
     ax.legend(fontsize=7)
-    save_figure(fig, Path(__file__).with_suffix(".png"))
-    out = Path(__file__).with_suffix(".md")
-    out.write_text("Median angle error at the caregiver's face over the 125 data sets, after "
-                   f"{STEPS:,} steps of the visual controller alone (seed 0); written by "
-                   "`python docs/beyond/mean_vs_mode.py`.\n\n" + "\n".join(rows) + "\n")
+    save_figure(fig, args.out.with_suffix(".png"))
+    args.out.write_text("Median angle error at the caregiver's face over the 125 data sets, "
+                        f"after {steps:,} steps of the visual controller alone (seed 0); "
+                        "written by `python docs/beyond/mean_vs_mode.py`.\n\n"
+                        + "\n".join(rows) + "\n")
 
 
 if __name__ == "__main__":

@@ -10,12 +10,14 @@ left out of the face's recalls. A face with no kept place near its target was ne
 there: visual attention always found a distractor first.
 
 Run from the repository: ``python docs/beyond/stuck_faces.py [seeds...]`` (default: 7 and 2;
-about 10 s a cell); it writes ``docs/beyond/stuck_faces.md``.
+about 10 s a cell); it writes ``docs/beyond/stuck_faces.md`` (``--out``). ``--quick``: 3,000
+steps a cell (the tests' run).
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -51,8 +53,15 @@ def stuck_faces(config, name: str, seed: int) -> list[tuple[int, float, int, int
 
 
 def main() -> None:
-    seeds = [int(s) for s in sys.argv[1:]] or [7, 2]
-    config = load_config("beyond")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("seeds", nargs="*", type=int, default=[7, 2])
+    parser.add_argument("--out", type=Path, default=Path(__file__).with_name("stuck_faces.md"))
+    parser.add_argument("--quick", action="store_true", help="3,000 steps (the tests' run)")
+    args = parser.parse_args()
+    seeds, config = args.seeds, load_config("beyond")
+    if args.quick:
+        config = dataclasses.replace(config, experiment=dataclasses.replace(
+            config.experiment, n_steps=3_000))
     lines = ["| condition | seed | data set | recall's error (deg) | places kept for the face "
              "| near its target | places left out |", "|---|---|---|---|---|---|---|"]
     for seed in seeds:
@@ -61,9 +70,8 @@ def main() -> None:
             lines += [f"| {name} | {seed} | {k} | {e:.1f} | {n} | {near} | {left} |"
                       for k, e, n, near, left in rows] or [f"| {name} | {seed} | none | | | | |"]
             print(name, seed, len(rows), "faces", flush=True)
-    out = Path(__file__).with_name("stuck_faces.md")
-    out.write_text("\n".join(lines) + "\n")
-    print("wrote", out)
+    args.out.write_text("\n".join(lines) + "\n")
+    print("wrote", args.out)
 
 
 if __name__ == "__main__":

@@ -9,13 +9,14 @@ place is the head angle that centres it (the world's kinematics); the robot neve
 
 Run from the repository: ``python docs/beyond/wrong_recalls.py [seeds...]`` (default: 2 and 4,
 a seed that misses 90% at 3x10^4 and one that meets it at 2x10^4; a few seconds a seed); it
-writes ``docs/beyond/wrong_recalls.md``.
+writes ``docs/beyond/wrong_recalls.md`` (``--out``). ``--quick``: 3,000 steps, the trials
+between 1,000 and 3,000 (the tests' run).
 """
 
 from __future__ import annotations
 
+import argparse
 import dataclasses
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -57,15 +58,19 @@ def trials_of(config, seed: int) -> list[dict]:
         records = run_cell(config, condition, seed, observer=observer)
     finally:
         MemoryModule.begin = begin
-    times = records["learning_time"]
-    return [r for r, t in zip(rows, times, strict=False) if 10_000 <= t < 30_000]
+    times, end = records["learning_time"], config.experiment.n_steps  # from a third to the end
+    return [r for r, t in zip(rows, times, strict=False) if end // 3 <= t < end]
 
 
 def main() -> None:
-    seeds = [int(s) for s in sys.argv[1:]] or [2, 4]
-    config = load_config("beyond")
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("seeds", nargs="*", type=int, default=[2, 4])
+    parser.add_argument("--out", type=Path, default=Path(__file__).with_name("wrong_recalls.md"))
+    parser.add_argument("--quick", action="store_true", help="3,000 steps (the tests' run)")
+    args = parser.parse_args()
+    seeds, config = args.seeds, load_config("beyond")
     config = dataclasses.replace(config, experiment=dataclasses.replace(
-        config.experiment, n_steps=30_000, engine="python"))
+        config.experiment, n_steps=3_000 if args.quick else 30_000, engine="python"))
     lines = ["Trials between 10^4 and 3x10^4 steps of `memory-evidence-quick-pass-n10`, by the "
              "evidence of the place recalled at the trial's start (`python "
              "docs/beyond/wrong_recalls.py`):", "",
@@ -97,7 +102,7 @@ def main() -> None:
             f"{np.mean([r['success'] for r in wrong]):.2f} | {on_way.mean():.2f} | "
             f"{at_aim.mean():.2f} | {np.mean([r['target_in_view'] for r in wrong]):.2f} |")
     text = "\n".join(lines + wrong_lines) + "\n"
-    (Path(__file__).parent / "wrong_recalls.md").write_text(text)
+    args.out.write_text(text)
     print(text)
 
 

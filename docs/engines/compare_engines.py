@@ -7,8 +7,9 @@ Run first (the python engine takes about 20 min on 2 cores, the compiled one 1 m
 then:
     python docs/engines/compare_engines.py runs/paper runs/paper-python
 
-Writes engines.md here: per condition, each engine's final success with its 95% interval over
-seeds, whether each lies inside the other's interval, and how many cells are byte-identical.
+Writes engines.md here (``--out``: elsewhere): per condition, each engine's final success with
+its 95% interval over seeds, whether each lies inside the other's interval, and how many cells
+are byte-identical.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("compiled", type=Path)
     ap.add_argument("python", type=Path)
+    ap.add_argument("--out", type=Path, default=HERE / "engines.md")
     args = ap.parse_args()
     configs = {name: load_config(path / "config.toml")
                for name, path in (("compiled", args.compiled), ("python", args.python))}
@@ -58,7 +60,7 @@ def main() -> None:
     n_cells = len(exp.conditions) * exp.n_seeds
     text = (f"{table.to_markdown()}\n\n{same} of {n_cells} cells are byte-identical "
             "(the `.npz` files).\n")
-    (HERE / "engines.md").write_text(text)
+    args.out.write_text(text)
     print(text)
 
 

@@ -1,15 +1,16 @@
 """Fit the BlazeFace calibration shipped in jointattention/data/blazeface_calibration.npz.
 
-    python docs/faces/calibrate.py [OUT.npz]
+    python docs/faces/calibrate.py [OUT.npz] [--quick]
 
 Renders 12,000 views of 128 caregivers of the many-caregiver world (stream "faces", seed 1: no
 measurement of docs/faces/detectors.md uses it) and fits the map from BlazeFace's landmarks,
 then from the pixels around the head, to the head's centre and height
-(jointattention.agent.face_calibration.Calibration). About 3 min.
+(jointattention.agent.face_calibration.Calibration). About 3 min. ``--quick``: 640 views of 16
+caregivers, enough for the fit (the tests' run).
 """
 
+import argparse
 import os
-import sys
 
 import cv2
 from tqdm import tqdm
@@ -24,7 +25,13 @@ from jointattention.world.gl import suggested_backend
 os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
 N, CAREGIVERS, SEED, STREAM = 12000, 128, 1, "faces"
-out = sys.argv[1] if len(sys.argv) > 1 else "src/jointattention/data/blazeface_calibration.npz"
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("out", nargs="?", default="src/jointattention/data/blazeface_calibration.npz")
+parser.add_argument("--quick", action="store_true", help="640 views of 16 caregivers")
+args = parser.parse_args()
+out = args.out
+if args.quick:
+    N, CAREGIVERS = 640, 16
 net = BlazeFace()
 grays, found, centres, heights = [], [], [], []
 views = face_views(load_config("many-caregivers").world, N, CAREGIVERS, SEED, stream=STREAM)

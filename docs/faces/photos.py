@@ -1,6 +1,6 @@
 """docs/faces/photos.png: `follow` on photographs that packages ship, with BlazeFace.
 
-    python docs/faces/photos.py
+    python docs/faces/photos.py [--out docs/faces/photos.png]
 
 The shipped generalising model (docs/generalise/population_n10.npz) follows scikit-image's
 astronaut and coffee (no face), matplotlib's Grace Hopper and two of lfw_subset's faces (4x
@@ -11,6 +11,7 @@ commands for real people are not validated, and mean nothing here; the pipeline 
 shown.
 """
 
+import argparse
 import os
 from pathlib import Path
 
@@ -26,8 +27,13 @@ from jointattention.world.gl import suggested_backend
 # A program chooses its process's OpenGL backend (the library only reads MUJOCO_GL).
 os.environ.setdefault("MUJOCO_GL", suggested_backend())
 
+HERE = Path(__file__).resolve().parent
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--out", type=Path, default=HERE / "photos.png")
+args = parser.parse_args()
 SIDE_PX = 360
-follower = GazeFollower.load("docs/generalise/population_n10.npz", min_score=0.6, refine=False)
+follower = GazeFollower.load(HERE.parent / "generalise" / "population_n10.npz", min_score=0.6,
+                             refine=False)
 faces = data.lfw_subset()
 lfw = [lfw_view(faces[i]) for i in (0, 7)]
 photos = [data.astronaut(), hopper_photo(), *lfw, data.coffee()]
@@ -43,6 +49,6 @@ for photo in photos:
     tiles.append(canvas)
     print("face" if look else "no face", None if look is None else
           np.round(np.rad2deg(look.command_rad), 1))
-out = Path("docs/faces/photos.png")
+out = args.out
 cv2.imwrite(str(out), cv2.cvtColor(np.hstack(tiles), cv2.COLOR_RGB2BGR))
 print(out)

@@ -7,12 +7,13 @@ condition with a learning module, the three errors at a few learning times, and 
 the angle error (its mean over the bins: lower is faster).
 
 Run from the repository after ``jointattention reproduce --preset models --out runs/models``:
-``python docs/models/errors.py runs/models`` (a second).
+``python docs/models/errors.py runs/models`` (a second). ``--out`` writes the table elsewhere;
+``--times`` names other learning times (the tests' short run).
 """
 
 from __future__ import annotations
 
-import sys
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -23,14 +24,14 @@ TIMES = (30_000, 60_000, 120_000, 150_000, 300_000)
 OUT = Path(__file__).parent
 
 
-def main(run: Path) -> None:
+def main(run: Path, out: Path = OUT / "errors.md", times: tuple[int, ...] = TIMES) -> None:
     """Write errors.md from ``run``'s diagnostics."""
     table = read_csv(run / "diagnostics.csv")
     col = {name: i for i, name in enumerate(table.columns)}
     by_condition: dict[str, list] = {}
     for row in table.rows:
         by_condition.setdefault(row[col["condition"]], []).append(row)
-    head = ", ".join(f"{t // 1000}k" for t in TIMES)
+    head = ", ".join(f"{t // 1000}k" for t in times)
     rows = [f"| condition | mean angle error over learning time | angle error at {head} | "
             f"horizontal at {head} | vertical at {head} |", "|---|---|---|---|---|"]
     for name, cond_rows in by_condition.items():
@@ -42,7 +43,7 @@ def main(run: Path) -> None:
         error = series("lm_error_deg")
         if "shuffled" in name or not np.isfinite(error).all():
             continue
-        at = [int(np.searchsorted(ends, t)) for t in TIMES]
+        at = [int(np.searchsorted(ends, t)) for t in times]
 
         def cells(values, at=at):
             return ", ".join(f"{values[i]:.1f}" for i in at)
@@ -52,9 +53,16 @@ def main(run: Path) -> None:
                     f"{cells(series('lm_tilt_error_deg'))} |")
     text = "\n".join(rows) + (f"\n\n`python docs/models/errors.py {run}`: degrees, means over "
                               "seeds of each bin's median over the 125 data sets.\n")
-    (OUT / "errors.md").write_text(text)
+    out.write_text(text)
     print(text, end="")
 
 
 if __name__ == "__main__":
-    main(Path(sys.argv[1] if len(sys.argv) > 1 else "runs/models"))
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("run", nargs="?", type=Path, default=Path("runs/models"))
+    parser.add_argument("--out", type=Path, default=OUT / "errors.md")
+    parser.add_argument("--times", type=int, nargs="+", default=list(TIMES),
+                        help="learning times of the columns, in steps (default: "
+                             f"{' '.join(map(str, TIMES))})")
+    args = parser.parse_args()
+    main(args.run, args.out, tuple(args.times))

@@ -3,11 +3,12 @@
 Run first (about 4 min on 2 cores):
     jointattention reproduce --preset rendered --out runs/rendered
 then:
-    python docs/rendered/compare_modes.py [runs/rendered] [--fast-seeds 10]
+    python docs/rendered/compare_modes.py [runs/rendered] [--fast-seeds 10] [--out FILE.md]
 
 It runs the same preset in the fast mode (compiled engine) with --fast-seeds seeds (seconds) into
 runs/rendered-fast, and checks, bin by bin, whether the rendered mode's mean success lies
-inside the fast mode's 95% interval (t interval of the mean over seeds).
+inside the fast mode's 95% interval (t interval of the mean over seeds). ``--out``: the table
+elsewhere, and the figure beside it (.png).
 """
 
 from __future__ import annotations
@@ -39,6 +40,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("run", nargs="?", default="runs/rendered")
     ap.add_argument("--fast-seeds", type=int, default=10)
+    ap.add_argument("--out", type=Path, default=HERE / "modes.md",
+                    help="the table (.md); the figure goes beside it (.png)")
     args = ap.parse_args()
     run = Path(args.run)
     rendered_cfg = load_config(run / "config.toml")
@@ -78,8 +81,8 @@ def main() -> None:
         lines.append(f"| {name} | {int(inside.sum())} of {len(inside)} | {r_mean[-1]:.3f} | "
                      f"{f_mean[-1]:.3f} ({f_lo[-1]:.3f}-{f_hi[-1]:.3f}) |")
     fig.tight_layout()
-    fig.savefig(HERE / "modes.png", dpi=120)
-    (HERE / "modes.md").write_text("\n".join(lines) + "\n")
+    fig.savefig(args.out.with_suffix(".png"), dpi=120)
+    args.out.write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 

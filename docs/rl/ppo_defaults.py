@@ -16,7 +16,8 @@ caregivers (the shipped held-out sets, recorded with their own world seeds).
     .venv-rl/bin/python docs/rl/ppo_defaults.py --out docs/rl
 
 writes ``ppo_defaults.md`` (the table), ``ppo_defaults.csv`` and ``ppo_defaults.png``
-(success per episode against environment steps).
+(success per episode against environment steps). ``--quick`` (the tests' run): 2,048 steps a
+run, PPO's rollouts cut to 1,024 steps, one seed, 20 episodes a frozen measure.
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ from jointattention import ConditionConfig, load_config, measure_ceiling
 from jointattention.experiment.held_out import SHIPPED, final_held_out, run_cell_measured
 
 STEPS, BIN = 250_000, 25_000
+QUICK = False  # --quick: main() sets STEPS, BIN and this; PPO then rolls out 1,024 steps
 
 
 def ppo(env_id: str, seed: int, native: bool = False):
@@ -49,10 +51,12 @@ def ppo(env_id: str, seed: int, native: bool = False):
     t = time.perf_counter()
     if native:  # 64 environments: a shorter rollout per environment, the rest the defaults
         env = NativeVecEnv(env_id, num_envs=64, seed=seed)
-        model = PPO("MultiInputPolicy", env, n_steps=256, seed=seed, device="cpu")
+        model = PPO("MultiInputPolicy", env, n_steps=16 if QUICK else 256, seed=seed,
+                    device="cpu")
     else:
         env = make_vec_env(env_id, 8, seed=seed)
-        model = PPO("MultiInputPolicy", env, seed=seed, device="cpu")
+        model = PPO("MultiInputPolicy", env, seed=seed, device="cpu",
+                    **({"n_steps": 128} if QUICK else {}))
     model.learn(STEPS, callback=log)
     env.close()
     return np.array(log.ends), np.array(log.wins, float), model, time.perf_counter() - t
@@ -81,7 +85,7 @@ def own_rl(n_objects: int, seed: int):
     """The project's reinforcement learner in the same fast world: (times, success, held-out)."""
     config = load_config({"model": {"kind": "rl"}, "experiment": {
         "n_steps": STEPS, "bin_steps": BIN, "engine": "python",
-        "held_out": {"n_trials": 2000, "n_checkpoints": 1}}})
+        "held_out": {"n_trials": 50 if QUICK else 2000, "n_checkpoints": 1}}})
     rec = run_cell_measured(config, ConditionConfig(name=f"rl-n{n_objects}",
                                                     n_objects=n_objects), seed)
     held = final_held_out(rec)
@@ -122,12 +126,17 @@ def own_record(n_objects: int, seed: int) -> dict:
 
 
 def main() -> None:
+    global STEPS, BIN, QUICK
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, default=3, help="seeds per row (default 3)")
     parser.add_argument("--episodes", type=int, default=1000,
                         help="episodes per frozen measure (default 1000)")
     parser.add_argument("--out", default="docs/rl", help="output folder (default docs/rl)")
+    parser.add_argument("--quick", action="store_true",
+                        help="2,048 steps a run, one seed, 20 episodes (the tests' run)")
     args = parser.parse_args()
+    if args.quick:
+        STEPS, BIN, QUICK, args.seeds, args.episodes = 2_048, 1_024, True, 1, 20
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     held = {kind: str(resources.files("jointattention.data") / name)
@@ -146,7 +155,7 @@ def main() -> None:
         ceiling = measure_ceiling(load_config(None), n)
         records = []
         for seed in range(args.seeds):
-            key = f"{label} | {env} | {seed} | {args.episodes}"
+            key = f"{label} | {env} | {seed} | {args.episodes}" + (" | quick" if QUICK else "")
             if key not in done:
                 done[key] = (own_record(n, seed) if label == own else
                              ppo_record(env, "Native" in label, seed, held, args.episodes))
@@ -155,7 +164,8 @@ def main() -> None:
                 tmp.replace(done_path)
             records.append(done[key])
             print(label, env, seed, f"final {done[key]['curve'][-1]:.3f}", flush=True)
-        chance = float("nan") if label == own else random_level(env, 2000, 0)
+        chance = float("nan") if label == own else random_level(env, args.episodes if QUICK
+                                                                 else 2000, 0)
         rows.append((label, env, n, ceiling, chance, records))
     _write(rows, out, args)
 

@@ -74,9 +74,9 @@ class ModelOptions(Section):
             what = f"{values[0][0]} {values[0][1]!r}"
         else:
             return None
-        return (f"experiment.engine = 'compiled' does not run {what}; expected the bootstrap, "
-                "teacher or developmental model with a sigmoid, constant or performance gate, "
-                "the RL model, or experiment.engine = 'python' or 'auto'")
+        return (f"experiment.engine = 'compiled' does not run {what}; expected a model of kind "
+                f"{_compiled_kinds(MODELS)} (with a gate of kind {_compiled_kinds(_gates())}), "
+                "or experiment.engine = 'python' or 'auto'")
 
     def save_refusal(self) -> str | None:
         """Why a model file cannot hold this model, as the reason's words (None if it can).
@@ -99,6 +99,19 @@ class ModelOptions(Section):
         gate = getattr(self, "gate", None)
         name = MODELS.name_of(self)
         return name if gate is None else f"{name}, {gate.label}"
+
+
+def _gates() -> Registry:
+    """The gates' registry (imported when a refusal is written: the agent layer's)."""
+    from ..agent.gates import GATES
+
+    return GATES
+
+
+def _compiled_kinds(registry: Registry) -> str:
+    """The registered kinds whose own class declares ``compiled = True``, as words."""
+    names = sorted(n for n in registry if registry[n].__dict__.get("compiled", False))
+    return ", ".join(names[:-1]) + f" or {names[-1]}" if len(names) > 1 else "".join(names)
 
 
 MODELS = Registry("model", {"bootstrap": "jointattention.models.bootstrap:BootstrapOptions",
