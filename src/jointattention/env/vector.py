@@ -22,14 +22,9 @@ from gymnasium.vector.utils import batch_space
 
 from .._checks import check_int
 from ..errors import ConfigError
-from ..experiment.cells import trial_geometries
-from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING
-from ..world.kinematics import separation_rad
-from ..world.mjcf import HEAD_RADII_M
-from ..world.placement import region_of
 from ._args import check_action, refuse_options, vector_seeds
-from ._looks import DETECTION_COLUMNS, MAX_DETECTIONS, _row_bounds, scaled
-from ._vector_kernels import rows_all, start_all, step_all
+from ._fast_trial import Episodes
+from ._vector_kernels import LOOK, STATE, STEP, clip_moves
 from .joint_attention import JointAttentionEnv
 
 __all__ = ["MAX_ENVS", "JointAttentionVectorEnv"]
@@ -91,31 +86,12 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self.single_action_space = one.action_space
         self.observation_space = batch_space(one.observation_space, self.num_envs)
         self.action_space = batch_space(one.action_space, self.num_envs)
-        kin, cfg = one.kinematics, one.config
-        n = one.n_objects
-        self._kin, self._n = kin, n
-        self._d_th_px = cfg.agent.d_th_px(kin.width_px)
-        self._lo = np.array([kin.pan_limits_rad[0], kin.tilt_limits_rad[0]])
-        self._hi = np.array([kin.pan_limits_rad[1], kin.tilt_limits_rad[1]])
-        self._offset_m = np.asarray(kin.offset_m, float)
+        self._steps = one._fast  # the world, camera and data sets, as the kernels take them
+        self._episodes = Episodes(self.num_envs, one.n_objects)
         self._scale = one.max_step_rad if one.normalize_actions else np.ones(2)
-        self._targets_m, self._faces_m = trial_geometries(one._datasets, kin,
-                                                          cfg.world.caregiver.distance_m)
-        self._region = region_of(cfg.world)
-        self._alloc(self.num_envs, n)
         self._needs_reset = np.ones(self.num_envs, bool)
         self._started = False
         self.render_mode = one.render_mode
-
-    def _alloc(self, k: int, n: int) -> None:
-        f, i = np.zeros, np.int64
-        self._theta, self._pos, self._radius = f((k, 2)), f((k, n, 3)), f((k, n))
-        self._edge, self._target, self._face_k = f((k, n)), np.zeros(k, i), np.zeros(k, i)
-        self._n_steps, self._end = np.zeros(k, i), np.full(k, RUNNING, i)
-        self._limit_hit, self._attended = np.zeros(k, bool), np.full(k, -1, i)
-        self._seen, self._n_det = np.full(k, -1, i), np.zeros(k, i)
-        self._centre, self._area = f((k, n, 2)), f((k, n))
-        self._seen_edge, self._ids = f((k, n)), np.zeros((k, n), i)
 
     def _start(self, which: np.ndarray, seeds=None) -> None:
         """Start the episodes of sub-environments ``which`` from their own generators.
@@ -132,34 +108,38 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
             from numba.typed import List
 
             self._rng_list = List(self._rngs)
-        failed = start_all(self._rng_list, np.asarray(which, np.int64), self._targets_m,
-                           self._faces_m, HEAD_RADII_M[2], *self._region,
-                           self._env._datasets.theta_face_rad, self._lo, self._hi, self._pos,
-                           self._radius, self._edge, self._face_k, self._target, self._theta,
-                           self._n_steps, self._end, self._attended, self._limit_hit)
-        if failed >= 0:
-            raise ConfigError(
-                f"objects: could not place {self._n} objects apart within the object region; "
-                "expected fewer objects, a wider region or smaller gaps")
+        self._steps.start(self._episodes, self._rng_list, np.asarray(which, np.int64))
 
-    def _look(self, which: np.ndarray) -> None:
-        """The first look of the episodes just started: project and evaluate, no move."""
-        end = np.full(self.num_envs, 0, np.int64)
-        end[which] = RUNNING
-        steps = self._n_steps.copy()
-        steps[which] -= 1  # the kernel counts a step: take it back
-        self._kernel(np.zeros((self.num_envs, 2)), end, steps)
-        self._end[which] = np.where(end[which] == END_FIRED, END_FIRED, RUNNING)
-        self._limit_hit[which] = False
+    def _look(self, mode: np.ndarray, dtheta: np.ndarray | None = None) -> tuple[dict, dict]:
+        """Step, start or hold each sub-environment as ``mode`` says; what they show.
 
-    def _kernel(self, dtheta: np.ndarray, end: np.ndarray, steps: np.ndarray) -> None:
-        kin = self._kin
-        step_all(self._theta, dtheta, self._lo, self._hi, self._pos, self._radius, self._edge,
-                  self._n, self._offset_m, float(kin.focal_px), kin.width_px,
-                  kin.height_px, self._d_th_px, self.max_steps, steps, end, self._limit_hit,
-                  self._attended, self._seen, self._n_det, self._centre, self._area,
-                  self._seen_edge, self._ids)
-        self._n_steps[:] = steps
+        One compiled call (:func:`~._vector_kernels.step_all`) into new arrays.
+        """
+        k = self.num_envs
+        out = self._steps.outputs(k)
+        self._steps.step(self._episodes, mode, np.zeros((k, 2)) if dtheta is None else dtheta,
+                         out)
+        self._out = out
+        obs = {"head_angle": out["head"], "face": out["face"]}
+        if self.obs_mode == "detections":
+            obs["detections"] = out["rows"]
+        area, edge, motion = out["det"]
+        n_det, seen, attended, target = out["ints"]
+        fired, limit_hit = out["flags"][:2]
+        intrinsic, external, error = out["floats"]
+        masks = iter(np.ones((15, k), bool))  # Gymnasium's "_key": every one has every key
+        detections = {"centre_px": out["centre"], "_centre_px": next(masks),
+                      "colour_area_px": area, "_colour_area_px": next(masks), "edge": edge,
+                      "_edge": next(masks), "motion": motion, "_motion": next(masks)}
+        info = {"detections": detections, "_detections": next(masks), "n_detections": n_det,
+                "_n_detections": next(masks), "fired": fired, "_fired": next(masks),
+                "seen": seen, "_seen": next(masks), "attended": attended,
+                "_attended": next(masks), "target": target, "_target": next(masks),
+                "limit_hit": limit_hit, "_limit_hit": next(masks),
+                "intrinsic_reward": intrinsic, "_intrinsic_reward": next(masks),
+                "external_reward": external, "_external_reward": next(masks),
+                "caregiver_error_rad": error, "_caregiver_error_rad": next(masks)}
+        return obs, info
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
         """Start an episode in every sub-environment (``seed + i`` for sub-environment i).
@@ -170,94 +150,58 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         seeds = vector_seeds(seed, self.num_envs)
         refuse_options(options)
         self._start(np.arange(self.num_envs), seeds)
-        self._look(np.arange(self.num_envs))
+        out = self._look(np.full(self.num_envs, LOOK, np.int64))
         self._needs_reset[:] = False
         self._started = True
-        return self._observations(), self._infos()
+        return out
 
     def step(self, actions):
         """Step every sub-environment; those that ended start anew (see ``autoreset_mode``)."""
         if not self._started:
             raise gym.error.ResetNeeded("no episodes are running; expected reset() before "
                                         "step()")
-        actions = check_action(actions, (self.num_envs, 2), "actions")
-        restart = np.flatnonzero(self._needs_reset)
-        if len(restart):
-            self._start(restart)
-            self._look(restart)
-        space = self.single_action_space
-        dtheta = np.clip(actions, space.low, space.high) * self._scale
-        end = self._end.copy()
-        end[restart] = END_FIRED  # not stepped this time
-        running = end == RUNNING
-        steps = self._n_steps.copy()
-        self._kernel(dtheta, end, steps)
-        self._end = np.where(running, end, self._end)
-        terminated = running & ((self._end == END_FIRED) | (self._end == END_LIMIT))
-        truncated = running & (self._end == END_STEPS)
+        dtheta = self._dtheta_rad(actions)  # checked before any work
+        restart = self._needs_reset
+        if restart.any():
+            self._start(np.flatnonzero(restart))
+        # those that ended start with a look, and are not stepped this time
+        obs, infos = self._look(STEP - restart, dtheta)
+        terminated, truncated = self._out["flags"][2:]
         self._needs_reset = terminated | truncated
-        infos = self._infos()  # the episodes just started have not fired: reward 0
-        rewards = infos[f"{self.reward}_reward"]
+        rewards = infos[f"{self.reward}_reward"]  # the episodes just started: 0
         if self.autoreset_mode == AutoresetMode.SAME_STEP and self._needs_reset.any():
-            infos = self._restart_now(infos)
-        return self._observations(), rewards, terminated, truncated, infos
+            obs, infos = self._restart_now(obs, infos)
+        return obs, rewards, terminated, truncated, infos
 
-    def _restart_now(self, infos: dict) -> dict:
+    def _dtheta_rad(self, actions) -> np.ndarray:
+        """Every head's move (pan, tilt) in radians for ``actions``: checked, clipped, scaled."""
+        shape = (self.num_envs, 2)
+        if not (type(actions) is np.ndarray and actions.shape == shape
+                and actions.dtype.char in "fd"):
+            actions = check_action(actions, shape, "actions")
+        space, dtheta = self.single_action_space, np.empty(shape)
+        if not clip_moves(actions, space.low, space.high, self._scale, dtheta):
+            check_action(actions, shape, "actions")  # not finite: one error naming them
+        return dtheta
+
+    def _restart_now(self, obs: dict, infos: dict) -> tuple[dict, dict]:
         """Same-step autoreset: start the episodes that just ended, keeping their last look."""
-        done, last = self._needs_reset.copy(), self._observations()
+        done = self._needs_reset.copy()
         final_obs = np.full(self.num_envs, None, object)
         for i in np.flatnonzero(done):
-            final_obs[i] = {key: value[i] for key, value in last.items()}
+            final_obs[i] = {key: value[i] for key, value in obs.items()}
         self._start(np.flatnonzero(done))
-        self._look(np.flatnonzero(done))
+        obs, new = self._look(done * LOOK)  # the others: their look as it stands (HOLD)
         self._needs_reset[:] = False
-        return {**self._infos(), "final_obs": final_obs, "_final_obs": done,
-                "final_info": _masked(infos, done), "_final_info": done}
+        return obs, {**new, "final_obs": final_obs, "_final_obs": done,
+                     "final_info": _masked(infos, done), "_final_info": done}
 
     def render(self):
         """With ``render_mode="rgb_array"``: the first sub-environment's face window, as RGB."""
         if self.render_mode != "rgb_array":
             return None
-        face = self._env._datasets.face[self._face_k[0]]
+        face = self._env._datasets.face[self._episodes.state[0, STATE.index("face_k")]]
         return np.repeat(face[..., None], 3, axis=2)
-
-    def _observations(self) -> dict:
-        ds = self._env._datasets
-        obs = {"head_angle": self._theta.astype(np.float32), "face": ds.face[self._face_k]}
-        if self.obs_mode == "detections":
-            rows = np.zeros((self.num_envs, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
-            rows_all(self._centre, self._area, self._seen_edge, self._n_det,
-                     *_row_bounds((self._kin.height_px, self._kin.width_px)), rows)
-            obs["detections"] = rows
-        if self._env.scaled_obs:
-            obs = scaled(obs, self._env.joint_limits_rad, (self._kin.height_px, self._kin.width_px))
-        return obs
-
-    def _infos(self) -> dict:
-        k, n = self.num_envs, self._n
-        padded = {}
-        for name, a in (("centre_px", self._centre), ("colour_area_px", self._area),
-                        ("edge", self._seen_edge), ("motion", np.zeros((k, n)))):
-            out = np.zeros((k, MAX_DETECTIONS, *a.shape[2:]))
-            mask = np.arange(n)[None, :] < self._n_det[:, None]
-            out[:, :n] = np.where(mask.reshape(k, n, *([1] * (a.ndim - 2))), a, 0)
-            padded[name] = out
-        fired = self._end == END_FIRED
-        info = {"detections": padded, "n_detections": self._n_det.copy(), "fired": fired,
-                "seen": np.where(fired, self._seen, -1), "attended": self._attended.copy(),
-                "target": self._target.copy(), "limit_hit": self._limit_hit.copy(),
-                "intrinsic_reward": fired.astype(float),
-                "external_reward": (fired & (self._attended == self._target)).astype(float),
-                "caregiver_error_rad": self._caregiver_errors(fired)}
-        return _with_masks(info, k)
-
-    def _caregiver_errors(self, fired: np.ndarray) -> np.ndarray:
-        """Per sub-environment, her error at the attended object (-1 where nothing fired)."""
-        error = np.full(self.num_envs, -1.0)
-        for i in np.flatnonzero(fired):  # only episodes that end: few per step
-            error[i] = separation_rad(self._pos[i, self._attended[i]],
-                                      self._pos[i, self._target[i]])
-        return error
 
     def close_extras(self, **kwargs) -> None:
         """Nothing to free: no renderer."""
@@ -267,12 +211,13 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
         The generators themselves pickle (their states are the list's: see ``_start``), so a
         copy continues every episode as the original would; its list is made anew at its
-        first start.
+        first start. The kernels' view of the world is its one environment's, not copied twice.
         """
-        return {**self.__dict__, "_rng_list": None}
+        return {**self.__dict__, "_rng_list": None, "_steps": None, "_out": None}
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
+        self._steps = self._env._fast
 
 
 def _masked(info: dict, mask: np.ndarray) -> dict:
@@ -285,11 +230,3 @@ def _masked(info: dict, mask: np.ndarray) -> dict:
     return {key: _masked(value, mask) if isinstance(value, dict) else part(key, value)
             for key, value in info.items()}
 
-
-def _with_masks(info: dict, k: int) -> dict:
-    """``info`` with Gymnasium's ``_key`` masks (every sub-environment has every key)."""
-    out = {}
-    for key, value in info.items():
-        out[key] = _with_masks(value, k) if isinstance(value, dict) else value
-        out[f"_{key}"] = np.ones(k, bool)
-    return out
