@@ -1,8 +1,9 @@
 """The modes without images' episodes in arrays, each step one compiled call.
 
 :class:`FastSteps` holds what the kernels (:mod:`._vector_kernels`) need of an environment
-without images, and starts and steps :class:`Episodes`; the native vector environment keeps
-``num_envs`` of them, and the single environment's trial, :class:`FastTrial`, one. They are the
+without images, starts :class:`Episodes` and makes the arrays a step fills; the native vector
+environment keeps ``num_envs`` episodes, and the single environment's trial, :class:`FastTrial`,
+one, each step one call of :func:`~._vector_kernels.step_all`. They are the
 episodes of a :class:`~jointattention.experiment.trial.SceneTrial` over the runner's
 ``random_scene``: the same draws, moves, looks, ends, observations and ``info``
 (``tests/test_env_modes.py``). Python's share of a step is the few arrays it hands out.
@@ -18,7 +19,7 @@ from ..experiment.trial import END_FIRED, RUNNING
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
 from ._looks import _SCALED_ROW_BOUNDS, DETECTION_COLUMNS, MAX_DETECTIONS, _row_bounds
-from ._vector_kernels import CAM, LOOK, STATE, STEP, start_all, step_all
+from ._vector_kernels import CAM, FLAGS, STATE, STEP, start_all, step_all
 
 __all__ = ["Episodes", "FastSteps", "FastTrial"]
 
@@ -64,14 +65,18 @@ class FastSteps:
         self.region = region_of(cfg.world)
         self.theta_face_rad = ds.theta_face_rad
         # as _looks.scaled scales one face: the same float32 operations, once per data set
-        self.faces = (ds.face / np.float32(255) - np.float32(0.5)).astype(np.float32) \
-            if self.scaled else ds.face
+        self.faces = np.ascontiguousarray(  # the kernel copies them as rows of pixels
+            (ds.face / np.float32(255) - np.float32(0.5)).astype(np.float32) if self.scaled
+            else ds.face)
         self.no_faces = np.zeros((0, *ds.face.shape[1:]), self.faces.dtype)
         self.no_rows = np.zeros((0, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
 
-    def start(self, episodes: Episodes, rngs, which: np.ndarray) -> None:
-        """Start the episodes of ``which``, each from its own generator (numba's list)."""
-        failed = start_all(rngs, which, self.targets_m, self.faces_m, HEAD_RADII_M[2],
+    def start(self, episodes: Episodes, rngs, starts: np.ndarray) -> None:
+        """Start the episodes where ``starts`` (bool) is true, each from its own generator.
+
+        ``rngs``: the generators in numba's list.
+        """
+        failed = start_all(rngs, starts, self.targets_m, self.faces_m, HEAD_RADII_M[2],
                            *self.region, self.theta_face_rad, self.cam, episodes.pos,
                            episodes.radius, episodes.edge, episodes.state, episodes.theta)
         if failed >= 0:
@@ -79,29 +84,31 @@ class FastSteps:
                 f"objects: could not place {self.n} objects apart within the object region; "
                 "expected fewer objects, a wider region or smaller gaps")
 
-    def step(self, episodes: Episodes, mode: np.ndarray, dtheta: np.ndarray, out: dict,
-             faces: bool = True) -> float:
-        """Step each episode as ``mode`` says (:func:`~._vector_kernels.step_all`) into ``out``.
+    def kernel_args(self, episodes: Episodes, faces: bool = True) -> tuple:
+        """The arguments of :func:`~._vector_kernels.step_all` that a step does not change.
 
-        ``out``: :meth:`outputs`'s arrays (or the single trial's); ``faces``: whether to write
-        the faces too. Returns the first episode's caregiver error.
+        Those after ``starts``, ``then`` and ``dtheta``, up to the outputs (:meth:`outputs`);
+        ``faces``: whether it writes the faces too.
         """
-        return step_all(mode, dtheta, self.cam, self.max_steps, episodes.pos, episodes.radius,
-                        episodes.edge, episodes.state, episodes.theta, episodes.looks,
-                        self.faces if faces else self.no_faces, self.bounds, self.scaled,
-                        self.with_rows, out["head"], out["face"], out["rows"], out["centre"],
-                        out["det"], out["ints"], out["flags"], out["floats"])
+        return (self.cam, self.max_steps, episodes.pos, episodes.radius, episodes.edge,
+                episodes.state, episodes.theta, episodes.looks,
+                self.faces if faces else self.no_faces, self.bounds, self.scaled,
+                self.with_rows)
 
-    def outputs(self, k: int, faces: bool = True) -> dict:
-        """New arrays for one step of ``k`` episodes (those handed out are never reused)."""
-        face = self.faces.shape[1:]
-        return {"head": np.empty((k, 2), np.float32),
-                "face": np.empty((k, *face), self.faces.dtype) if faces else self.no_faces,
-                "rows": (np.empty((k, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
-                         if self.with_rows else self.no_rows),
-                "centre": np.empty((k, MAX_DETECTIONS, 2)),
-                "det": np.empty((3, k, MAX_DETECTIONS)), "ints": np.empty((4, k), np.int64),
-                "flags": np.empty((4, k), bool), "floats": np.empty((3, k))}
+    def outputs(self, k: int, masks: int = 0) -> tuple:
+        """New arrays for one step of ``k`` episodes (those handed out are never reused).
+
+        :func:`~._vector_kernels.step_all`'s last arguments: head, face, rows, centre, det,
+        ints, flags, floats. ``masks``: rows after the flags, which the step sets True:
+        Gymnasium's ``_key`` masks.
+        """
+        return (np.empty((k, 2), np.float32), np.empty((k, *self.faces.shape[1:]),
+                                                       self.faces.dtype),
+                (np.empty((k, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
+                 if self.with_rows else self.no_rows),
+                np.empty((k, MAX_DETECTIONS, 2)), np.empty((3, k, MAX_DETECTIONS)),
+                np.empty((4, k), np.int64), np.empty((len(FLAGS) + masks, k), bool),
+                np.empty((3, k)))
 
 
 class FastTrial:
@@ -112,28 +119,30 @@ class FastTrial:
     (:meth:`looks`). ``face`` is the episode's face as the observation shows it.
     """
 
-    _LOOK, _STEP = np.array([LOOK], np.int64), np.array([STEP], np.int64)
+    _START, _GOES_ON = np.ones(1, bool), np.zeros(1, bool)
 
     def __init__(self, steps: FastSteps, rngs):
-        self.steps, self.episodes = steps, Episodes(1, steps.n)
-        steps.start(self.episodes, rngs, np.zeros(1, np.int64))
+        self.episodes = Episodes(1, steps.n)
+        steps.start(self.episodes, rngs, self._START)
         self.face_k = int(self.episodes.state[0, -1])
         self.face = steps.faces[self.face_k]
+        self._with_rows, self._no_faces, self._no_rows = (steps.with_rows, steps.no_faces,
+                                                          steps.no_rows)
+        self._fixed = steps.kernel_args(self.episodes, faces=False)
         self._dtheta = np.zeros((1, 2))
         # the outputs the environment reads as Python numbers: kept, not handed out
-        self._scratch = {"ints": np.empty((4, 1), np.int64), "flags": np.empty((4, 1), bool),
-                         "floats": np.empty((3, 1)), "face": steps.no_faces}
-        self._look(self._LOOK)
+        self._scratch = (np.empty((4, 1), np.int64), np.empty((len(FLAGS), 1), bool),
+                         np.empty((3, 1)))
+        self._look(self._START)
 
-    def _look(self, mode: np.ndarray) -> None:
-        steps = self.steps
-        out = {"head": np.empty((1, 2), np.float32),
-               "rows": (np.empty((1, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
-                        if steps.with_rows else steps.no_rows),
-               "centre": np.empty((1, MAX_DETECTIONS, 2)), "det": np.empty((3, 1, MAX_DETECTIONS)),
-               **self._scratch}
-        self._error = steps.step(self.episodes, mode, self._dtheta, out, faces=False)
-        self._out = out
+    def _look(self, starts: np.ndarray) -> None:
+        head, centre = np.empty((1, 2), np.float32), np.empty((1, MAX_DETECTIONS, 2))
+        det = np.empty((3, 1, MAX_DETECTIONS))
+        rows = (np.empty((1, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
+                if self._with_rows else self._no_rows)
+        self._error = step_all(starts, STEP, self._dtheta, *self._fixed, head, self._no_faces,
+                               rows, centre, det, *self._scratch)
+        self._out = head, rows, centre, det
         self._state = self.episodes.state[0].tolist()
         end = self._state[_END]
         self.end = None if end == RUNNING else end
@@ -143,7 +152,7 @@ class FastTrial:
         if self.end is not None:
             raise RuntimeError("the trial has ended; expected a new trial")
         self._dtheta[0, 0], self._dtheta[0, 1] = dtheta_rad[0], dtheta_rad[1]
-        self._look(self._STEP)
+        self._look(self._GOES_ON)
 
     @property
     def theta_rad(self) -> np.ndarray:
@@ -152,14 +161,13 @@ class FastTrial:
 
     def looks(self) -> tuple[dict, dict]:
         """The observation and ``info`` of the last look (new arrays each time)."""
-        out = self._out
-        obs = {"head_angle": out["head"][0], "face": self.face.copy()}
-        if self.steps.with_rows:
-            obs["detections"] = out["rows"][0]
+        head, rows, centre, det = self._out
+        obs = {"head_angle": head[0], "face": self.face.copy()}
+        if self._with_rows:
+            obs["detections"] = rows[0]
         _, end, limit_hit, attended, seen, n_det, target, _ = self._state
         fired = end == END_FIRED
-        det = out["det"]
-        info = {"detections": {"centre_px": out["centre"][0], "colour_area_px": det[0, 0],
+        info = {"detections": {"centre_px": centre[0], "colour_area_px": det[0, 0],
                                "edge": det[1, 0], "motion": det[2, 0]},
                 "n_detections": n_det, "fired": fired, "seen": seen if fired else -1,
                 "attended": attended, "target": target, "limit_hit": limit_hit != 0,
@@ -167,10 +175,3 @@ class FastTrial:
                 "external_reward": float(fired and attended == target),
                 "caregiver_error_rad": self._error}
         return obs, info
-
-    def __getstate__(self) -> dict:
-        """All but the environment's :class:`FastSteps` (its data sets' faces).
-
-        A copy of the environment gives its trial its own (``JointAttentionEnv.__setstate__``).
-        """
-        return {**self.__dict__, "steps": None}

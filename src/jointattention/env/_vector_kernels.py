@@ -23,7 +23,7 @@ from ..world.fast import detect_into, draw_index, draw_objects
 from ..world.kinematics import rotation_into, separation_rad
 from ._looks import _rows_into
 
-__all__ = ["CAM", "HOLD", "LOOK", "STATE", "STEP", "clip_moves", "start_all", "step_all"]
+__all__ = ["CAM", "FLAGS", "HOLD", "STATE", "STEP", "clip_moves", "start_all", "step_all"]
 
 # The columns of a sub-environment's row of ``state`` (int64).
 STATE = ("n_steps", "end", "limit_hit", "attended", "seen", "n_detections", "target", "face_k")
@@ -33,22 +33,26 @@ _N_STEPS, _END, _LIMIT, _ATTENDED, _SEEN, _N_DET, _TARGET, _FACE_K = range(len(S
 CAM = ("lo_pan", "lo_tilt", "hi_pan", "hi_tilt", "offset_x", "offset_y", "offset_z",
        "focal_px", "width_px", "height_px", "d_th_px", "mid_pan", "mid_tilt", "half_pan",
        "half_tilt")
-# What step_all does with each sub-environment: write its look as it stands, look once at the
-# start of its episode (no move), or step it if its episode runs.
-HOLD, LOOK, STEP = 0, 1, 2
+# What step_all does with a sub-environment that did not just start (those that did look once,
+# without a move): write its look as it stands, or step it if its episode runs.
+HOLD, STEP = 0, 2
+# The rows of step_all's ``flags_out`` (bool) before Gymnasium's masks, which it sets True:
+# terminated or truncated is the vector environment's next restart.
+FLAGS = ("fired", "limit_hit", "terminated", "truncated", "ended")
 
 
 @jit
-def start_all(rngs, which, targets_m, faces_m, face_radius_m, region, offset_m, limits_rad,
+def start_all(rngs, starts, targets_m, faces_m, face_radius_m, region, offset_m, limits_rad,
               theta_face_rad, cam, pos, radius, edge, state, theta) -> int:
-    """Start the episodes of ``which``, each from its own generator ``rngs[i]``.
+    """Start the episodes where ``starts`` is true, each from its own generator ``rngs[i]``.
 
     As the single environment starts one: a data set drawn (the runner's ``random_scene``),
     its scene (:func:`~jointattention.world.fast.draw_objects`), the head at the caregiver's
     face. Returns -1, or the first sub-environment whose objects could not be placed.
     """
-    for j in range(len(which)):
-        i = which[j]
+    for i in range(len(starts)):
+        if not starts[i]:
+            continue
         rng = rngs[i]
         k = draw_index(rng, len(targets_m))
         t = draw_objects(rng, targets_m[k], faces_m[k], face_radius_m, region, offset_m,
@@ -81,30 +85,34 @@ def clip_moves(actions, low, high, scale, out) -> bool:
 
 
 @jit
-def step_all(mode, dtheta, cam, max_steps, pos, radius, edge, state, theta, looks, faces,
+def step_all(starts, then, dtheta, cam, max_steps, pos, radius, edge, state, theta, looks, faces,
              bounds, scaled, with_rows, head_out, face_out, rows_out, centre_out, det_out,
              ints_out, flags_out, floats_out) -> float:
-    """Step (or start, or hold: ``mode``) every sub-environment, then write what each shows.
+    """Look once at each episode that ``starts``, step or hold the others; write what each shows.
 
-    A step: move (Eq. 2's command ``dtheta``), look, evaluate (Eq. 3), end. ``looks`` keeps
-    each one's detections (centre x, y, colour area, edge). Then, per sub-environment: the
-    observation (``head_out``, ``face_out`` from ``faces`` if it has rows, ``rows_out`` if
-    ``with_rows``; ``scaled`` as v2), and ``info``'s arrays: the detections padded to 20 rows
-    (``centre_out``, ``det_out``: area, edge, motion), ``ints_out`` (n_detections, seen,
-    attended, target), ``flags_out`` (fired, limit_hit, terminated, truncated) and
-    ``floats_out`` (intrinsic and external reward, the caregiver's error). Returns the first
-    sub-environment's caregiver error (-1 if it did not fire), for the single environment.
+    ``then``: :data:`STEP` or :data:`HOLD`. A step: move (Eq. 2's command ``dtheta``), look,
+    evaluate (Eq. 3), end. ``looks`` keeps each one's detections (centre x, y, colour area,
+    edge). Then, per sub-environment: the observation (``head_out``, ``face_out`` from
+    ``faces`` if it has rows, ``rows_out`` if ``with_rows``; ``scaled`` as v2), and ``info``'s
+    arrays: the detections padded to 20 rows (``centre_out``, ``det_out``: area, edge,
+    motion), ``ints_out`` (n_detections, seen, attended, target), ``flags_out`` (:data:`FLAGS`;
+    rows after them set True: Gymnasium's masks) and ``floats_out`` (intrinsic and external
+    reward, the caregiver's error). Returns the first sub-environment's caregiver error (-1 if
+    it did not fire), for the single environment.
     """
     width_px, height_px, d_th_px = cam[8], cam[9], cam[10]
     cx, cy = (width_px - 1) / 2, (height_px - 1) / 2
     n = pos.shape[1]
     rot, ids = np.empty((3, 3)), np.empty(n, np.int64)
     offset_m = cam[4:7]
+    # the faces as rows of pixels: copied so, at the speed of numpy's copy (a 3-d loop: 7x slower)
+    faces = faces.reshape(faces.shape[0], faces.shape[1] * faces.shape[2])
+    face_out = face_out.reshape(face_out.shape[0], face_out.shape[1] * face_out.shape[2])
     first_error = -1.0
     for i in range(theta.shape[0]):
         was_running = state[i, _END] == RUNNING
-        moved = mode[i] == STEP and was_running
-        if mode[i] == LOOK or moved:
+        moved = not starts[i] and then == STEP and was_running
+        if starts[i] or moved:
             hit = False
             if moved:
                 theta[i, 0], theta[i, 1], hit = move_head(
@@ -127,6 +135,9 @@ def step_all(mode, dtheta, cam, max_steps, pos, radius, edge, state, theta, look
         flags_out[0, i], flags_out[1, i] = fired, state[i, _LIMIT] != 0
         flags_out[2, i] = moved and (fired or end == END_LIMIT)
         flags_out[3, i] = moved and end == END_STEPS
+        flags_out[4, i] = flags_out[2, i] or flags_out[3, i]
+        for r in range(5, flags_out.shape[0]):
+            flags_out[r, i] = True
         m, attended, target = state[i, _N_DET], state[i, _ATTENDED], state[i, _TARGET]
         ints_out[0, i], ints_out[1, i] = m, state[i, _SEEN] if fired else -1
         ints_out[2, i], ints_out[3, i] = attended, target
@@ -157,7 +168,8 @@ def _write_look(i, m, theta, looks, face_k, faces, bounds, scaled, with_rows, wi
             angle = np.float32((np.float64(angle) - cam[11 + d]) / cam[13 + d])
         head_out[i, d] = angle
     if faces.shape[0] > 0:
-        face_out[i] = faces[face_k]
+        for j in range(faces.shape[1]):
+            face_out[i, j] = faces[face_k, j]
     for r in range(centre_out.shape[1]):
         inside = r < m
         centre_out[i, r, 0] = looks[i, r, 0] if inside else 0.0

@@ -407,11 +407,6 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
                                                       self.kinematics.width_px))
         return obs, info_of(trial)
 
-    def __setstate__(self, state: dict) -> None:
-        super().__setstate__(state)
-        if isinstance(getattr(self, "_trial", None), FastTrial):
-            self._trial.steps = self._fast  # the copy's own (a trial pickles without them)
-
     def face_window(self, image: np.ndarray) -> np.ndarray:
         """``"image"`` mode: the grayscale face window cut from ``image``.
 

@@ -24,7 +24,7 @@ from .._checks import check_int
 from ..errors import ConfigError
 from ._args import check_action, refuse_options, vector_seeds
 from ._fast_trial import Episodes
-from ._vector_kernels import LOOK, STATE, STEP, clip_moves
+from ._vector_kernels import HOLD, STATE, STEP, clip_moves, step_all
 from .joint_attention import JointAttentionEnv
 
 __all__ = ["MAX_ENVS", "JointAttentionVectorEnv"]
@@ -90,55 +90,61 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._episodes = Episodes(self.num_envs, one.n_objects)
         self._scale = one.max_step_rad if one.normalize_actions else np.ones(2)
         self._needs_reset = np.ones(self.num_envs, bool)
+        self._no_moves = np.zeros((self.num_envs, 2))
+        self._reward_key = f"{one.reward}_reward"
+        self._fixed = None
+        self._same_step = self.autoreset_mode == AutoresetMode.SAME_STEP
         self._started = False
         self.render_mode = one.render_mode
 
-    def _start(self, which: np.ndarray, seeds=None) -> None:
-        """Start the episodes of sub-environments ``which`` from their own generators.
+    def _start(self, starts: np.ndarray, seeds=None) -> None:
+        """Start the episodes of the sub-environments where ``starts`` (bool) is true.
 
-        ``seeds`` (one per sub-environment of ``which``, or None) seeds them first; a
-        sub-environment that has none yet gets one, as ``Env.reset`` seeds.
+        Each from its own generator. ``seeds`` (one per sub-environment, or None) seeds them
+        first; a sub-environment that has none yet gets one, as ``Env.reset`` seeds.
         """
-        for j, i in enumerate(which):
-            seed = None if seeds is None else seeds[j]
-            if seed is not None or self._rngs[i] is None:
-                self._rngs[i], _ = seeding.np_random(seed)
-                self._rng_list = None
+        if seeds is not None or self._rng_list is None:
+            for i in np.flatnonzero(starts):
+                seed = None if seeds is None else seeds[i]
+                if seed is not None or self._rngs[i] is None:
+                    self._rngs[i], _ = seeding.np_random(seed)
+                    self._rng_list = None
         if self._rng_list is None:  # numba's list of the same generators (their states shared)
             from numba.typed import List
 
             self._rng_list = List(self._rngs)
-        self._steps.start(self._episodes, self._rng_list, np.asarray(which, np.int64))
+        self._steps.start(self._episodes, self._rng_list, starts)
 
-    def _look(self, mode: np.ndarray, dtheta: np.ndarray | None = None) -> tuple[dict, dict]:
-        """Step, start or hold each sub-environment as ``mode`` says; what they show.
+    def _look(self, starts: np.ndarray, then: int = HOLD,
+              dtheta: np.ndarray | None = None) -> tuple[dict, dict]:
+        """Look once at the episodes that ``starts``, step or hold the others (``then``).
 
-        One compiled call (:func:`~._vector_kernels.step_all`) into new arrays.
+        One compiled call (:func:`~._vector_kernels.step_all`) into new arrays; what the
+        sub-environments show. ``self._ends``: terminated, truncated, and the two together.
         """
-        k = self.num_envs
-        out = self._steps.outputs(k)
-        self._steps.step(self._episodes, mode, np.zeros((k, 2)) if dtheta is None else dtheta,
-                         out)
-        self._out = out
-        obs = {"head_angle": out["head"], "face": out["face"]}
+        if self._fixed is None:  # the kernel's arguments that no step changes
+            self._fixed = self._steps.kernel_args(self._episodes)
+        out = self._steps.outputs(self.num_envs, masks=15)
+        step_all(starts, then, self._no_moves if dtheta is None else dtheta, *self._fixed, *out)
+        head, face, rows, centre, (area, edge, motion), ints, flags, floats = out
+        obs = {"head_angle": head, "face": face}
         if self.obs_mode == "detections":
-            obs["detections"] = out["rows"]
-        area, edge, motion = out["det"]
-        n_det, seen, attended, target = out["ints"]
-        fired, limit_hit = out["flags"][:2]
-        intrinsic, external, error = out["floats"]
-        masks = iter(np.ones((15, k), bool))  # Gymnasium's "_key": every one has every key
-        detections = {"centre_px": out["centre"], "_centre_px": next(masks),
-                      "colour_area_px": area, "_colour_area_px": next(masks), "edge": edge,
-                      "_edge": next(masks), "motion": motion, "_motion": next(masks)}
-        info = {"detections": detections, "_detections": next(masks), "n_detections": n_det,
-                "_n_detections": next(masks), "fired": fired, "_fired": next(masks),
-                "seen": seen, "_seen": next(masks), "attended": attended,
-                "_attended": next(masks), "target": target, "_target": next(masks),
-                "limit_hit": limit_hit, "_limit_hit": next(masks),
-                "intrinsic_reward": intrinsic, "_intrinsic_reward": next(masks),
-                "external_reward": external, "_external_reward": next(masks),
-                "caregiver_error_rad": error, "_caregiver_error_rad": next(masks)}
+            obs["detections"] = rows
+        n_det, seen, attended, target = ints
+        intrinsic, external, error = floats
+        # the flags, then Gymnasium's "_key" masks: every sub-environment has every key
+        fired, limit_hit, terminated, truncated, ended, *m = flags
+        self._ends = terminated, truncated, ended
+        detections = {"centre_px": centre, "_centre_px": m[0], "colour_area_px": area,
+                      "_colour_area_px": m[1], "edge": edge, "_edge": m[2], "motion": motion,
+                      "_motion": m[3]}
+        info = {"detections": detections, "_detections": m[4], "n_detections": n_det,
+                "_n_detections": m[5], "fired": fired, "_fired": m[6], "seen": seen,
+                "_seen": m[7], "attended": attended, "_attended": m[8], "target": target,
+                "_target": m[9], "limit_hit": limit_hit, "_limit_hit": m[10],
+                "intrinsic_reward": intrinsic, "_intrinsic_reward": m[11],
+                "external_reward": external, "_external_reward": m[12],
+                "caregiver_error_rad": error, "_caregiver_error_rad": m[13]}
         return obs, info
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
@@ -149,9 +155,10 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         """
         seeds = vector_seeds(seed, self.num_envs)
         refuse_options(options)
-        self._start(np.arange(self.num_envs), seeds)
-        out = self._look(np.full(self.num_envs, LOOK, np.int64))
-        self._needs_reset[:] = False
+        every = np.ones(self.num_envs, bool)
+        self._start(every, seeds)
+        out = self._look(every)
+        self._needs_reset = np.zeros(self.num_envs, bool)
         self._started = True
         return out
 
@@ -162,14 +169,12 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
                                         "step()")
         dtheta = self._dtheta_rad(actions)  # checked before any work
         restart = self._needs_reset
-        if restart.any():
-            self._start(np.flatnonzero(restart))
+        self._start(restart)
         # those that ended start with a look, and are not stepped this time
-        obs, infos = self._look(STEP - restart, dtheta)
-        terminated, truncated = self._out["flags"][2:]
-        self._needs_reset = terminated | truncated
-        rewards = infos[f"{self.reward}_reward"]  # the episodes just started: 0
-        if self.autoreset_mode == AutoresetMode.SAME_STEP and self._needs_reset.any():
+        obs, infos = self._look(restart, STEP, dtheta)
+        terminated, truncated, self._needs_reset = self._ends
+        rewards = infos[self._reward_key]  # the episodes just started: 0
+        if self._same_step and self._needs_reset.any():
             obs, infos = self._restart_now(obs, infos)
         return obs, rewards, terminated, truncated, infos
 
@@ -190,9 +195,9 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         final_obs = np.full(self.num_envs, None, object)
         for i in np.flatnonzero(done):
             final_obs[i] = {key: value[i] for key, value in obs.items()}
-        self._start(np.flatnonzero(done))
-        obs, new = self._look(done * LOOK)  # the others: their look as it stands (HOLD)
-        self._needs_reset[:] = False
+        self._start(done)
+        obs, new = self._look(done)  # the others: their look as it stands
+        self._needs_reset = np.zeros(self.num_envs, bool)
         return obs, {**new, "final_obs": final_obs, "_final_obs": done,
                      "final_info": _masked(infos, done), "_final_info": done}
 
@@ -213,7 +218,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         copy continues every episode as the original would; its list is made anew at its
         first start. The kernels' view of the world is its one environment's, not copied twice.
         """
-        return {**self.__dict__, "_rng_list": None, "_steps": None, "_out": None}
+        return {**self.__dict__, "_rng_list": None, "_steps": None, "_ends": None,
+                "_fixed": None}
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
