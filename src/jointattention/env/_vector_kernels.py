@@ -84,6 +84,51 @@ def clip_moves(actions, low, high, scale, out) -> bool:
     return True
 
 
+@jit(inline=True)  # into step_all: no arrays counted in and out per sub-environment
+def _write_look(i, m, theta, looks, face_k, faces, bounds, scaled, with_rows, width_px,
+                height_px, cam, head_out, face_out, rows_out, centre_out, det_out) -> None:
+    """Sub-environment ``i``'s observation and padded detections, as the single env's.
+
+    The head angle rounded to float32, then (v2) scaled in float64 and rounded again
+    (:func:`~._looks.scaled`); the detection rows rounded then clipped
+    (:func:`~._looks.detection_rows`), then (v2) scaled in float32, as numpy scales them.
+    """
+    for d in range(2):
+        angle = np.float32(theta[i, d])
+        if scaled:
+            angle = np.float32((np.float64(angle) - cam[11 + d]) / cam[13 + d])
+        head_out[i, d] = angle
+    if faces.shape[0] > 0:
+        for j in range(faces.shape[1]):
+            face_out[i, j] = faces[face_k, j]
+    for r in range(centre_out.shape[1]):
+        inside = r < m
+        centre_out[i, r, 0] = looks[i, r, 0] if inside else 0.0
+        centre_out[i, r, 1] = looks[i, r, 1] if inside else 0.0
+        det_out[0, i, r] = looks[i, r, 2] if inside else 0.0
+        det_out[1, i, r] = looks[i, r, 3] if inside else 0.0
+        det_out[2, i, r] = 0.0  # the fast world's objects do not move
+    if not with_rows:
+        return
+    rows = rows_out[i]
+    rows[:] = 0
+    _rows_into(looks[i, :m, :2], looks[i, :m, 2], looks[i, :m, 3], det_out[2, i, :m],
+               bounds[0], bounds[1], rows)
+    if not scaled:
+        return
+    # float32 throughout, as numpy computes on float32 rows with Python numbers
+    x0, y0 = np.float32((width_px - 1) / 2), np.float32((height_px - 1) / 2)
+    xh, yh = np.float32(width_px / 2), np.float32(height_px / 2)
+    area = np.float32(width_px * height_px)
+    for r in range(rows.shape[0]):
+        present = rows[r, 0]
+        rows[r, 1] = (rows[r, 1] - x0) / xh * present  # zero rows stay (signed) zero
+        rows[r, 2] = (rows[r, 2] - y0) / yh * present
+        rows[r, 3] = rows[r, 3] / area
+        for j in range(rows.shape[1]):
+            rows[r, j] = min(max(rows[r, j], bounds[2, j]), bounds[3, j])
+
+
 @jit
 def step_all(starts, then, dtheta, cam, max_steps, pos, radius, edge, state, theta, looks, faces,
              bounds, scaled, with_rows, head_out, face_out, rows_out, centre_out, det_out,
@@ -151,48 +196,3 @@ def step_all(starts, then, dtheta, cam, max_steps, pos, radius, edge, state, the
                     width_px, height_px, cam, head_out, face_out, rows_out, centre_out,
                     det_out)
     return first_error
-
-
-@jit(inline=True)  # into step_all: no arrays counted in and out per sub-environment
-def _write_look(i, m, theta, looks, face_k, faces, bounds, scaled, with_rows, width_px,
-                height_px, cam, head_out, face_out, rows_out, centre_out, det_out) -> None:
-    """Sub-environment ``i``'s observation and padded detections, as the single env's.
-
-    The head angle rounded to float32, then (v2) scaled in float64 and rounded again
-    (:func:`~._looks.scaled`); the detection rows rounded then clipped
-    (:func:`~._looks.detection_rows`), then (v2) scaled in float32, as numpy scales them.
-    """
-    for d in range(2):
-        angle = np.float32(theta[i, d])
-        if scaled:
-            angle = np.float32((np.float64(angle) - cam[11 + d]) / cam[13 + d])
-        head_out[i, d] = angle
-    if faces.shape[0] > 0:
-        for j in range(faces.shape[1]):
-            face_out[i, j] = faces[face_k, j]
-    for r in range(centre_out.shape[1]):
-        inside = r < m
-        centre_out[i, r, 0] = looks[i, r, 0] if inside else 0.0
-        centre_out[i, r, 1] = looks[i, r, 1] if inside else 0.0
-        det_out[0, i, r] = looks[i, r, 2] if inside else 0.0
-        det_out[1, i, r] = looks[i, r, 3] if inside else 0.0
-        det_out[2, i, r] = 0.0  # the fast world's objects do not move
-    if not with_rows:
-        return
-    rows = rows_out[i]
-    rows[:] = 0
-    _rows_into(looks[i, :m, :2], looks[i, :m, 2], looks[i, :m, 3], det_out[2, i, :m],
-               bounds[0], bounds[1], rows)
-    if not scaled:
-        return
-    # float32 throughout, as numpy computes on float32 rows with Python numbers
-    x0, y0 = np.float32((width_px - 1) / 2), np.float32((height_px - 1) / 2)
-    xh, yh = np.float32(width_px / 2), np.float32(height_px / 2)
-    area = np.float32(width_px * height_px)
-    for r in range(rows.shape[0]):
-        present = rows[r, 0]
-        rows[r, 1] = (rows[r, 1] - x0) / xh * present  # zero rows stay (signed) zero
-        rows[r, 2] = (rows[r, 2] - y0) / yh * present
-        rows[r, 3] = rows[r, 3] / area
-        for j in range(rows.shape[1]):
-            rows[r, j] = min(max(rows[r, j], bounds[2, j]), bounds[3, j])
