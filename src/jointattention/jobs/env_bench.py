@@ -145,7 +145,7 @@ def cartpole_rows(n_steps: int = 600) -> list[tuple[str, float, str]]:
     native = {"vectorization_mode": "vector_entry_point"}
     x64, cartpole64 = _paired_rates(gym.make_vec(face, num_envs=64, **native),
                                     gym.make_vec("CartPole-v1", num_envs=64, **native),
-                                    3 * n_steps * 8 // 64, rounds=15)
+                                    3 * n_steps * 8 // 64, rounds=25)
     return [(f"{face} steps, one env (gym.make)", one, "steps/s"),
             ("CartPole-v1 steps, one env (gym.make), same run", cartpole, "steps/s"),
             (f"one env / CartPole-v1 (aim: {CARTPOLE_AIMS['one']:g})", one / cartpole, "x"),
