@@ -195,6 +195,40 @@ def test_the_estimates_read_each_rate_by_its_row_s_name_wherever_it_is_printed()
         agent_rates(rows[1:])
 
 
+def test_the_bench_writes_every_row_and_the_environments_table(tmp_path):
+    """With --out the bench writes every row to bench.csv, the environments' rows as Markdown."""
+    import csv
+
+    from jointattention.jobs.bench import write_bench
+
+    env = [("JointAttentionFace-v2 steps, one env (gym.make)", 81234.5, "steps/s"),
+           ("one env / CartPole-v1 (aim: 0.5)", 0.6234, "x")]
+    rows = [("render robot view (320x240, 5 objects)", 512.3, "frames/s"), *env]
+    paths = write_bench(tmp_path / "out", rows, env, "jointattention bench --only environments")
+    assert [p.name for p in paths] == ["bench.csv", "environments.md"]
+    with open(paths[0], newline="") as f:
+        back = list(csv.reader(f))
+    assert back[0] == ["figure", "value", "unit"]
+    assert [(n, float(v), u) for n, v, u in back[1:]] == rows  # 6 digits keep these
+    table = paths[1].read_text()
+    assert "| JointAttentionFace-v2 steps, one env (gym.make) | 81,234 steps/s |" in table
+    assert "| one env / CartPole-v1 (aim: 0.5) | 0.62x |" in table
+    assert "`jointattention bench --only environments`" in table
+    (tmp_path / "out" / "environments.md").unlink()
+    assert [p.name for p in write_bench(tmp_path / "out", rows[:1], [], "b")] == ["bench.csv"]
+
+
+def test_paired_rates_time_two_forms_in_turns():
+    """Each of two environments gets its steps/s, a vector's counting all its sub-environments."""
+    gym = pytest.importorskip("gymnasium")
+    from jointattention.jobs.env_bench import _paired_rates
+
+    native = {"vectorization_mode": "vector_entry_point"}
+    one, four = _paired_rates(gym.make("CartPole-v1"), gym.make_vec("CartPole-v1", 4, **native),
+                              50, rounds=2)
+    assert one > 0 and four > 0
+
+
 def test_gaze_refuses_an_unknown_condition(capsys):
     """`gaze --condition` with a name the preset lacks: one line naming the choices."""
     assert main(["gaze", "--preset", "quick", "--condition", "n7", "--out", "/nonexistent"]) == 2

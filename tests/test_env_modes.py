@@ -401,6 +401,43 @@ def test_a_copy_continues_the_episode(mode, request):
     env.close()
 
 
+def _same(a, b) -> bool:
+    """Equal to the byte: the same keys in order, types, dtypes, shapes and bits (signed zeros)."""
+    if isinstance(a, dict):
+        return list(a) == list(b) and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, tuple):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, np.ndarray):
+        return (type(b) is np.ndarray and a.dtype == b.dtype and a.shape == b.shape
+                and a.tobytes() == b.tobytes())
+    return type(a) is type(b) and a == b
+
+
+@pytest.mark.parametrize("kwargs", [
+    {"obs_mode": "face", "max_steps": 8},
+    {"obs_mode": "detections", "n_objects": 10, "max_steps": 8},
+    {"obs_mode": "detections", "scaled_obs": True, "normalize_actions": True, "max_steps": 8},
+    {"obs_mode": "face", "scaled_obs": True, "normalize_actions": True, "n_objects": 1,
+     "reward": "intrinsic", "max_steps": 8},
+])
+def test_the_compiled_step_gives_the_trial_loops_episodes(kwargs):
+    """One kernel per step gives SceneTrial's episodes, observations and info byte for byte."""
+    fast, slow = JointAttentionEnv(**kwargs), JointAttentionEnv(**kwargs)
+    slow._fast = None  # the reference: the runner's draw, SceneTrial, info_of and scaled
+    wide = 1.5 if kwargs.get("normalize_actions") else 0.3  # beyond the box: clipped
+    actions = np.random.default_rng(0).uniform(-wide, wide, (1500, 2)).astype(np.float32)
+    ends = set()
+    assert _same(fast.reset(seed=3), slow.reset(seed=3))
+    for a in actions:
+        step = fast.step(a)
+        assert _same(step, slow.step(a))
+        if step[2] or step[3]:
+            info = step[4]
+            ends.add("fired" if info["fired"] else "limit" if info["limit_hit"] else "steps")
+            assert _same(fast.reset(), slow.reset())
+    assert ends == {"fired", "limit", "steps"}  # every way an episode ends was compared
+
+
 @given(n=st.integers(0, 20), seed=st.integers(0, 2**31))
 @settings(max_examples=60, deadline=None)
 def test_detection_rows_are_the_detections_rounded_then_clipped(n, seed):

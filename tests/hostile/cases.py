@@ -1153,6 +1153,7 @@ OUT_COMMANDS = {  # command -> (argv before --out, kind of output: dir or file)
     "gaze": (["gaze", "--config", "tiny.toml", "--condition", "n1"], "dir"),
     "parity": (["parity", "--cases", "1", "--objects", "1"], "file"),
     "train": (["train", "--config", "tiny.toml", "--condition", "n1", "--quiet"], "file"),
+    "bench": (["bench", "--only", "environments"], "dir"),
 }
 OUT_FILES = {"tiny.toml": tiny_toml(), "s.toml": spec_toml(), "img.png": png_bytes(),
              "file.txt": "a file\n"}
@@ -1558,6 +1559,7 @@ for _tag, _argv, _name in (
     ("config-unknown-preset", ["config", "--config", "nosuch"], "nosuch"),
     ("gaze-unknown-preset", ["gaze", "--preset", "nosuch", "--out", "out"], "nosuch"),
     ("bench-run-unknown-preset", ["bench", "--run", "nosuch"], "nosuch"),
+    ("bench-only-unknown-section", ["bench", "--only", "nosuch"], "nosuch"),
     ("render-unknown-preset", ["render", "--config", "nosuch", "--out", "out"], "nosuch"),
     ("parity-unknown-preset", ["parity", "--config", "nosuch", "--cases", "1"], "nosuch"),
     ("config-missing-file", ["config", "--config", "missing.toml"], "missing.toml"),

@@ -12,7 +12,10 @@ from pathlib import Path
 from ..config import preset_names
 from ._common import CellBar, add_backend, add_config, add_max_cells, int_in, workers
 
-__all__ = ["add_commands"]
+__all__ = ["BENCH_SECTIONS", "add_commands"]
+
+# What the bench measures, in its order (``jointattention bench --only``).
+BENCH_SECTIONS = ("compile", "world", "agents", "environments", "following")
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> None:
@@ -65,32 +68,48 @@ def _cmd_bench(args: argparse.Namespace) -> None:
         run_env_benchmark,
         run_follow_benchmark,
         run_world_benchmarks,
+        write_bench,
     )
     from ..jobs.estimates import agent_rates, preset_estimates, run_preset
 
     n_workers = workers(args)
     for preset in args.run:
         load_config(preset)  # an unknown preset is refused before anything runs
+    only = [s for s in BENCH_SECTIONS if s in (args.only or BENCH_SECTIONS)]
+    measured: list = []
 
     def show(what: str, rows: list) -> list:
         """Print ``rows`` as soon as they are measured, after a status line on stderr."""
         print(f"measured: {what}", file=sys.stderr, flush=True)
         for name, value, unit in rows:
             digits = 1 if unit in ("min", "x", "s", "us") else 0
+            if unit == "x" and value < 10:
+                digits = 2  # the ratios against an aim (CartPole's): 0.92, not 0.9
             print(f"{name:<60} {value:>10,.{digits}f} {unit}", flush=True)
+        measured.extend(rows)
         return rows
 
-    print("measuring: compile times, rendering, the environments, following, the agents "
-          "(a few minutes)", file=sys.stderr, flush=True)
-    show("compile times", compile_times())
-    show("the world", run_world_benchmarks(load_config(args.config).world))
-    agent = run_agent_benchmark()
-    show("the environments", run_env_benchmark())
-    show("following", run_follow_benchmark())
-    show("the agents, and each preset's estimated wall time",
-         agent + preset_estimates(agent_rates(agent), n_workers))
+    print(f"measuring: {', '.join(only)} (a few minutes)", file=sys.stderr, flush=True)
+    agent, env_rows = [], []
+    if "compile" in only:
+        show("compile times", compile_times())
+    if "world" in only:
+        show("the world", run_world_benchmarks(load_config(args.config).world))
+    if "agents" in only:
+        agent = run_agent_benchmark()
+    if "environments" in only:
+        env_rows = show("the environments", run_env_benchmark())
+    if "following" in only:
+        show("following", run_follow_benchmark())
+    if agent:
+        show("the agents, and each preset's estimated wall time",
+             agent + preset_estimates(agent_rates(agent), n_workers))
     for preset in args.run:
         show(f"the {preset} preset, run", run_preset(preset, n_workers))
+    if args.out:
+        command = "jointattention bench" + "".join(f" --only {s}" for s in args.only or ())
+        for path in write_bench(args.out, measured, env_rows, command):
+            print(path)
 
 
 def _cmd_config(args: argparse.Namespace) -> None:
@@ -158,14 +177,23 @@ def add_commands(sub) -> None:
         "bench", help="print speeds: rendering, projection, agent steps, preset wall times",
         description="Measure frames/s of rendering and projections/s of the fast path at the "
                     "configured image size, agent-steps/s of a learning run, and estimate each "
-                    "preset's wall time from it (--run PRESET measures it).")
+                    "preset's wall time from it (--run PRESET measures it); the environments' "
+                    "steps/s, and JointAttentionFace-v2's against CartPole-v1's in the same "
+                    "run.")
     add_config(p)
     p.add_argument("--workers", type=int_in(0, 1024), default=0,
                    help="worker processes for the preset times (default: all cores)")
     p.add_argument("--run", action="append", default=[], metavar="PRESET",
                    help="also run this preset from scratch and print its wall time "
                         "(repeatable; the bench's estimate of each preset comes first)")
-    p.set_defaults(func=_cmd_bench)
+    p.add_argument("--only", action="append", choices=BENCH_SECTIONS, metavar="SECTION",
+                   help="measure only this section (repeatable): "
+                        + ", ".join(BENCH_SECTIONS) + " (default: all)")
+    p.add_argument("--out", metavar="FOLDER",
+                   help="also write the figures into FOLDER: bench.csv (every row) and "
+                        "environments.md (the environments' table, with CartPole-v1's in the "
+                        "same run; docs/speed/ holds the one the manual includes)")
+    p.set_defaults(func=_cmd_bench, out_kind="folder")
 
     p = sub.add_parser("config", help="print a configuration as TOML",
                        description="Print the configuration (with every default) as TOML.")

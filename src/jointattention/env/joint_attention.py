@@ -5,6 +5,7 @@ Its docstring is its manual. Needs the ``gym`` extra (``pip install "jointattent
 
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 from typing import ClassVar
@@ -23,6 +24,7 @@ from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
 from ..world.options import N_OBJECTS
 from ._args import EpisodePickle, check_action, check_seed, env_config, refuse_options
+from ._fast_trial import FastSteps, FastTrial
 from ._looks import OBS_MODES, detection_rows, info_of, observation_space, scaled
 
 __all__ = ["CAREGIVERS", "JointAttentionEnv", "split_datasets"]
@@ -271,8 +273,15 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
                                        np.float32)
         self._caregiver, self._poses, self._face, self._scene_state = None, [], None, None
         self._window = None  # render_mode="human": pygame's window, opened at the first frame
-        self._trial: SceneTrial | None = None
+        self._trial: SceneTrial | FastTrial | None = None
         self._evaluate = evaluator(cfg)
+        # a step's clip and scale as Python numbers: numpy's calls cost more than the step
+        self._moves = (*self.action_space.low.tolist(), *self.action_space.high.tolist(),
+                       *(self.max_step_rad.tolist() if normalize_actions else (1.0, 1.0)))
+        # the modes without images step in one compiled call (._fast_trial); their generator
+        # goes to it in numba's list, made again when the generator changes
+        self._fast = None if self._datasets is None else FastSteps(self)
+        self._rng_list = (None, None)
 
     @property
     def max_step_rad(self) -> np.ndarray:
@@ -288,6 +297,10 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         check_seed(seed)
         refuse_options(options)
         super().reset(seed=seed)
+        if self._fast is not None:  # one kernel draws the scene as _fast_episode does
+            self._trial = FastTrial(self._fast, self._rngs())
+            self._face = self._datasets.face[self._trial.face_k]
+            return self._trial.looks()
         if self._world is None:
             k, scene = self._fast_episode(self.np_random)
             self._face, start = self._datasets.face[k], self._datasets.theta_face_rad[k]
@@ -301,10 +314,21 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
             self._show()
         return out
 
+    def _rngs(self):
+        """The generator in numba's list (sharing its state), as the start kernel takes it."""
+        if self._rng_list[0] is not self.np_random:
+            from numba.typed import List
+
+            rng = self.np_random
+            self._rng_list = rng, List([rng])
+        return self._rng_list[1]
+
     def _fast_episode(self, rng: np.random.Generator) -> tuple[int, FastScene]:
         """The modes without images: a data set's index and its scene with random distractors.
 
-        The runner's own draw (:func:`~jointattention.experiment.cells.random_scene`).
+        The runner's own draw (:func:`~jointattention.experiment.cells.random_scene`), which
+        :class:`~._fast_trial.FastTrial` draws in one kernel; kept as the reference the tests
+        compare the kernels with.
         """
         k, scene, _ = random_scene(self.config, self._datasets, self.kinematics, self.n_objects,
                                    rng)
@@ -342,8 +366,7 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         trial = self._trial
         if trial is None or trial.end is not None:
             raise gym.error.ResetNeeded("no episode is running; expected reset() before step()")
-        a = np.clip(check_action(action), self.action_space.low, self.action_space.high)
-        trial.step(a * self.max_step_rad if self.normalize_actions else a)
+        trial.step(self._dtheta_rad(action))
         obs, info = self._look()
         terminated = trial.end is not None and trial.end != END_STEPS
         truncated = trial.end == END_STEPS
@@ -351,9 +374,26 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
             self._show()
         return obs, info[f"{self.reward}_reward"], terminated, truncated, info
 
+    def _dtheta_rad(self, action) -> tuple[float, float]:
+        """The head's move (pan, tilt) in radians for ``action``: checked, clipped, scaled.
+
+        As ``np.clip(action, low, high) * max_step_rad`` in float64, on Python numbers.
+        """
+        if type(action) is np.ndarray and action.shape == (2,) and action.dtype.char in "fd":
+            pan, tilt = action.tolist()  # an RL library's action: checked at little cost
+        else:
+            pan, tilt = check_action(action).tolist()
+        if not (math.isfinite(pan) and math.isfinite(tilt)):
+            check_action(action)  # one error naming it
+        lo_pan, lo_tilt, hi_pan, hi_tilt, scale_pan, scale_tilt = self._moves
+        return (min(max(pan, lo_pan), hi_pan) * scale_pan,
+                min(max(tilt, lo_tilt), hi_tilt) * scale_tilt)
+
     def _look(self):
         """The observation and info at the trial's current head angle."""
         trial = self._trial
+        if self._fast is not None:
+            return trial.looks()
         obs = {"head_angle": trial.theta_rad.astype(np.float32)}
         if self._world is not None:
             self._world.set_head_angle(trial.theta_rad)

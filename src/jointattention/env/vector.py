@@ -22,14 +22,9 @@ from gymnasium.vector.utils import batch_space
 
 from .._checks import check_int
 from ..errors import ConfigError
-from ..experiment.cells import trial_geometries
-from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING
-from ..world.kinematics import separation_rad
-from ..world.mjcf import HEAD_RADII_M
-from ..world.placement import region_of
 from ._args import check_action, refuse_options, vector_seeds
-from ._looks import DETECTION_COLUMNS, MAX_DETECTIONS, _row_bounds, scaled
-from ._vector_kernels import rows_all, start_all, step_all
+from ._fast_trial import Episodes
+from ._vector_kernels import HOLD, STATE, STEP, clip_moves, step_all
 from .joint_attention import JointAttentionEnv
 
 __all__ = ["MAX_ENVS", "JointAttentionVectorEnv"]
@@ -91,75 +86,66 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self.single_action_space = one.action_space
         self.observation_space = batch_space(one.observation_space, self.num_envs)
         self.action_space = batch_space(one.action_space, self.num_envs)
-        kin, cfg = one.kinematics, one.config
-        n = one.n_objects
-        self._kin, self._n = kin, n
-        self._d_th_px = cfg.agent.d_th_px(kin.width_px)
-        self._lo = np.array([kin.pan_limits_rad[0], kin.tilt_limits_rad[0]])
-        self._hi = np.array([kin.pan_limits_rad[1], kin.tilt_limits_rad[1]])
-        self._offset_m = np.asarray(kin.offset_m, float)
+        self._steps = one._fast  # the world, camera and data sets, as the kernels take them
+        self._episodes = Episodes(self.num_envs, one.n_objects)
         self._scale = one.max_step_rad if one.normalize_actions else np.ones(2)
-        self._targets_m, self._faces_m = trial_geometries(one._datasets, kin,
-                                                          cfg.world.caregiver.distance_m)
-        self._region = region_of(cfg.world)
-        self._alloc(self.num_envs, n)
         self._needs_reset = np.ones(self.num_envs, bool)
+        self._no_moves = np.zeros((self.num_envs, 2))
+        self._reward_key = f"{one.reward}_reward"
+        self._fixed = None
+        self._same_step = self.autoreset_mode == AutoresetMode.SAME_STEP
         self._started = False
         self.render_mode = one.render_mode
 
-    def _alloc(self, k: int, n: int) -> None:
-        f, i = np.zeros, np.int64
-        self._theta, self._pos, self._radius = f((k, 2)), f((k, n, 3)), f((k, n))
-        self._edge, self._target, self._face_k = f((k, n)), np.zeros(k, i), np.zeros(k, i)
-        self._n_steps, self._end = np.zeros(k, i), np.full(k, RUNNING, i)
-        self._limit_hit, self._attended = np.zeros(k, bool), np.full(k, -1, i)
-        self._seen, self._n_det = np.full(k, -1, i), np.zeros(k, i)
-        self._centre, self._area = f((k, n, 2)), f((k, n))
-        self._seen_edge, self._ids = f((k, n)), np.zeros((k, n), i)
+    def _start(self, starts: np.ndarray, seeds=None) -> None:
+        """Start the episodes of the sub-environments where ``starts`` (bool) is true.
 
-    def _start(self, which: np.ndarray, seeds=None) -> None:
-        """Start the episodes of sub-environments ``which`` from their own generators.
-
-        ``seeds`` (one per sub-environment of ``which``, or None) seeds them first; a
-        sub-environment that has none yet gets one, as ``Env.reset`` seeds.
+        Each from its own generator. ``seeds`` (one per sub-environment, or None) seeds them
+        first; a sub-environment that has none yet gets one, as ``Env.reset`` seeds.
         """
-        for j, i in enumerate(which):
-            seed = None if seeds is None else seeds[j]
-            if seed is not None or self._rngs[i] is None:
-                self._rngs[i], _ = seeding.np_random(seed)
-                self._rng_list = None
+        if seeds is not None or self._rng_list is None:
+            for i in np.flatnonzero(starts):
+                seed = None if seeds is None else seeds[i]
+                if seed is not None or self._rngs[i] is None:
+                    self._rngs[i], _ = seeding.np_random(seed)
+                    self._rng_list = None
         if self._rng_list is None:  # numba's list of the same generators (their states shared)
             from numba.typed import List
 
             self._rng_list = List(self._rngs)
-        failed = start_all(self._rng_list, np.asarray(which, np.int64), self._targets_m,
-                           self._faces_m, HEAD_RADII_M[2], *self._region,
-                           self._env._datasets.theta_face_rad, self._lo, self._hi, self._pos,
-                           self._radius, self._edge, self._face_k, self._target, self._theta,
-                           self._n_steps, self._end, self._attended, self._limit_hit)
-        if failed >= 0:
-            raise ConfigError(
-                f"objects: could not place {self._n} objects apart within the object region; "
-                "expected fewer objects, a wider region or smaller gaps")
+        self._steps.start(self._episodes, self._rng_list, starts)
 
-    def _look(self, which: np.ndarray) -> None:
-        """The first look of the episodes just started: project and evaluate, no move."""
-        end = np.full(self.num_envs, 0, np.int64)
-        end[which] = RUNNING
-        steps = self._n_steps.copy()
-        steps[which] -= 1  # the kernel counts a step: take it back
-        self._kernel(np.zeros((self.num_envs, 2)), end, steps)
-        self._end[which] = np.where(end[which] == END_FIRED, END_FIRED, RUNNING)
-        self._limit_hit[which] = False
+    def _look(self, starts: np.ndarray, then: int = HOLD,
+              dtheta: np.ndarray | None = None) -> tuple[dict, dict]:
+        """Look once at the episodes that ``starts``, step or hold the others (``then``).
 
-    def _kernel(self, dtheta: np.ndarray, end: np.ndarray, steps: np.ndarray) -> None:
-        kin = self._kin
-        step_all(self._theta, dtheta, self._lo, self._hi, self._pos, self._radius, self._edge,
-                  self._n, self._offset_m, float(kin.focal_px), kin.width_px,
-                  kin.height_px, self._d_th_px, self.max_steps, steps, end, self._limit_hit,
-                  self._attended, self._seen, self._n_det, self._centre, self._area,
-                  self._seen_edge, self._ids)
-        self._n_steps[:] = steps
+        One compiled call (:func:`~._vector_kernels.step_all`) into new arrays; what the
+        sub-environments show. ``self._ends``: terminated, truncated, and the two together.
+        """
+        if self._fixed is None:  # the kernel's arguments that no step changes
+            self._fixed = self._steps.kernel_args(self._episodes)
+        out = self._steps.outputs(self.num_envs, masks=15)
+        step_all(starts, then, self._no_moves if dtheta is None else dtheta, *self._fixed, *out)
+        head, face, rows, centre, (area, edge, motion), ints, flags, floats = out
+        obs = {"head_angle": head, "face": face}
+        if self.obs_mode == "detections":
+            obs["detections"] = rows
+        n_det, seen, attended, target = ints
+        intrinsic, external, error = floats
+        # the flags, then Gymnasium's "_key" masks: every sub-environment has every key
+        fired, limit_hit, terminated, truncated, ended, *m = flags
+        self._ends = terminated, truncated, ended
+        detections = {"centre_px": centre, "_centre_px": m[0], "colour_area_px": area,
+                      "_colour_area_px": m[1], "edge": edge, "_edge": m[2], "motion": motion,
+                      "_motion": m[3]}
+        info = {"detections": detections, "_detections": m[4], "n_detections": n_det,
+                "_n_detections": m[5], "fired": fired, "_fired": m[6], "seen": seen,
+                "_seen": m[7], "attended": attended, "_attended": m[8], "target": target,
+                "_target": m[9], "limit_hit": limit_hit, "_limit_hit": m[10],
+                "intrinsic_reward": intrinsic, "_intrinsic_reward": m[11],
+                "external_reward": external, "_external_reward": m[12],
+                "caregiver_error_rad": error, "_caregiver_error_rad": m[13]}
+        return obs, info
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
         """Start an episode in every sub-environment (``seed + i`` for sub-environment i).
@@ -169,95 +155,58 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         """
         seeds = vector_seeds(seed, self.num_envs)
         refuse_options(options)
-        self._start(np.arange(self.num_envs), seeds)
-        self._look(np.arange(self.num_envs))
-        self._needs_reset[:] = False
+        every = np.ones(self.num_envs, bool)
+        self._start(every, seeds)
+        out = self._look(every)
+        self._needs_reset = np.zeros(self.num_envs, bool)
         self._started = True
-        return self._observations(), self._infos()
+        return out
 
     def step(self, actions):
         """Step every sub-environment; those that ended start anew (see ``autoreset_mode``)."""
         if not self._started:
             raise gym.error.ResetNeeded("no episodes are running; expected reset() before "
                                         "step()")
-        actions = check_action(actions, (self.num_envs, 2), "actions")
-        restart = np.flatnonzero(self._needs_reset)
-        if len(restart):
-            self._start(restart)
-            self._look(restart)
-        space = self.single_action_space
-        dtheta = np.clip(actions, space.low, space.high) * self._scale
-        end = self._end.copy()
-        end[restart] = END_FIRED  # not stepped this time
-        running = end == RUNNING
-        steps = self._n_steps.copy()
-        self._kernel(dtheta, end, steps)
-        self._end = np.where(running, end, self._end)
-        terminated = running & ((self._end == END_FIRED) | (self._end == END_LIMIT))
-        truncated = running & (self._end == END_STEPS)
-        self._needs_reset = terminated | truncated
-        infos = self._infos()  # the episodes just started have not fired: reward 0
-        rewards = infos[f"{self.reward}_reward"]
-        if self.autoreset_mode == AutoresetMode.SAME_STEP and self._needs_reset.any():
-            infos = self._restart_now(infos)
-        return self._observations(), rewards, terminated, truncated, infos
+        dtheta = self._dtheta_rad(actions)  # checked before any work
+        restart = self._needs_reset
+        self._start(restart)
+        # those that ended start with a look, and are not stepped this time
+        obs, infos = self._look(restart, STEP, dtheta)
+        terminated, truncated, self._needs_reset = self._ends
+        rewards = infos[self._reward_key]  # the episodes just started: 0
+        if self._same_step and self._needs_reset.any():
+            obs, infos = self._restart_now(obs, infos)
+        return obs, rewards, terminated, truncated, infos
 
-    def _restart_now(self, infos: dict) -> dict:
+    def _dtheta_rad(self, actions) -> np.ndarray:
+        """Every head's move (pan, tilt) in radians for ``actions``: checked, clipped, scaled."""
+        shape = (self.num_envs, 2)
+        if not (type(actions) is np.ndarray and actions.shape == shape
+                and actions.dtype.char in "fd"):
+            actions = check_action(actions, shape, "actions")
+        space, dtheta = self.single_action_space, np.empty(shape)
+        if not clip_moves(actions, space.low, space.high, self._scale, dtheta):
+            check_action(actions, shape, "actions")  # not finite: one error naming them
+        return dtheta
+
+    def _restart_now(self, obs: dict, infos: dict) -> tuple[dict, dict]:
         """Same-step autoreset: start the episodes that just ended, keeping their last look."""
-        done, last = self._needs_reset.copy(), self._observations()
+        done = self._needs_reset.copy()
         final_obs = np.full(self.num_envs, None, object)
         for i in np.flatnonzero(done):
-            final_obs[i] = {key: value[i] for key, value in last.items()}
-        self._start(np.flatnonzero(done))
-        self._look(np.flatnonzero(done))
-        self._needs_reset[:] = False
-        return {**self._infos(), "final_obs": final_obs, "_final_obs": done,
-                "final_info": _masked(infos, done), "_final_info": done}
+            final_obs[i] = {key: value[i] for key, value in obs.items()}
+        self._start(done)
+        obs, new = self._look(done)  # the others: their look as it stands
+        self._needs_reset = np.zeros(self.num_envs, bool)
+        return obs, {**new, "final_obs": final_obs, "_final_obs": done,
+                     "final_info": _masked(infos, done), "_final_info": done}
 
     def render(self):
         """With ``render_mode="rgb_array"``: the first sub-environment's face window, as RGB."""
         if self.render_mode != "rgb_array":
             return None
-        face = self._env._datasets.face[self._face_k[0]]
+        face = self._env._datasets.face[self._episodes.state[0, STATE.index("face_k")]]
         return np.repeat(face[..., None], 3, axis=2)
-
-    def _observations(self) -> dict:
-        ds = self._env._datasets
-        obs = {"head_angle": self._theta.astype(np.float32), "face": ds.face[self._face_k]}
-        if self.obs_mode == "detections":
-            rows = np.zeros((self.num_envs, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
-            rows_all(self._centre, self._area, self._seen_edge, self._n_det,
-                     *_row_bounds((self._kin.height_px, self._kin.width_px)), rows)
-            obs["detections"] = rows
-        if self._env.scaled_obs:
-            obs = scaled(obs, self._env.joint_limits_rad, (self._kin.height_px, self._kin.width_px))
-        return obs
-
-    def _infos(self) -> dict:
-        k, n = self.num_envs, self._n
-        padded = {}
-        for name, a in (("centre_px", self._centre), ("colour_area_px", self._area),
-                        ("edge", self._seen_edge), ("motion", np.zeros((k, n)))):
-            out = np.zeros((k, MAX_DETECTIONS, *a.shape[2:]))
-            mask = np.arange(n)[None, :] < self._n_det[:, None]
-            out[:, :n] = np.where(mask.reshape(k, n, *([1] * (a.ndim - 2))), a, 0)
-            padded[name] = out
-        fired = self._end == END_FIRED
-        info = {"detections": padded, "n_detections": self._n_det.copy(), "fired": fired,
-                "seen": np.where(fired, self._seen, -1), "attended": self._attended.copy(),
-                "target": self._target.copy(), "limit_hit": self._limit_hit.copy(),
-                "intrinsic_reward": fired.astype(float),
-                "external_reward": (fired & (self._attended == self._target)).astype(float),
-                "caregiver_error_rad": self._caregiver_errors(fired)}
-        return _with_masks(info, k)
-
-    def _caregiver_errors(self, fired: np.ndarray) -> np.ndarray:
-        """Per sub-environment, her error at the attended object (-1 where nothing fired)."""
-        error = np.full(self.num_envs, -1.0)
-        for i in np.flatnonzero(fired):  # only episodes that end: few per step
-            error[i] = separation_rad(self._pos[i, self._attended[i]],
-                                      self._pos[i, self._target[i]])
-        return error
 
     def close_extras(self, **kwargs) -> None:
         """Nothing to free: no renderer."""
@@ -267,12 +216,14 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
 
         The generators themselves pickle (their states are the list's: see ``_start``), so a
         copy continues every episode as the original would; its list is made anew at its
-        first start.
+        first start. The kernels' view of the world is its one environment's, not copied twice.
         """
-        return {**self.__dict__, "_rng_list": None}
+        return {**self.__dict__, "_rng_list": None, "_steps": None, "_ends": None,
+                "_fixed": None}
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
+        self._steps = self._env._fast
 
 
 def _masked(info: dict, mask: np.ndarray) -> dict:
@@ -285,11 +236,3 @@ def _masked(info: dict, mask: np.ndarray) -> dict:
     return {key: _masked(value, mask) if isinstance(value, dict) else part(key, value)
             for key, value in info.items()}
 
-
-def _with_masks(info: dict, k: int) -> dict:
-    """``info`` with Gymnasium's ``_key`` masks (every sub-environment has every key)."""
-    out = {}
-    for key, value in info.items():
-        out[key] = _with_masks(value, k) if isinstance(value, dict) else value
-        out[f"_{key}"] = np.ones(k, bool)
-    return out

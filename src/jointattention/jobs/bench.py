@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import numpy as np
 
@@ -16,8 +17,8 @@ from ..world.options import FAST_CAMERA
 from .bounds import RENDERED_ROW, cell_rate, learner_cell_rows, rendered_rows
 from .env_bench import run_env_benchmark, with_camera
 
-__all__ = ["AGENT_RATE_ROWS", "compile_times", "run_agent_benchmark", "run_env_benchmark",
-           "run_follow_benchmark", "run_world_benchmarks"]
+__all__ = ["AGENT_RATE_ROWS", "compile_times", "run_agent_benchmark",
+           "run_env_benchmark", "run_follow_benchmark", "run_world_benchmarks", "write_bench"]
 
 AGENT_RATE_ROWS = {  # each kind of cell the preset estimates know, and its row
     "compiled": "agent steps, compiled engine, learning (quick n5-sigmoid)",
@@ -245,3 +246,33 @@ def compile_times() -> list[tuple[str, float, str]]:
             subprocess.run([sys.executable, "-c", script], env=env, check=True)
             rows.append((name, time.perf_counter() - start, "s"))
     return rows
+
+
+def write_bench(folder, rows: list[tuple[str, float, str]],
+                env_rows: list[tuple[str, float, str]], command: str) -> list[Path]:
+    """Write ``bench.csv`` (every row) and, if measured, ``environments.md`` into ``folder``.
+
+    ``environments.md`` is the environments' table, which docs/gymnasium.md and docs/speed.md
+    include (the docs quote no figure of their own); ``command`` is what measured them.
+    """
+    import csv
+    import io
+    import os
+
+    from .._files import write_text
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    text = io.StringIO()
+    writer = csv.writer(text, lineterminator="\n")
+    writer.writerow(["figure", "value", "unit"])
+    writer.writerows((name, f"{value:.6g}", unit) for name, value, unit in rows)
+    written = [write_text(folder / "bench.csv", text.getvalue())]
+    if env_rows:
+        lines = ["| environment (random actions, resets included) | value |", "|---|---:|"]
+        lines += [f"| {name} | {value:,.2f}x |" if unit == "x" else
+                  f"| {name} | {value:,.0f} {unit} |" for name, value, unit in env_rows]
+        lines += ["", f"(`{command}`, {time.strftime('%d %B %Y, %H:%M UTC', time.gmtime())}, "
+                      f"{os.cpu_count()} cores, shared: compare within one run.)"]
+        written.append(write_text(folder / "environments.md", "\n".join(lines) + "\n"))
+    return written
