@@ -71,9 +71,16 @@ def _variants() -> dict[str, dict]:
                                                     "reward": "intrinsic"}
     made = {f"{i}-v{v}": {**kwargs, "normalize_actions": True, "scaled_obs": v == 2}
             for v in (1, 2) for i, kwargs in ids.items()}
-    return {**made, **{f"{i}-v3": {**kwargs, "normalize_actions": True, "scaled_obs": True,
-                                   "render_quality": "fast"}
-                       for i, kwargs in ids.items() if kwargs["obs_mode"] == "image"}}
+    fast = {f"{i}-v3": {**kwargs, "normalize_actions": True, "scaled_obs": True,
+                        "render_quality": "fast"}
+            for i, kwargs in ids.items() if kwargs["obs_mode"] == "image"}
+    return {**made, **fast, **_discrete_variants(ids)}
+
+
+def _discrete_variants(ids: dict[str, dict]) -> dict[str, dict]:
+    """The v2 ids without images or intrinsic reward, with discrete moves: ``...-Discrete-v2``."""
+    return {f"{i}-Discrete-v2": {**kwargs, "scaled_obs": True} for i, kwargs in ids.items()
+            if kwargs["obs_mode"] != "image" and "reward" not in kwargs}
 
 
 ENV_IDS = tuple(_variants())
@@ -94,9 +101,14 @@ REWARD_THRESHOLDS = _thresholds()
 for _id, _kwargs in _variants().items():
     if _id not in gym.registry:
         fast = _kwargs["obs_mode"] != "image"
-        gym.register(id=_id, entry_point="jointattention.env:JointAttentionEnv",
-                     vector_entry_point="jointattention.env.vector:JointAttentionVectorEnv"
-                     if fast else None, max_episode_steps=40, kwargs=_kwargs,
+        if _id.endswith("-Discrete-v2"):
+            entry = "jointattention.env.discrete:DiscreteJointAttentionEnv"
+            vector = "jointattention.env.discrete:DiscreteJointAttentionVectorEnv"
+        else:
+            entry = "jointattention.env:JointAttentionEnv"
+            vector = "jointattention.env.vector:JointAttentionVectorEnv" if fast else None
+        gym.register(id=_id, entry_point=entry, vector_entry_point=vector,
+                     max_episode_steps=40, kwargs=_kwargs,
                      reward_threshold=REWARD_THRESHOLDS.get(_id))
 
 # v2 stays current: v3 is v2 rendered faster, not its successor, so Gymnasium's "out of date"

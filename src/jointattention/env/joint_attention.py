@@ -342,14 +342,18 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         trial = self._trial
         if trial is None or trial.end is not None:
             raise gym.error.ResetNeeded("no episode is running; expected reset() before step()")
-        a = np.clip(check_action(action), self.action_space.low, self.action_space.high)
-        trial.step(a * self.max_step_rad if self.normalize_actions else a)
+        trial.step(self._dtheta_rad(action))
         obs, info = self._look()
         terminated = trial.end is not None and trial.end != END_STEPS
         truncated = trial.end == END_STEPS
         if self.render_mode == "human":
             self._show()
         return obs, info[f"{self.reward}_reward"], terminated, truncated, info
+
+    def _dtheta_rad(self, action) -> np.ndarray:
+        """The head's move (pan, tilt) in radians for ``action``: checked, clipped, scaled."""
+        a = np.clip(check_action(action), self.action_space.low, self.action_space.high)
+        return a * self.max_step_rad if self.normalize_actions else a
 
     def _look(self):
         """The observation and info at the trial's current head angle."""

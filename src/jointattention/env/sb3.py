@@ -105,7 +105,12 @@ class NativeVecEnv(VecEnv):
 
     def step_async(self, actions: np.ndarray) -> None:
         """Keep the actions for :meth:`step_wait` (checked here: one error line if malformed)."""
-        self._actions = check_action(actions, (self.num_envs, 2), "actions")
+        if isinstance(self.action_space, gym.spaces.Discrete):  # the -Discrete ids
+            from .discrete import check_moves
+
+            self._actions = check_moves(actions, self.num_envs)
+        else:
+            self._actions = check_action(actions, (self.num_envs, 2), "actions")
 
     def step_wait(self):
         """Step all sub-environments: (observations, rewards, dones, infos)."""

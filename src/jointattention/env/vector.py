@@ -180,13 +180,11 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         if not self._started:
             raise gym.error.ResetNeeded("no episodes are running; expected reset() before "
                                         "step()")
-        actions = check_action(actions, (self.num_envs, 2), "actions")
+        dtheta = self._dtheta_rad(actions)  # checked before any work
         restart = np.flatnonzero(self._needs_reset)
         if len(restart):
             self._start(restart)
             self._look(restart)
-        space = self.single_action_space
-        dtheta = np.clip(actions, space.low, space.high) * self._scale
         end = self._end.copy()
         end[restart] = END_FIRED  # not stepped this time
         running = end == RUNNING
@@ -201,6 +199,12 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         if self.autoreset_mode == AutoresetMode.SAME_STEP and self._needs_reset.any():
             infos = self._restart_now(infos)
         return self._observations(), rewards, terminated, truncated, infos
+
+    def _dtheta_rad(self, actions) -> np.ndarray:
+        """Every head's move (pan, tilt) in radians for ``actions``: checked, clipped, scaled."""
+        actions = check_action(actions, (self.num_envs, 2), "actions")
+        space = self.single_action_space
+        return np.clip(actions, space.low, space.high) * self._scale
 
     def _restart_now(self, infos: dict) -> dict:
         """Same-step autoreset: start the episodes that just ended, keeping their last look."""
