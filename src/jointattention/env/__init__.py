@@ -5,13 +5,17 @@ Needs the ``gym`` extra (``pip install "jointattention[gym]"``). The environment
 face window to the ``"image"`` observation, and :class:`EnvTrial` runs an agent of the trial
 loop through the environment.
 
-Registered ids (:data:`ENV_IDS`), each with ``max_episode_steps=40`` and actions in [-1, 1]
-(``normalize_actions=True``; :class:`EnvTrial` converts an agent's radians):
+Registered ids (:data:`ENV_IDS`), each with ``max_episode_steps=40`` and, but for the
+``-Discrete`` ones, actions in [-1, 1] (``normalize_actions=True``; :class:`EnvTrial`
+converts an agent's radians):
 
 - ``JointAttention-v2``: ``obs_mode="image"`` (rendered);
 - ``JointAttentionFace-v2`` and ``JointAttentionDetections-v2``: the modes without rendering;
 - ``JointAttention{Mode}-N{n}-v2`` for n = 1, 3, 5, 10 objects (``Mode`` empty, ``Face`` or
-  ``Detections``), and ``JointAttentionFace-N{n}-Intrinsic-v2`` with the intrinsic reward.
+  ``Detections``), and ``JointAttentionFace-N{n}-Intrinsic-v2`` with the intrinsic reward;
+- ``JointAttention{Mode}-Discrete-v2`` and ``JointAttention{Mode}-N{n}-Discrete-v2`` (``Mode``
+  ``Face`` or ``Detections``): the v2 id with a ``Discrete(9)`` action, head moves of 4° and
+  12° (:mod:`jointattention.env.discrete`), for DQN and its kin.
 
 v2 observations are scaled (``scaled_obs=True``: the face in [-0.5, 0.5], the head angle and
 the detections near [-1, 1]), so that an RL library's default network learns from them; each
