@@ -14,6 +14,7 @@ sb3 = pytest.importorskip("stable_baselines3", reason="needs the rl extra: make 
 
 import jointattention.env  # noqa: E402, F401  (registers the environments)
 from jointattention.env.sb3 import NativeVecEnv, success_rate  # noqa: E402
+from jointattention.errors import ArgumentError  # noqa: E402
 
 
 def _equal(a, b) -> bool:
@@ -121,3 +122,24 @@ def test_the_native_adapter_takes_the_held_out_split(split):
         actions = rng.uniform(-1, 1, (4, 2)).astype(np.float32)
         (obs, r1, d1, _), (o2, r2, d2, _) = native.step(actions), dummy.step(actions)
         assert _equal(obs, o2) and np.array_equal(r1, r2) and np.array_equal(d1, d2)
+
+
+def test_dqn_trains_on_the_discrete_id_alone_and_through_the_native_adapter():
+    """DQN (SB3's defaults) learns a few hundred steps of N1-Discrete; its frozen policy runs."""
+    from stable_baselines3 import DQN
+    from stable_baselines3.common.env_util import make_vec_env
+
+    env_id = "JointAttentionFace-N1-Discrete-v2"
+    for env in (make_vec_env(env_id, 1, seed=0), NativeVecEnv(env_id, num_envs=4, seed=0)):
+        model = DQN("MultiInputPolicy", env, seed=0, device="cpu", learning_starts=100)
+        model.learn(400)
+        assert model.num_timesteps >= 400 and model._n_updates > 0
+        assert len(model.ep_info_buffer) > 0  # episodes ended and were logged
+    one = gym.make(env_id)
+    for deterministic in (True, False):
+        assert 0 <= success_rate(model, one, 5, seed=1, deterministic=deterministic) <= 1
+    native = NativeVecEnv(env_id, num_envs=2, seed=0)
+    native.reset()
+    with pytest.raises(ArgumentError, match=r"actions: .*dtype float"):
+        native.step(np.zeros(2))
+    native.step(np.array([1, 5]))  # still usable after a refusal

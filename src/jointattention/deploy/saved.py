@@ -140,8 +140,9 @@ class LearnedModel:
 
         ``face_window``: (H, W) grey levels of the robot's face window size (a robot with an
         eye window: its view, :attr:`~jointattention.agent.protocol.Body.view_size` grey levels
-        flat); ``theta_rad``: the head's (pan, tilt) at the face. Anything else is refused (ArgumentError) before the
-        compiled kernels, which read the window by the learned size, see it.
+        flat); ``theta_rad``: the head's (pan, tilt) at the face. Anything else is refused
+        (ArgumentError) before the compiled kernels, which read the window by the learned size,
+        see it.
         """
         return self.agent.lm_command(face_window, angles("theta_rad", theta_rad))
 

@@ -5,13 +5,17 @@ Needs the ``gym`` extra (``pip install "jointattention[gym]"``). The environment
 face window to the ``"image"`` observation, and :class:`EnvTrial` runs an agent of the trial
 loop through the environment.
 
-Registered ids (:data:`ENV_IDS`), each with ``max_episode_steps=40`` and actions in [-1, 1]
-(``normalize_actions=True``; :class:`EnvTrial` converts an agent's radians):
+Registered ids (:data:`ENV_IDS`), each with ``max_episode_steps=40`` and, but for the
+``-Discrete`` ones, actions in [-1, 1] (``normalize_actions=True``; :class:`EnvTrial`
+converts an agent's radians):
 
 - ``JointAttention-v2``: ``obs_mode="image"`` (rendered);
 - ``JointAttentionFace-v2`` and ``JointAttentionDetections-v2``: the modes without rendering;
 - ``JointAttention{Mode}-N{n}-v2`` for n = 1, 3, 5, 10 objects (``Mode`` empty, ``Face`` or
-  ``Detections``), and ``JointAttentionFace-N{n}-Intrinsic-v2`` with the intrinsic reward.
+  ``Detections``), and ``JointAttentionFace-N{n}-Intrinsic-v2`` with the intrinsic reward;
+- ``JointAttention{Mode}-Discrete-v2`` and ``JointAttention{Mode}-N{n}-Discrete-v2`` (``Mode``
+  ``Face`` or ``Detections``): the v2 id with a ``Discrete(9)`` action, head moves of 4° and
+  12° (:mod:`jointattention.env.discrete`), for DQN and its kin.
 
 v2 observations are scaled (``scaled_obs=True``: the face in [-0.5, 0.5], the head angle and
 the detections near [-1, 1]), so that an RL library's default network learns from them; each
@@ -71,9 +75,16 @@ def _variants() -> dict[str, dict]:
                                                     "reward": "intrinsic"}
     made = {f"{i}-v{v}": {**kwargs, "normalize_actions": True, "scaled_obs": v == 2}
             for v in (1, 2) for i, kwargs in ids.items()}
-    return {**made, **{f"{i}-v3": {**kwargs, "normalize_actions": True, "scaled_obs": True,
-                                   "render_quality": "fast"}
-                       for i, kwargs in ids.items() if kwargs["obs_mode"] == "image"}}
+    fast = {f"{i}-v3": {**kwargs, "normalize_actions": True, "scaled_obs": True,
+                        "render_quality": "fast"}
+            for i, kwargs in ids.items() if kwargs["obs_mode"] == "image"}
+    return {**made, **fast, **_discrete_variants(ids)}
+
+
+def _discrete_variants(ids: dict[str, dict]) -> dict[str, dict]:
+    """The v2 ids without images or intrinsic reward, with discrete moves: ``...-Discrete-v2``."""
+    return {f"{i}-Discrete-v2": {**kwargs, "scaled_obs": True} for i, kwargs in ids.items()
+            if kwargs["obs_mode"] != "image" and "reward" not in kwargs}
 
 
 ENV_IDS = tuple(_variants())
@@ -94,9 +105,14 @@ REWARD_THRESHOLDS = _thresholds()
 for _id, _kwargs in _variants().items():
     if _id not in gym.registry:
         fast = _kwargs["obs_mode"] != "image"
-        gym.register(id=_id, entry_point="jointattention.env:JointAttentionEnv",
-                     vector_entry_point="jointattention.env.vector:JointAttentionVectorEnv"
-                     if fast else None, max_episode_steps=40, kwargs=_kwargs,
+        if _id.endswith("-Discrete-v2"):
+            entry = "jointattention.env.discrete:DiscreteJointAttentionEnv"
+            vector = "jointattention.env.discrete:DiscreteJointAttentionVectorEnv"
+        else:
+            entry = "jointattention.env:JointAttentionEnv"
+            vector = "jointattention.env.vector:JointAttentionVectorEnv" if fast else None
+        gym.register(id=_id, entry_point=entry, vector_entry_point=vector,
+                     max_episode_steps=40, kwargs=_kwargs,
                      reward_threshold=REWARD_THRESHOLDS.get(_id))
 
 # v2 stays current: v3 is v2 rendered faster, not its successor, so Gymnasium's "out of date"

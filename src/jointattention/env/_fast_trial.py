@@ -159,6 +159,11 @@ class FastTrial:
         """The head angle now."""
         return self.episodes.theta[0].copy()
 
+    @property
+    def n_steps(self) -> int:
+        """The steps taken so far (as :class:`~jointattention.experiment.trial.SceneTrial`)."""
+        return int(self.episodes.state[0, STATE.index("n_steps")])
+
     def looks(self) -> tuple[dict, dict]:
         """The observation and ``info`` of the last look (new arrays each time)."""
         head, rows, centre, det = self._out

@@ -105,7 +105,12 @@ class NativeVecEnv(VecEnv):
 
     def step_async(self, actions: np.ndarray) -> None:
         """Keep the actions for :meth:`step_wait` (checked here: one error line if malformed)."""
-        self._actions = check_action(actions, (self.num_envs, 2), "actions")
+        if isinstance(self.action_space, gym.spaces.Discrete):  # the -Discrete ids
+            from .discrete import check_moves
+
+            self._actions = check_moves(actions, self.num_envs)
+        else:
+            self._actions = check_action(actions, (self.num_envs, 2), "actions")
 
     def step_wait(self):
         """Step all sub-environments: (observations, rewards, dones, infos)."""
@@ -170,12 +175,22 @@ class EpisodeLog(BaseCallback):
 
 
 def success_rate(model, env: gym.Env, episodes: int, seed: int | None = None,
-                 deterministic: bool = True) -> float:
+                 deterministic: bool = False) -> float:
     """The share of ``episodes`` episodes of ``env`` in which ``model``'s policy is rewarded.
 
     ``env`` is a single Gymnasium environment (e.g. ``gym.make(id, caregivers="unseen")``, a
     held-out split); the first reset takes ``seed``. ``model`` None: uniform random actions (the
     action space seeded with ``seed``), the floor.
+
+    ``deterministic`` is passed to ``model.predict``. The default, False, draws the actions as
+    learning did (PPO's and A2C's Gaussian, SAC's squashed Gaussian, DQN's epsilon-greedy at
+    its final epsilon): the policy that the algorithm optimised and whose success its learning
+    curve shows. True takes the Gaussian's mean (or DQN's greedy move), another policy, which
+    no training step ran: on the continuous ids PPO's mean stops short of the object in many
+    more episodes than its samples fail; on the discrete ids, whose moves do not shrink, its
+    most likely move stops far less often (``docs/rl/mean_action.md``, written by ``python
+    scripts/mean_action.py``). Pass True for a policy meant to be run greedily, such as
+    DQN's.
     """
     wins, (obs, _) = 0, env.reset(seed=seed)
     env.action_space.seed(seed)

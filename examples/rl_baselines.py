@@ -1,0 +1,234 @@
+"""Baselines of every algorithm family: SB3's PPO, A2C, SAC, TD3 and DQN with their defaults.
+
+One command, one table. Each algorithm learns ``JointAttentionFace-N{n}-v2`` (DQN its discrete
+twin, ``JointAttentionFace-N{n}-Discrete-v2``: DQN takes only a ``Discrete`` action) with
+Stable-Baselines3's default hyperparameters and ``MultiInputPolicy``, on 8 environments for
+the on-policy PPO and A2C (the docs' first recipe) and on one for the off-policy SAC, TD3 and
+DQN (their usual form: one gradient step per environment step, or per 4 for DQN). Beside them
+are the floor (uniform random actions, on both ids), the project's own reinforcement learner
+(``kind = "rl"``, learning from its own evaluator) and the bootstrap model (the ``paper``
+preset's), each learning for as many steps in the same fast world. Where the defaults fail,
+a row with one documented change (:data:`TUNED`) follows: DQN with ``gamma=0.9``.
+
+Each learned policy is then frozen and measured on new episodes of the three splits
+(``caregivers="training" | "new-poses" | "unseen"``), both with actions drawn as in learning
+(``predict(deterministic=False)``: PPO's and A2C's Gaussian, SAC's squashed Gaussian, DQN's
+epsilon-greedy with its final epsilon; TD3's actor has no noise there) and with the policy's
+deterministic action (the Gaussian's mean, DQN's greedy move). The runner's learners are
+measured by the runner's held-out measure, their own way of acting.
+
+    pip install "jointattention[rl]"
+    python examples/rl_baselines.py                        # 2.5e5 steps x 3 seeds: hours
+    python examples/rl_baselines.py --algos dqn --steps 100000 --out runs/dqn
+
+writes ``baselines.md`` (the table), and ``baselines_runs.json``, every finished run (a
+re-run with the same arguments resumes from it). ``--quick`` runs a few hundred steps of
+each, one seed, 10 episodes per measure (the test suite runs it; its numbers mean nothing).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import time
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+
+import jointattention.env  # noqa: F401  (registers the environments)
+
+ALGOS = ("ppo", "a2c", "sac", "td3", "dqn")
+# Where the defaults fail, a documented setting: {name: (algorithm, its non-default arguments)}.
+# DQN, gamma 0.9: stay, and a move followed by its opposite, come back to the same observation;
+# with the default 0.99 such loops are worth nearly as much as a move towards the object, and
+# the greedy policy circles. 0.9 costs a wasted step a tenth; a success a few moves away keeps
+# most of its value.
+TUNED = {"dqn-gamma-0.9": ("dqn", {"gamma": 0.9})}
+LEARNERS = ("own-rl", "bootstrap")  # the runner's: the project's RL model, the paper's model
+SPLITS = ("training", "new-poses", "unseen")
+_KINDS = {"training": "training", "new-poses": "new poses", "unseen": "unseen caregivers"}
+ON_POLICY_ENVS, QUICK = 8, {"steps": 600, "episodes": 10}
+
+
+def env_id(algo: str, n_objects: int) -> str:
+    """The id an algorithm learns: the discrete twin for DQN, else the continuous v2 id."""
+    dqn = TUNED.get(algo, (algo,))[0] == "dqn"
+    return f"JointAttentionFace-N{n_objects}-{'Discrete-' if dqn else ''}v2"
+
+
+def train(algo: str, n_objects: int, steps: int, seed: int, quick: bool):
+    """SB3's ``algo`` with its defaults (or a :data:`TUNED` setting): (model, ends, success)."""
+    import stable_baselines3 as sb3
+    from stable_baselines3.common.env_util import make_vec_env
+
+    from jointattention.env.sb3 import EpisodeLog
+
+    algo, tuned = TUNED.get(algo, (algo, {}))
+    n_envs = ON_POLICY_ENVS if algo in ("ppo", "a2c") else 1
+    envs = make_vec_env(env_id(algo, n_objects), n_envs, seed=seed)
+    # --quick: PPO's default rollout (2,048 x 8 steps) would be longer than the whole run, and
+    # the off-policy ones learn from the last 100 steps only (seconds, not a minute)
+    short = ({} if not quick else {"n_steps": 64} if algo == "ppo" else {} if algo == "a2c"
+             else {"learning_starts": steps - 100})
+    model = getattr(sb3, algo.upper())("MultiInputPolicy", envs, seed=seed, device="cpu",
+                                       verbose=0, **tuned, **short)
+    log = EpisodeLog()
+    model.learn(steps, callback=log)
+    envs.close()
+    return model, np.array(log.ends), np.array(log.wins, float)
+
+
+def frozen(model, env: str, episodes: int, seed: int) -> dict[str, dict[str, float]]:
+    """{"sampled" | "deterministic": {split: success}} of the frozen ``model`` on ``env``."""
+    from jointattention.env.sb3 import success_rate
+
+    return {mode: {split: success_rate(model, gym.make(env, caregivers=split), episodes, seed,
+                                       deterministic=mode == "deterministic")
+                   for split in SPLITS}
+            for mode in ("sampled", "deterministic")}
+
+
+def final(times: np.ndarray, success: np.ndarray, steps: int) -> float:
+    """Success of the episodes that ended in the last tenth of learning (NaN if none)."""
+    last = success[times > 0.9 * steps]
+    return float(last.mean()) if len(last) else float("nan")
+
+
+def sb3_record(algo: str, n_objects: int, steps: int, seed: int, episodes: int,
+               quick: bool) -> dict:
+    """One SB3 run: learning's final success, the frozen measures, wall minutes."""
+    t = time.perf_counter()
+    model, ends, wins = train(algo, n_objects, steps, seed, quick)
+    return {"final": final(ends, wins, steps),
+            "frozen": frozen(model, env_id(algo, n_objects), episodes, 10_000 + seed),
+            "minutes": (time.perf_counter() - t) / 60}
+
+
+def runner_record(learner: str, n_objects: int, steps: int, seed: int, episodes: int) -> dict:
+    """One run of the runner's ``learner``: final success, held-out success, wall minutes."""
+    from jointattention import ConditionConfig, load_config
+    from jointattention.experiment.held_out import final_held_out, run_cell_measured
+
+    t = time.perf_counter()
+    base = load_config({"model": {"kind": "rl"}, "experiment": {"engine": "python"}}
+                       if learner == "own-rl" else "paper")
+    experiment = dataclasses.replace(
+        base.experiment, n_steps=steps, bin_steps=min(steps, base.experiment.bin_steps),
+        held_out=dataclasses.replace(base.experiment.held_out, n_trials=episodes,
+                                     n_checkpoints=1))
+    config = dataclasses.replace(base, experiment=experiment)
+    rec = run_cell_measured(config, ConditionConfig(name=f"{learner}-n{n_objects}",
+                                                    n_objects=n_objects), seed)
+    held = final_held_out(rec)
+    return {"final": final(rec["learning_time"].astype(float), rec["success"].astype(float),
+                           steps),
+            "frozen": {"sampled": {s: held[_KINDS[s]]["success"] for s in SPLITS},
+                       "deterministic": None},
+            "minutes": (time.perf_counter() - t) / 60}
+
+
+def floor(env: str, episodes: int) -> dict[str, float]:
+    """Uniform random actions' success on each split of ``env``."""
+    from jointattention.env.sb3 import success_rate
+
+    return {split: success_rate(None, gym.make(env, caregivers=split), episodes, 0)
+            for split in SPLITS}
+
+
+def main() -> None:
+    """Train every algorithm and learner on every seed, measure, write the table."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=float, default=250_000,
+                        help="environment steps of learning per run (default 2.5e5)")
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2],
+                        help="seeds (default 0 1 2)")
+    parser.add_argument("--algos", nargs="+", default=[*ALGOS, *TUNED, *LEARNERS],
+                        choices=[*ALGOS, *TUNED, *LEARNERS], help="what learns (default: all)")
+    parser.add_argument("--n-objects", type=int, default=1, help="objects (default 1)")
+    parser.add_argument("--episodes", type=int, default=1000,
+                        help="episodes per frozen measure (default 1000)")
+    parser.add_argument("--out", default="runs/baselines", help="output folder")
+    parser.add_argument("--quick", action="store_true",
+                        help=f"{QUICK['steps']} steps, the first seed, {QUICK['episodes']} "
+                             "episodes per measure (a smoke test)")
+    args = parser.parse_args()
+    steps, episodes, seeds = int(args.steps), args.episodes, args.seeds
+    if args.quick:
+        steps, episodes, seeds = QUICK["steps"], QUICK["episodes"], seeds[:1]
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    done_path = out / "baselines_runs.json"  # every finished run: a re-run resumes
+    done = json.loads(done_path.read_text()) if done_path.exists() else {}
+    rows = []
+    for algo in args.algos:
+        records = []
+        for seed in seeds:
+            key = f"{algo} | N{args.n_objects} | {steps} | seed {seed} | {episodes}"
+            if key not in done:
+                done[key] = (runner_record(algo, args.n_objects, steps, seed, episodes)
+                             if algo in LEARNERS else
+                             sb3_record(algo, args.n_objects, steps, seed, episodes, args.quick))
+                tmp = done_path.with_suffix(".tmp")
+                tmp.write_text(json.dumps(done, indent=1))
+                tmp.replace(done_path)
+            records.append(done[key])
+            print(algo, f"seed {seed}", f"final {done[key]['final']:.3f}", flush=True)
+        rows.append((algo, records))
+    floors = {env_id(a, args.n_objects): floor(env_id(a, args.n_objects), episodes)
+              for a in ("ppo", "dqn")}
+    algos = ("" if args.algos == [*ALGOS, *TUNED, *LEARNERS] else
+             f" --algos {' '.join(args.algos)}")
+    lines = _table(rows, floors, args.n_objects, steps, seeds, episodes, args.quick, algos)
+    (out / "baselines.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+_NAMES = {"ppo": "PPO", "a2c": "A2C", "sac": "SAC", "td3": "TD3", "dqn": "DQN",
+          "dqn-gamma-0.9": "DQN, gamma=0.9",
+          "own-rl": "own RL model (kind rl), runner",
+          "bootstrap": "bootstrap model (paper), runner"}
+
+
+def _fmt(values) -> str:
+    """Mean (lowest-highest) of the seeds' values; '-' where there are none."""
+    values = np.array([np.nan if v is None else v for v in values], float)
+    if len(values) == 0 or np.all(np.isnan(values)):
+        return "-"
+    text = f"{np.nanmean(values):.3f}"
+    return text if len(values) == 1 else \
+        f"{text} ({np.nanmin(values):.2f}-{np.nanmax(values):.2f})"
+
+
+def _table(rows, floors, n_objects, steps, seeds, episodes, quick, algos) -> list[str]:
+    lines = ["| learner | environment | final, learning | sampled: training | sampled: new "
+             "poses | sampled: unseen | deterministic: training | deterministic: new poses | "
+             "deterministic: unseen | minutes per seed |", "|---" * 10 + "|"]
+    for algo, records in rows:
+        env = env_id(algo, n_objects) if algo not in LEARNERS else \
+            f"runner, {n_objects} object" + "s" * (n_objects > 1)
+        cells = [_fmt([r["final"] for r in records])]
+        for mode in ("sampled", "deterministic"):
+            cells += [_fmt([None if r["frozen"][mode] is None else r["frozen"][mode][s]
+                            for r in records]) for s in SPLITS]
+        minutes = np.mean([r["minutes"] for r in records])
+        lines.append(f"| {_NAMES[algo]} | {env} | {' | '.join(cells)} | {minutes:.1f} |")
+    for env, values in floors.items():
+        lines.append(f"| random actions | {env} | - | "
+                     + " | ".join(f"{values[s]:.3f}" for s in SPLITS) + " | - | - | - | - |")
+    command = "python examples/rl_baselines.py" + algos + (" --quick" if quick else (
+        f" --steps {steps} --seeds {' '.join(map(str, seeds))} --n-objects {n_objects}"
+        f" --episodes {episodes}"))
+    lines += ["", f"({len(seeds)} seed{'s' * (len(seeds) > 1)}: mean (lowest-highest); "
+              f"{steps:,} environment steps of learning; SB3's defaults (PPO, A2C: 8 "
+              "environments; SAC, TD3, DQN: one), but for the one argument a row names; final: "
+              "the episodes ending in the last tenth of learning; frozen: "
+              f"{episodes:,} new episodes per split from seed 10,000 + seed, actions sampled "
+              "as in learning or deterministic; the runner's learners "
+              f"act their own way. Command: `{command}`.)"]
+    return lines
+
+
+if __name__ == "__main__":
+    main()

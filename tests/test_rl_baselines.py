@@ -1,0 +1,40 @@
+"""The baselines command runs: every algorithm family, the runner's learners, the floor."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.rl
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path):
+    """``examples/rl_baselines.py --quick``: five families, tuned DQN, the runner's, the floor."""
+    pytest.importorskip("stable_baselines3", reason="needs the rl extra: make test-rl")
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
+                           "--quick", "--out", str(tmp_path)], capture_output=True, text=True,
+                          timeout=900)
+    assert proc.returncode == 0, proc.stderr
+    table = (tmp_path / "baselines.md").read_text().splitlines()
+    learners = [row.split(" | ")[0].lstrip("| ") for row in table[2:] if row.startswith("| ")]
+    assert learners == ["PPO", "A2C", "SAC", "TD3", "DQN", "DQN, gamma=0.9",
+                        "own RL model (kind rl), runner", "bootstrap model (paper), runner",
+                        "random actions", "random actions"]
+    for dqn in (row for row in table if row.startswith("| DQN")):
+        assert "JointAttentionFace-N1-Discrete-v2" in dqn
+    for row in table[2:10]:
+        cells = row.strip("| ").split(" | ")
+        values = [float(c.split(" ")[0]) for c in cells[2:9] if c != "-"]
+        assert all(0 <= v <= 1 for v in values) and len(values) >= 4
+    runs = json.loads((tmp_path / "baselines_runs.json").read_text())
+    assert len(runs) == 8
+    again = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
+                            "--quick", "--algos", "td3", "--out", str(tmp_path)],
+                           capture_output=True, text=True, timeout=900)
+    assert again.returncode == 0 and "td3 seed 0" in again.stdout  # resumed: no retraining
+    assert json.loads((tmp_path / "baselines_runs.json").read_text()) == runs
