@@ -26,14 +26,21 @@ from .._arrays import floats
 from .._jit import jit
 from ..errors import ArgumentError
 
-__all__ = ["face_features", "face_features_into", "n_features"]
+__all__ = ["face_features", "face_features_into", "n_features", "n_window_features"]
 
 
 def n_features(face_size_px: tuple[int, int], cell_px: int, n_orientations: int,
                pixels: bool = True, hog: bool = True) -> int:
     """Length of the feature vector of a (width, height) window, with the parts asked for."""
     w, h = face_size_px
-    return w * h * pixels + (w // cell_px) * (h // cell_px) * n_orientations * hog
+    return int(n_window_features(h, w, cell_px, n_orientations, bool(pixels), bool(hog)))
+
+
+@jit
+def n_window_features(height: int, width: int, cell_px: int, n_orientations: int,
+                      pixels: bool, hog: bool) -> int:
+    """:func:`n_features` of a ``height`` x ``width`` window, for kernels."""
+    return height * width * pixels + (width // cell_px) * (height // cell_px) * n_orientations * hog
 
 
 @jit

@@ -13,7 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._jit import jit
-from ..agent.face_features import face_features_into
+from ..agent.face_features import face_features_into, n_window_features
 from ..agent.learner import standardise, welford_update
 from ..agent.moves import scale_angle_into
 from ..agent.population import (
@@ -59,19 +59,13 @@ def features_into(face, spec, out) -> None:
     Each window's are :func:`face_features_into`'s.
     """
     n_face = spec.height * spec.width
-    m_face = _n_features(spec.height, spec.width, spec)
+    m_face = n_window_features(spec.height, spec.width, spec.cell_px, spec.n_orientations,
+                               spec.pixels, spec.hog)
     face_features_into(face[:n_face], spec.height, spec.width, spec.cell_px,
                        spec.n_orientations, spec.pixels, spec.hog, out[:m_face])
     if spec.eye_height > 0:
         face_features_into(face[n_face:], spec.eye_height, spec.eye_width, spec.cell_px,
                            spec.n_orientations, spec.pixels, spec.hog, out[m_face:])
-
-
-@jit
-def _n_features(height, width, spec) -> int:
-    """The features of one window of ``height`` x ``width`` (agent.face_features.n_features)."""
-    cells = (width // spec.cell_px) * (height // spec.cell_px) * spec.n_orientations
-    return height * width * spec.pixels + cells * spec.hog
 
 
 @jit
