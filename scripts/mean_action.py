@@ -52,7 +52,7 @@ def episodes(model, env_id: str, n: int, seed: int, deterministic: bool) -> list
     for _ in range(n):
         trial = inner._trial
         start = trial.theta_rad.copy()
-        goal = np.asarray(kin.centring_angles(trial.scene.object_pos_m[trial.target])).ravel()
+        goal = np.asarray(kin.centring_angles(trial.target_pos_m)).ravel()
         norms, done = [], False
         while not done:
             action = model.predict(obs, deterministic=deterministic)[0]

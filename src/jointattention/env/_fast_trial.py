@@ -160,6 +160,11 @@ class FastTrial:
         return self.episodes.theta[0].copy()
 
     @property
+    def target_pos_m(self) -> np.ndarray:
+        """Where the caregiver's target is, in the robot's frame (m)."""
+        return self.episodes.pos[0, self.episodes.state[0, STATE.index("target")]].copy()
+
+    @property
     def n_steps(self) -> int:
         """The steps taken so far (as :class:`~jointattention.experiment.trial.SceneTrial`)."""
         return int(self.episodes.state[0, STATE.index("n_steps")])
