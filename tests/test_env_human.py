@@ -34,6 +34,7 @@ def test_human_mode_shows_each_frame_in_a_window(monkeypatch):
         warnings.simplefilter("error")  # gym.make wraps nothing: the env shows frames itself
         env = gym.make("JointAttentionFace-N3-v2", render_mode="human")
     env.reset(seed=0)
+    assert env.unwrapped._window is not None  # reset shows the first frame
     for _ in range(3):
         env.step(np.zeros(2, np.float32))
     assert env.render() is None

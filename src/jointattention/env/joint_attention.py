@@ -300,15 +300,16 @@ class JointAttentionEnv(gym.Env, EpisodePickle):
         if self._fast is not None:  # one kernel draws the scene as _fast_episode does
             self._trial = FastTrial(self._fast, self._rngs())
             self._face = self._datasets.face[self._trial.face_k]
-            return self._trial.looks()
-        if self._world is None:
-            k, scene = self._fast_episode(self.np_random)
-            self._face, start = self._datasets.face[k], self._datasets.theta_face_rad[k]
         else:
-            start = self._new_scene(seeded=seed is not None)
-            scene = self._world.fast_scene()
-        self._trial = SceneTrial(scene, self.kinematics.clip(start), kinematics=self.kinematics,
-                                 max_steps=self.max_steps, evaluate=self._evaluate)
+            if self._world is None:  # the reference (tests): the runner's draw
+                k, scene = self._fast_episode(self.np_random)
+                self._face, start = self._datasets.face[k], self._datasets.theta_face_rad[k]
+            else:
+                start = self._new_scene(seeded=seed is not None)
+                scene = self._world.fast_scene()
+            self._trial = SceneTrial(scene, self.kinematics.clip(start),
+                                     kinematics=self.kinematics, max_steps=self.max_steps,
+                                     evaluate=self._evaluate)
         out = self._look()
         if self.render_mode == "human":
             self._show()
