@@ -23,7 +23,7 @@ from ._vector_kernels import CAM, FLAGS, STATE, STEP, start_all, step_all
 
 __all__ = ["Episodes", "FastSteps", "FastTrial"]
 
-_END = STATE.index("end")
+_N_STEPS, _END, _TARGET = (STATE.index(name) for name in ("n_steps", "end", "target"))
 
 
 class Episodes:
@@ -162,12 +162,12 @@ class FastTrial:
     @property
     def target_pos_m(self) -> np.ndarray:
         """Where the caregiver's target is, in the robot's frame (m)."""
-        return self.episodes.pos[0, self.episodes.state[0, STATE.index("target")]].copy()
+        return self.episodes.pos[0, self.episodes.state[0, _TARGET]].copy()
 
     @property
     def n_steps(self) -> int:
         """The steps taken so far (as :class:`~jointattention.experiment.trial.SceneTrial`)."""
-        return int(self.episodes.state[0, STATE.index("n_steps")])
+        return int(self.episodes.state[0, _N_STEPS])
 
     def looks(self) -> tuple[dict, dict]:
         """The observation and ``info`` of the last look (new arrays each time)."""
