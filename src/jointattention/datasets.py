@@ -48,7 +48,7 @@ from ._readers import loads_json, read_npz, shipped_path
 from .errors import DatasetError, FileError
 
 __all__ = ["MAX_TARGET_M", "SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load",
-           "save", "scenes_sha256", "shipped_file"]
+           "save", "scenes_sha256", "shipped_file", "views_of"]
 
 SCHEMA_VERSION = 2  # the newest; version 1 is version 2 without ``caregiver``
 MAX_TARGET_M = 100.0  # a target farther than this from the robot is not a scene it can see
@@ -100,21 +100,28 @@ class CaregiverDatasets:
         The face windows (N, H, W) as they are; with eye windows, each face window's grey
         levels then its eye window's, flat: (N, H * W + h * w).
         """
-        if self.eyes is None:
-            return self.face
-        n = len(self.face)
-        return np.hstack([self.face.reshape(n, -1), self.eyes.reshape(n, -1)])
+        return views_of(self.face, self.eyes)
 
     def view(self, k: int) -> np.ndarray:
         """Data set ``k``'s view (:attr:`views`)."""
-        if self.eyes is None:
-            return self.face[k]
-        return np.concatenate([self.face[k].reshape(-1), self.eyes[k].reshape(-1)])
+        return views_of(self.face[k], None if self.eyes is None else self.eyes[k])
 
     @property
     def n_caregivers(self) -> int | None:
         """How many distinct caregivers the ``caregiver`` field names (None without it)."""
         return None if self.caregiver is None else len(np.unique(self.caregiver))
+
+
+def views_of(face: np.ndarray, eyes: np.ndarray | None) -> np.ndarray:
+    """What the robot kept of each look (:attr:`CaregiverDatasets.views`).
+
+    Face windows (..., H, W) as they are; with eye windows (..., h, w), each face's grey
+    levels then its eyes', flat: (..., H * W + h * w).
+    """
+    if eyes is None:
+        return face
+    lead = face.shape[:-2]
+    return np.concatenate([face.reshape(*lead, -1), eyes.reshape(*lead, -1)], axis=-1)
 
 
 def _fail(where: str, key: str, expected: str, got: str) -> None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..datasets import CaregiverDatasets
+from ..datasets import CaregiverDatasets, views_of
 
 __all__ = ["blank_spread_deg", "mirror_flip_share"]
 
@@ -46,17 +46,9 @@ def mirror_flip_share(agent, ds: CaregiverDatasets, min_pan_deg: float = 10.0,
     """
     side = np.abs(np.rad2deg(ds.command_rad[:, 0])) > min_pan_deg
     faces, thetas = ds.views[side], ds.theta_face_rad[side]
-    mirrored = _mirrored_views(ds)[side]
+    eyes = None if ds.eyes is None else ds.eyes[:, :, ::-1]
+    mirrored = np.ascontiguousarray(views_of(ds.face[:, :, ::-1], eyes)[side])
     flip = thetas * [-1.0, 1.0]
     pan = (agent.lm_commands(faces, thetas) if commands is None else commands[side])[:, 0]
     pan_mirrored = agent.lm_commands(mirrored, flip)[:, 0]
     return float(np.mean(np.sign(pan) == -np.sign(pan_mirrored)))
-
-
-def _mirrored_views(ds: CaregiverDatasets) -> np.ndarray:
-    """Each data set's view with its windows flipped left to right (:attr:`~.views`)."""
-    face = np.ascontiguousarray(ds.face[:, :, ::-1])
-    if ds.eyes is None:
-        return face
-    n = len(face)
-    return np.hstack([face.reshape(n, -1), ds.eyes[:, :, ::-1].reshape(n, -1)])

@@ -37,12 +37,10 @@ def learning_bytes(options, face_size_px: tuple[int, int],
     """
     learner = getattr(options, "learner", None)
     if learner == "population":
-        from ..agent.face_features import n_features
         from ..models.population import PopulationModule
 
         o = options.population
-        n = sum(n_features(size, o.cell_px, o.n_orientations, o.features != "hog",
-                           o.features != "pixels") for size in (face_size_px, eye_size_px) if size)
+        n = PopulationModule.view_features(o, face_size_px, eye_size_px)
         return (PopulationModule.replay_bytes(n, o.replay_capacity),
                 f"model.population.replay_capacity = {o.replay_capacity:,}")
     if learner == "memory":

@@ -50,6 +50,11 @@ def line_step(start_pan, start_tilt, psi_rad, pan, tilt, step_rad) -> tuple[floa
     return unit_step(start_pan + s * u0 - pan, start_tilt + s * u1 - tilt, step_rad)
 
 
+def _parts(o) -> tuple[bool, bool]:
+    """Whether the features hold the grey levels, and the gradient histogram (``o.features``)."""
+    return o.features != "hog", o.features != "pixels"
+
+
 class PopulationModule:
     """The bootstrap agent's learning module as a population code.
 
@@ -77,14 +82,12 @@ class PopulationModule:
         options, body = host.options, host.body
         init_rng, self.replay_rng = rng.spawn(2)
         o = options.population
-        self._parts = (o.features != "hog", o.features != "pixels")
-        self.n_features = sum(n_features(size, o.cell_px, o.n_orientations, *self._parts)
-                              for size in (body.face_size_px, body.eye_size_px) if size)
+        self.n_features = self.view_features(o, body.face_size_px, body.eye_size_px)
         self.population = PopulationCode(self.n_features + 2, o, init_rng)
         self.feature_stats = FaceStandardiser(min_std=1e-3)  # with ``standardise``
         self.feature_stats.statistics(self.n_features)  # its arrays, which the kernels fill
         (w, h), (ew, eh) = body.face_size_px, body.eye_size_px or (0, 0)
-        self.spec = InputSpec(h, w, eh, ew, o.cell_px, o.n_orientations, *self._parts,
+        self.spec = InputSpec(h, w, eh, ew, o.cell_px, o.n_orientations, *_parts(o),
                               float(self.feature_stats.min_std),
                               np.asarray(host.theta_mid_rad, float),
                               np.asarray(host.theta_half_rad, float))
@@ -101,6 +104,17 @@ class PopulationModule:
         self.replay_thetas_ = np.zeros((capacity, 2))
         self.replay_directions_ = np.zeros((capacity, self.MAX_PLACES))
         self.replay_counts_ = np.zeros(capacity, np.int64)
+
+    @staticmethod
+    def view_features(o, face_size_px: tuple[int, int],
+                      eye_size_px: tuple[int, int] | None = None) -> int:
+        """The features of a view under population options ``o``.
+
+        Each window's (:func:`~jointattention.agent.face_features.n_features`): the face's,
+        then the eyes' if kept.
+        """
+        return sum(n_features(size, o.cell_px, o.n_orientations, *_parts(o))
+                   for size in (face_size_px, eye_size_px) if size)
 
     @classmethod
     def replay_bytes(cls, n_features: int, capacity: int) -> int:
