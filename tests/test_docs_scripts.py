@@ -202,6 +202,17 @@ def test_lookup_writes_a_row_per_kind_of_face(tmp_path):
         "training", "new poses", "unseen caregivers"]
 
 
+def test_eye_placement_writes_a_row_per_placement(tmp_path):
+    """people/eye_placement.py --quick: each placement error and BlazeFace's, for one model."""
+    out = tmp_path / "eye_placement.md"
+    _run("people/eye_placement.py", "--quick", "--out", out, "--models", tmp_path / "models",
+         cwd=tmp_path)
+    placed = [r.split("|")[2].strip() for r in _rows(out, "| ")[1:]]
+    assert placed == [f"{sd:g} eye distances" for sd in (0, 0.01, 0.02, 0.03, 0.05, 0.08)] + [
+        "BlazeFace's eye landmarks, 4x view"]
+    assert (tmp_path / "models" / "placement_sd_0_quick.npz").exists()
+
+
 def test_axes_writes_a_row_per_condition_and_the_figure(tmp_path):
     """models/axes.py --quick: six conditions, both axes' errors, and axes.png beside."""
     out = tmp_path / "axes.md"

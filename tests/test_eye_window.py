@@ -90,6 +90,32 @@ def test_the_eye_window_leaves_the_face_windows_as_they_were():
         np.testing.assert_array_equal(getattr(with_eyes, field), getattr(without, field))
 
 
+def test_placement_error_moves_the_eye_window_only():
+    """placement_sd moves each eye window, reproducibly, and leaves the rest of the sets."""
+    sloppy = dataclasses.replace(EYES, eye_window=dataclasses.replace(EYES.eye_window,
+                                                                      placement_sd=0.05))
+    exact, moved = make_datasets(EYES, 4, seed=5), make_datasets(sloppy, 4, seed=5)
+    for field in ("face", "theta_face_rad", "command_rad", "target_m"):
+        np.testing.assert_array_equal(getattr(moved, field), getattr(exact, field))
+    assert all(not np.array_equal(a, b) for a, b in zip(moved.eyes, exact.eyes, strict=True))
+    np.testing.assert_array_equal(make_datasets(sloppy, 4, seed=5).eyes, moved.eyes)
+
+
+def test_the_fovea_renders_the_whole_view_finer_than_the_camera():
+    """A fovea larger than the camera's buffer renders (its own buffer), the camera's unchanged."""
+    with World(EYES, seed=3) as world:
+        kin = world.kinematics
+        before = world.render()
+        fine = world.render_fovea(kin.centre_px, kin.width_px,
+                                  (4 * kin.width_px, 4 * kin.height_px))
+        small = np.asarray(fine.reshape(kin.height_px, 4, kin.width_px, 4, 3).mean(axis=(1, 3)))
+        assert fine.shape == (4 * kin.height_px, 4 * kin.width_px, 3)
+        assert world.model.vis.global_.offwidth == kin.width_px
+        after = world.render().astype(int)
+    assert np.abs(after - before).mean() < 3  # the camera's view as it was (its noise aside)
+    assert np.abs(small - before).mean() < 8  # the same view, averaged down (sensor aside)
+
+
 def test_the_finder_cut_with_an_eye_window_is_refused():
     """The finder's cut with an eye window is one ValueError naming both."""
     with pytest.raises(ValueError, match=r"finder.*eye window"):

@@ -186,6 +186,10 @@ class EyeWindowConfig(Section):
     zoom: float = param(4.0, "the fovea's resolution as a multiple of the camera's", lo=1, hi=16)
     span: float = param(2.0, "the window's width in eye distances (centre to centre)", lo=1,
                         hi=6)
+    placement_sd: float = param(
+        0.0, "s.d. of the robot's error in placing the window, in eye distances, on each axis "
+        "and (as a log factor) in its width: 0, at the eyeballs' centres, which only the "
+        "experimenter knows; an eye finder errs (docs/people/eye_placement.md)", lo=0, hi=1)
 
     def __post_init__(self) -> None:
         super().__post_init__()

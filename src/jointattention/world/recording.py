@@ -27,7 +27,8 @@ from .options import WorldConfig
 from .simulator import World
 
 __all__ = ["CUTS", "HELD_OUT", "capture_eye_window", "capture_face_window", "caregivers_of",
-           "eye_box", "face_box", "head_box", "make_datasets", "split_evenly"]
+           "eye_box", "eye_window_at", "face_box", "head_box", "make_datasets",
+           "split_evenly"]
 
 HELD_OUT = "held-out"  # the stream of held-out recordings; no training world draws from it
 
@@ -64,13 +65,31 @@ def eye_box(world: World) -> tuple[np.ndarray, float]:
     return uv.mean(axis=0), float(np.linalg.norm(uv[0] - uv[1]))
 
 
+_PLACEMENT_KEY = 0x3E7E  # the eye window's placement error: apart from the scene's noise
+
+
 def capture_eye_window(world: World) -> np.ndarray:
     """The eye window of the robot's current view: grey levels (height, width) of ``eye_window``.
 
     A field ``span`` eye distances wide around the eyes' midpoint (:func:`eye_box`), seen
-    through the fovea (:meth:`World.render_fovea`), no finer than a sensor ``zoom`` times the
-    camera's: where the field holds fewer of its pixels than the window, it is averaged down to
-    them first.
+    through the fovea (:func:`eye_window_at`). With ``placement_sd`` the field is placed and
+    sized with the error an eye finder would make, drawn once per scene.
+    """
+    centre, distance_px = eye_box(world)
+    sd = world.config.eye_window.placement_sd
+    if sd > 0:  # the scene's own draw: the world's stream is left as it was
+        err = np.random.default_rng([world.state.look.noise_seed, _PLACEMENT_KEY]).normal(
+            0.0, sd, 3)
+        centre, distance_px = centre + err[:2] * distance_px, distance_px * np.exp(err[2])
+    return eye_window_at(world, centre, distance_px)
+
+
+def eye_window_at(world: World, centre_px, distance_px: float) -> np.ndarray:
+    """The eye window placed at ``centre_px`` for eyes ``distance_px`` apart (camera pixels).
+
+    The field, ``span`` times ``distance_px`` wide, is seen through the fovea
+    (:meth:`World.render_fovea`), no finer than a sensor ``zoom`` times the camera's: where the
+    field holds fewer of its pixels than the window, it is averaged down to them first.
     """
     import cv2
 
@@ -78,10 +97,9 @@ def capture_eye_window(world: World) -> np.ndarray:
     if not ew.enabled:
         raise ValueError("the world keeps no eye window; expected eye_window.width_px and "
                          "height_px above 0")
-    centre, distance_px = eye_box(world)
     field_px = ew.span * distance_px
     size = (FOVEA_SUPERSAMPLE * ew.width_px, FOVEA_SUPERSAMPLE * ew.height_px)
-    gray = cv2.cvtColor(world.render_fovea(centre, field_px, size), cv2.COLOR_RGB2GRAY)
+    gray = cv2.cvtColor(world.render_fovea(centre_px, field_px, size), cv2.COLOR_RGB2GRAY)
     sensor_px = field_px * ew.zoom  # the finer sensor's pixels across the field
     if sensor_px < ew.width_px:
         coarse = (max(1, round(sensor_px)), max(1, round(sensor_px * ew.height_px / ew.width_px)))

@@ -186,7 +186,9 @@ class World:
         finer sensor sees there: the ``"fovea"`` camera's intrinsics are set to cut exactly
         that part of the image plane (the same pinhole, so the same perspective), through the
         scene's sensor effects. The eye window is cut from it
-        (:func:`~.recording.capture_eye_window`).
+        (:func:`~.recording.capture_eye_window`); the whole view at ``zoom`` times the
+        camera's resolution is ``render_fovea(kinematics.centre_px, width_px, (zoom * width_px,
+        zoom * height_px))``.
         """
         m, kin = self.model, self.kinematics
         width, height = size_px
@@ -198,7 +200,15 @@ class World:
         m.cam_intrinsic[cam] = [kin.focal_px * scale, kin.focal_px * scale, off_x, off_y]
         key = (height, width)
         if key not in self._fovea_renderers:
-            self._fovea_renderers[key] = gl.renderer(m, height, width)
+            # a fovea larger than the camera's buffer gets a buffer its size; the model keeps
+            # the camera's, so the eye camera's renders still clear no more than its image
+            buffer = m.vis.global_
+            kept = (int(buffer.offwidth), int(buffer.offheight))
+            buffer.offwidth, buffer.offheight = max(kept[0], width), max(kept[1], height)
+            try:
+                self._fovea_renderers[key] = gl.renderer(m, height, width)
+            finally:
+                buffer.offwidth, buffer.offheight = kept
         r = self._fovea_renderers[key]
         r.update_scene(self.data, camera="fovea")
         return apply_sensor(r.render().copy(), self.state.look, self._noise)
