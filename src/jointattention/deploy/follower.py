@@ -65,9 +65,10 @@ class GazeFollower:
                  min_score: float | None = None, *, refine: bool = True):
         check_finder(face, min_score)
         if model.robot.eye_size_px is not None:
-            raise ConfigError("the model reads an eye window, which the follower cannot cut "
-                              "from a camera image yet; expected a model of a world without "
-                              "[world.eye_window]")
+            raise ConfigError("the model reads an eye window, which the follower cannot "
+                              "place in a camera image precisely enough yet (docs/people/"
+                              "eye_placement.md); expected a "
+                              "model of a world without [world.eye_window]")
         self.model, self.face = model, face
         self.finder = finder_for(face, model.face_template() if face == "template" else None,
                                  min_score, refine=refine)
