@@ -1,10 +1,11 @@
-"""Old module paths of version 0.3, kept for one minor version: each warns and gives the new.
+"""Module paths that shipped in version 0.3.0 and moved since: each warns and gives the new.
 
-Issue 30 put the options with what they configure and split the robot's folder (the parts,
-the whole models, deployment) and the experiment's (the runner, the jobs). ``import`` of an old
-path still works through :class:`MovedFinder` (installed by the package's ``__init__``): it
-issues a :class:`DeprecationWarning` naming the new path, and the module it gives holds the
-new module's names (the same objects). Version 0.5 removes this table.
+The policy (CHANGELOG.md): a public module path that shipped in a release keeps working for
+one minor version after it moved; ``import`` of it goes through :class:`MovedFinder`
+(installed by the package's ``__init__``), which issues a :class:`DeprecationWarning` naming
+the new path, and the module it gives holds the new module's names (the same objects).
+Paths that never shipped in a release (they were moved before one) and private modules (a
+leading underscore) get no shim. Version 0.5 removes this table.
 """
 
 from __future__ import annotations
@@ -19,7 +20,7 @@ __all__ = ["MOVED", "MovedFinder", "install"]
 
 _TOP = __name__.rpartition(".")[0]
 
-# old path -> new path, both relative to the package
+# old path (as version 0.3.0 shipped it) -> new path, both relative to the package
 MOVED = {
     "config.agent": "agent.options",
     "config.world": "world.options",
@@ -31,14 +32,12 @@ MOVED = {
     "agent.teacher": "models.teacher",
     "agent.developmental": "models.developmental",
     "agent.models": "models.registry",
-    "agent.network_state": "models.network_state",
     "agent.saved": "deploy.saved",
     "agent.follower": "deploy.follower",
     "figures.follow": "deploy.overlay",
     "experiment.reproduce": "jobs.reproduce",
     "experiment.sweep": "jobs.sweep",
     "experiment.closed_loop": "jobs.closed_loop",
-    "experiment.face_finders": "jobs.face_finders",
     "analysis.parity": "jobs.parity",
     "analysis.learned": "jobs.learned",
     "bench": "jobs.bench",
