@@ -1,6 +1,4 @@
-"""The package's version, written here only: pyproject.toml, the command line and the files
-it writes read it.
-"""
+"""The package's version, written here alone: pyproject.toml and the files it writes read it."""
 
 __all__ = ["__version__"]
 

@@ -86,7 +86,7 @@ class LoopState(NamedTuple):
 
 
 class LoopMemory(NamedTuple):
-    """The episodic memory (agent.memory), its options and kept trials (changed in place).
+    """The episodic memory (models.memory.episodic), its options and kept trials (changed in place).
 
     The loop takes None instead for a learner without one: numba then prunes the memory's
     branches, and compiles none of its kernels for the network learners.
@@ -98,12 +98,12 @@ class LoopMemory(NamedTuple):
     k: int
     radius_rad: float
     in_view: bool  # keep every object in view, not only the attended one
-    codes: np.ndarray  # the kept trials (agent/_recall.py)
+    codes: np.ndarray  # the kept trials (models/memory/_recall.py)
     counts: np.ndarray
     links: np.ndarray
     aims: np.ndarray
     base: np.ndarray
-    leave_out_empty: bool  # leave out a recalled place found empty (agent/_left_out.py)
+    leave_out_empty: bool  # leave out a recalled place found empty (models/memory/_left_out.py)
     left_codes: np.ndarray
     left_aims: np.ndarray
     pass_over: bool  # visual attention passes over objects at places left out

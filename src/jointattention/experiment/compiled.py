@@ -24,7 +24,7 @@ from ..config import WorldConfig
 from ..datasets import CaregiverDatasets
 from ..errors import ConfigError
 from ..models.bootstrap import LEARNING_TARGETS, BootstrapAgent
-from ..models.population import PopulationModule
+from ..models.population.module import PopulationModule
 from ..models.registry import ModelOptions
 from ..models.rl import RLAgent
 from ..world.kinematics import HeadKinematics

@@ -18,16 +18,16 @@ from ..agent.attention import most_interesting, visual_feedback
 from ..agent.detections import Detections
 from ..agent.gates import GATES, Gate, SigmoidGate
 from ..agent.learner import FaceStandardiser, LearningModule
-from ..agent.memory import MemoryOptions
 from ..agent.moves import random_step
 from ..agent.options import AgentConfig
-from ..agent.population import PopulationOptions
 from ..agent.protocol import LM, RANDOM, VF, Body, Outcome
 from ..errors import ConfigError
-from .memory import MemoryModule
+from .memory.module import MemoryModule
+from .memory.options import MemoryOptions
 from .network import NetworkModule
 from .network_state import NetworkState
-from .population import PopulationModule
+from .population.module import PopulationModule
+from .population.options import PopulationOptions
 from .registry import ModelOptions
 
 __all__ = ["LEARNERS", "LEARNING_TARGETS", "BootstrapAgent", "BootstrapOptions"]
@@ -150,8 +150,9 @@ class BootstrapAgent(NetworkState):
 
     Attributes:
         module: the learning module (``options.learner``: :class:`~.network.NetworkModule`,
-            :class:`~.memory.MemoryModule` or :class:`~.population.PopulationModule`); the
-            agent asks it for commands and hands it the trials to learn from.
+            :class:`~.memory.module.MemoryModule` or
+            :class:`~.population.module.PopulationModule`); the agent asks it for commands and
+            hands it the trials to learn from.
         learner, faces: the paper's network and the face windows' running statistics (the
             network module's; a model file keeps them for every module).
         learning: whether it learns (True); a frozen agent (False) acts as at its learning
