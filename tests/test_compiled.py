@@ -158,7 +158,7 @@ def test_a_second_process_loads_the_compiled_engine_from_the_cache():
     """The engine is compiled once per machine: a new process finds it in the cache."""
     script = ("import dataclasses\n"
               "from jointattention import load_config, run_cell\n"
-              "from jointattention.experiment._compiled_loop import run_trials\n"
+              "from jointattention.experiment.compiled._loop import run_trials\n"
               "c = load_config('quick')\n"
               "c = dataclasses.replace(c, experiment=dataclasses.replace(c.experiment, "
               "n_steps=50))\n"

@@ -22,7 +22,7 @@ __all__ = ["CONSTANT", "EVIDENCE", "GATES", "PERFORMANCE", "SIGMOID", "ConstantG
            "EvidenceGate", "Gate", "PerformanceGate", "SigmoidGate", "agreement_update",
            "evidence_rate", "performance_rate", "sigmoid_rate"]
 
-# The compiled loop's code of each gate it runs (jointattention.experiment._compiled_loop)
+# The compiled loop's code of each gate it runs (jointattention.experiment.compiled._loop)
 SIGMOID, CONSTANT, PERFORMANCE, EVIDENCE = 0, 1, 2, 3
 
 

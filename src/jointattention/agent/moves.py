@@ -1,7 +1,7 @@
 """The bootstrap agent's compiled kernels: its moves, its inputs and its learning samples.
 
 Shared by :class:`~.bootstrap.BootstrapAgent` (step by step) and the compiled engine
-(:mod:`jointattention.experiment._compiled_loop`), so that both compute the same numbers.
+(:mod:`jointattention.experiment.compiled._loop`), so that both compute the same numbers.
 """
 
 from __future__ import annotations

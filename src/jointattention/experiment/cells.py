@@ -22,8 +22,8 @@ from ..errors import ArgumentError
 from ..rng import stream
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
-from ._loop_inputs import placed
-from .compiled import compiled_cell, pack_world, unsupported
+from .compiled.cell import compiled_cell, pack_world, unsupported
+from .compiled.inputs import placed
 from .oracle import oracle_trials
 from .probes import lm_errors_deg, probe_sets
 from .recorded import training_file

@@ -162,7 +162,7 @@ def _rl_us(agent, faces, places, width_px: int) -> tuple[float, float]:
     Each is its own loop (not the difference of two timings, which noise can make negative):
     the ends learn from the inputs, values and shifts the starts computed.
     """
-    from ..experiment.compiled_rl import loop_robot, loop_state
+    from ..experiment.compiled.rl_cell import loop_robot, loop_state
 
     robot, n_dir = loop_robot(agent, width_px), len(agent.steps_rad)
     xs, qs = np.empty_like(faces), np.empty((len(faces), n_dir))

@@ -9,5 +9,3 @@ Part of layer 3 (``models/``): it may import the robot's parts (:mod:`jointatten
 and the plumbing; no other learner's folder, and not the models that compose it
 (``tests/test_layers.py``).
 """
-
-__all__: list[str] = []

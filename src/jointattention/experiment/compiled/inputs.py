@@ -1,8 +1,8 @@
 """What the compiled loops take (the world, the robot, its state) and what they give back.
 
-Plain named tuples of numbers and arrays, which numba compiles as records; :mod:`.compiled`
-packs them from the configuration and the agent. The loops (:mod:`._compiled_loop`,
-:mod:`._rl_loop`) write one row per trial of :data:`~._compiled_loop.COLUMNS`, which
+Plain named tuples of numbers and arrays, which numba compiles as records; :mod:`.cell`
+packs them from the configuration and the agent. The loops (:mod:`._loop`,
+:mod:`._rl_loop`) write one row per trial of :data:`~._loop.COLUMNS`, which
 :func:`trial_records` turns into the trial records.
 """
 
@@ -12,9 +12,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import ConfigError
-from ._compiled_loop import COLUMNS
-from .trial import END_FIRED, RECORD
+from ...errors import ConfigError
+from ..trial import END_FIRED, RECORD
+from ._loop import COLUMNS
 
 __all__ = ["LoopDevelopment", "LoopMemory", "LoopRobot", "LoopState", "LoopWorld", "placed",
            "trial_records"]

@@ -1,6 +1,6 @@
 """The bootstrap agent in the compiled loop: its gate, its module's command, what it keeps.
 
-:mod:`._compiled_loop` calls them: the gate's rate of choosing the learning module, the
+:mod:`._loop` calls them: the gate's rate of choosing the learning module, the
 network's command at a head angle (with the face's part of its input summed once a trial), and
 the places the episodic memory and the population code keep from a trial. Each calls the
 kernels the step-by-step agent calls (:mod:`~jointattention.agent.gates`,
@@ -10,9 +10,9 @@ kernels the step-by-step agent calls (:mod:`~jointattention.agent.gates`,
 
 from __future__ import annotations
 
-from .._jit import jit
-from ..agent.attention import visual_feedback_rad
-from ..agent.gates import (
+from ..._jit import jit
+from ...agent.attention import visual_feedback_rad
+from ...agent.gates import (
     CONSTANT,
     EVIDENCE,
     PERFORMANCE,
@@ -20,9 +20,9 @@ from ..agent.gates import (
     performance_rate,
     sigmoid_rate,
 )
-from ..agent.moves import network_command, place_step
-from ..models.memory.episodic import memory_recall, memory_store
-from ..models.population.module import line_step
+from ...agent.moves import network_command, place_step
+from ...models.memory.episodic import memory_recall, memory_store
+from ...models.population.module import line_step
 
 __all__ = ["gate_rate", "keep_place", "lm_step", "places_into", "recall_place"]
 
