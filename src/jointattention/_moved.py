@@ -41,6 +41,12 @@ MOVED = {
     "analysis.parity": "jobs.parity",
     "analysis.learned": "jobs.learned",
     "bench": "jobs.bench",
+    # one folder per learner, and names that say what they hold
+    "agent.memory": "models.memory.episodic",
+    "agent.population": "models.population.code",
+    "agent.face_features": "models.population.features",
+    "experiment.recorded": "experiment.dataset_cache",
+    "recordings": "head_recording",
 }
 
 
