@@ -19,7 +19,8 @@ SCRIPT = textwrap.dedent("""
     from jointattention.agent.attention import most_interesting
     from jointattention.agent.detections import Detections
     from jointattention.models.population.features import face_features
-    from jointattention.agent.learner import FaceStandardiser, LearningModule
+    from jointattention.agent.face_standardiser import FaceStandardiser
+    from jointattention.models.network.learner import LearningModule
     from jointattention.models.memory.episodic import EpisodicMemory
     from jointattention.models.memory.options import MemoryOptions
     from jointattention.models.population.code import PopulationCode

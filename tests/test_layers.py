@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import jointattention
-from jointattention._moved import MOVED
+from jointattention._moved import MOVED, new_paths
 
 ROOT = Path(jointattention.__file__).parent
 
@@ -37,7 +37,7 @@ ROOT_MODULE = ""
 # Folders inside a layer's folder (docs/architecture.md, "Modules and their names"): one per
 # learner with kernels of its own, and the compiled engine. A learner's folder imports only
 # itself, the robot's parts and the plumbing; the engine's private loops only the engine.
-LEARNERS = ("models.memory", "models.population")
+LEARNERS = ("models.memory", "models.network", "models.population")
 ENGINE = "experiment.compiled"
 
 
@@ -245,10 +245,10 @@ def test_the_package_imports_no_old_path():
 
 @pytest.mark.parametrize("old", sorted(MOVED))
 def test_an_old_module_path_warns_and_gives_the_new_objects(old):
-    """Importing a path of version 0.3 warns, naming the new one, and holds the same objects."""
-    new = importlib.import_module(f"jointattention.{MOVED[old]}")
+    """Importing a path of version 0.3.0 warns, naming the new ones, and holds their objects."""
+    new = [importlib.import_module(f"jointattention.{path}") for path in new_paths(old)]
     sys.modules.pop(f"jointattention.{old}", None)
-    with pytest.warns(DeprecationWarning, match=f"jointattention.{MOVED[old]}"):
+    with pytest.warns(DeprecationWarning, match=f"jointattention.{new_paths(old)[-1]}"):
         module = importlib.import_module(f"jointattention.{old}")
-    assert module.__all__ == new.__all__
-    assert all(getattr(module, name) is getattr(new, name) for name in new.__all__)
+    assert module.__all__ == [name for n in new for name in n.__all__]
+    assert all(getattr(module, name) is getattr(n, name) for n in new for name in n.__all__)

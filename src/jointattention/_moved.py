@@ -3,7 +3,8 @@
 The policy (CHANGELOG.md): a public module path that shipped in a release keeps working for
 one minor version after it moved; ``import`` of it goes through :class:`MovedFinder`
 (installed by the package's ``__init__``), which issues a :class:`DeprecationWarning` naming
-the new path, and the module it gives holds the new module's names (the same objects).
+the new path, and the module it gives holds the new module's names (the same objects); a
+path split in two gives the names of both.
 Paths that never shipped in a release (they were moved before one) and private modules (a
 leading underscore) get no shim. Version 0.5 removes this table.
 """
@@ -16,11 +17,12 @@ import importlib.machinery
 import sys
 import warnings
 
-__all__ = ["MOVED", "MovedFinder", "install"]
+__all__ = ["MOVED", "MovedFinder", "install", "new_paths"]
 
 _TOP = __name__.rpartition(".")[0]
 
-# old path (as version 0.3.0 shipped it) -> new path, both relative to the package
+# old path (as version 0.3.0 shipped it) -> new path, or the new paths of a module split in
+# two, relative to the package
 MOVED = {
     "config.agent": "agent.options",
     "config.world": "world.options",
@@ -47,7 +49,14 @@ MOVED = {
     "agent.face_features": "models.population.features",
     "experiment.recorded": "experiment.dataset_cache",
     "recordings": "head_recording",
+    "agent.learner": ("models.network.learner", "agent.face_standardiser"),
 }
+
+
+def new_paths(old: str) -> tuple[str, ...]:
+    """The new path or paths of the old path ``old`` (both relative to the package)."""
+    new = MOVED[old]
+    return (new,) if isinstance(new, str) else new
 
 
 class MovedFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
@@ -65,15 +74,17 @@ class MovedFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         return None
 
     def exec_module(self, module):
-        """Fill the old module with the new module's names, after one DeprecationWarning."""
-        new = f"{_TOP}.{MOVED[module.__name__.removeprefix(f'{_TOP}.')]}"
-        warnings.warn(f"{module.__name__} moved to {new}; the old path goes in version 0.5",
-                      DeprecationWarning, stacklevel=2)
-        real = importlib.import_module(new)
-        module.__dict__.update({k: v for k, v in vars(real).items()
-                                if not (k.startswith("__") and k.endswith("__"))})
-        module.__all__ = list(getattr(real, "__all__", ()))
-        module.__doc__ = f"Moved to :mod:`{new}` (version 0.4)."
+        """Fill the old module with the new modules' names, after one DeprecationWarning."""
+        new = [f"{_TOP}.{path}" for path in new_paths(module.__name__.removeprefix(f"{_TOP}."))]
+        warnings.warn(f"{module.__name__} moved to {' and '.join(new)}; the old path goes in "
+                      "version 0.5", DeprecationWarning, stacklevel=2)
+        module.__all__ = []
+        for name in new:
+            real = importlib.import_module(name)
+            module.__dict__.update({k: v for k, v in vars(real).items()
+                                    if not (k.startswith("__") and k.endswith("__"))})
+            module.__all__ += list(getattr(real, "__all__", ()))
+        module.__doc__ = f"Moved to {' and '.join(f':mod:`{n}`' for n in new)} (version 0.4)."
 
 
 def install() -> None:

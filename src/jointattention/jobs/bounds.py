@@ -22,7 +22,7 @@ import time
 import numpy as np
 
 from .._jit import jit
-from ..agent.learner import standardise, welford_update
+from ..agent.face_standardiser import standardise, welford_update
 from ..agent.vision import ImageDetector
 from ..config import WorldConfig
 from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into

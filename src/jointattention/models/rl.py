@@ -49,7 +49,7 @@ import numpy as np
 from .._arrays import angles, windows
 from .._fields import param
 from ..agent.detections import Detections
-from ..agent.learner import FaceStandardiser
+from ..agent.face_standardiser import FaceStandardiser
 from ..agent.options import AgentConfig
 from ..agent.protocol import LM, Body, Outcome
 from ..errors import ConfigError

@@ -20,8 +20,9 @@ from ...agent.gates import (
     performance_rate,
     sigmoid_rate,
 )
-from ...agent.moves import network_command, place_step
+from ...agent.moves import place_step
 from ...models.memory.episodic import memory_recall, memory_store
+from ...models.network.command import network_command
 from ...models.population.module import line_step
 
 __all__ = ["gate_rate", "keep_place", "lm_step", "places_into", "recall_place"]
@@ -47,8 +48,9 @@ def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, p
             memory, recalled, aim, saccade_rad, line, acc, scaled, hid, out):
     """The learning module's command at a head angle (no step if the memory recalled nothing).
 
-    As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`):
-    the network's (:func:`~jointattention.agent.moves.network_command`, from ``face_acc``, the
+    As the learning module's ``direction`` computes it
+    (:mod:`jointattention.models.network.module`): the network's
+    (:func:`~jointattention.models.network.command.network_command`, from ``face_acc``, the
     face's part of the hidden input); ``memory`` is whether the learner is the episodic
     memory (``saccade_rad``: its longest move, 0 for one step); ``line`` is whether it is the
     population code, the direction it read out and the trial's start. The arrays come one by

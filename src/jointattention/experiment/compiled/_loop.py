@@ -3,7 +3,7 @@
 :mod:`.cell` packs the inputs (:mod:`.inputs`) and drives the loop; this module is
 the loop itself. Each step calls the kernels the step-by-step path calls
 (:mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
-:mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner`,
+:mod:`~jointattention.agent.attention`, :mod:`~jointattention.models.network.learner`,
 :mod:`~jointattention.models.memory.episodic` or :mod:`~jointattention.models.population._trial`,
 :mod:`~jointattention.models.bootstrap`), in the order of its random draws; the agent's
 gate, its module's command and the places it keeps are :mod:`._agent`'s.
@@ -15,8 +15,8 @@ import numpy as np
 
 from ..._jit import jit
 from ...agent.attention import interest_argmax, visual_feedback_rad
+from ...agent.face_standardiser import standardise, welford_update
 from ...agent.gates import PERFORMANCE, agreement_update
-from ...agent.learner import face_part, sgd_rows_from, standardise, welford_update
 from ...agent.moves import learning_samples, random_step, scale_angle_into
 from ...models.bootstrap import LEARNING_TARGETS
 from ...models.developmental import blur_into, blur_px, caregiver_update
@@ -27,6 +27,7 @@ from ...models.memory._left_out import (
     passed_over_into,
 )
 from ...models.memory.episodic import face_code_into, left_out_of
+from ...models.network.learner import face_part, sgd_rows_from
 from ...models.population._trial import population_begin, population_learn
 from ...models.population.module import PopulationModule
 from ...world.kinematics import separation_rad

@@ -13,7 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..._jit import jit
-from ...agent.learner import standardise, welford_update
+from ...agent.face_standardiser import standardise, welford_update
 from ...models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
 from ..trial import END_FIRED, RUNNING, move_head
 from .steps import draw_trial, look, look_arrays, look_camera

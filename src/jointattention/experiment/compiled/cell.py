@@ -5,7 +5,7 @@ detector, Eq. 1-3, the gate, the learning module) as one compiled loop over tria
 :mod:`._loop`; this module packs its inputs and drives it). It calls
 the same kernels as the step-by-step path (:mod:`~jointattention.world.kinematics`,
 :mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
-:mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner`,
+:mod:`~jointattention.agent.attention`, :mod:`~jointattention.models.network.learner`,
 :mod:`~jointattention.models.bootstrap`) and draws from the same random streams in the same
 order, so both give byte-identical cells (``tests/test_compiled.py``).
 

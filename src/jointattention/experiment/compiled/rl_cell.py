@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...agent.learner import NO_FACE_SEEN
+from ...agent.face_standardiser import NO_FACE_SEEN
 from ...errors import ArgumentError
 from ...models.rl import RLAgent
 from ._loop import COLUMNS

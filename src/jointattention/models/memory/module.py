@@ -90,7 +90,7 @@ class MemoryModule:
         rng: the generator left after the agent's streams: one more split, for the face
             code's projection.
 
-    It answers :class:`~..network.NetworkModule`'s calls.
+    It answers :class:`~..network.module.NetworkModule`'s calls.
 
     Attributes:
         memory: the memory.

@@ -13,7 +13,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..._jit import jit
-from ...agent.learner import standardise, welford_update
+from ...agent.face_standardiser import standardise, welford_update
 from ...agent.moves import scale_angle_into
 from .code import (
     EXCESS,

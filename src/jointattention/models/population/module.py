@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from ..._jit import jit
-from ...agent.learner import FaceStandardiser
+from ...agent.face_standardiser import FaceStandardiser
 from ...agent.moves import unit_step
 from ...agent.protocol import Outcome
 from ._trial import (
@@ -64,7 +64,7 @@ class PopulationModule:
         rng: the generator left after the agent's streams: split once more, for the
             population code's initial weights and the replay draws.
 
-    It answers :class:`~..network.NetworkModule`'s calls.
+    It answers :class:`~..network.module.NetworkModule`'s calls.
 
     Attributes:
         population: the learning module.
