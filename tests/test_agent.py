@@ -9,11 +9,12 @@ from hypothesis import strategies as st
 
 from jointattention.agent.attention import attended_object, most_interesting, visual_feedback
 from jointattention.agent.detections import Detections
+from jointattention.agent.face_standardiser import FaceStandardiser
 from jointattention.agent.gates import ConstantGate, SigmoidGate
-from jointattention.agent.learner import FaceStandardiser, LearningModule
 from jointattention.agent.protocol import Agent, Body, Outcome
 from jointattention.config import AgentConfig
 from jointattention.models.bootstrap import BootstrapAgent, BootstrapOptions
+from jointattention.models.network.learner import LearningModule
 
 
 def _det(centres, areas=None, edges=None, motion=None) -> Detections:

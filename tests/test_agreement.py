@@ -6,9 +6,10 @@ import numpy as np
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from jointattention.agent._agreement import votes_of
-from jointattention.agent._recall import AGREE, CODE_OF, HEAD, NEXT, votes_into
-from jointattention.agent.memory import EpisodicMemory, MemoryOptions
+from jointattention.models.memory._agreement import votes_of
+from jointattention.models.memory._recall import AGREE, CODE_OF, HEAD, NEXT, votes_into
+from jointattention.models.memory.episodic import EpisodicMemory
+from jointattention.models.memory.options import MemoryOptions
 
 LIMITS = ((-1.0, 1.0), (-0.7, 0.6))
 

@@ -17,7 +17,6 @@ from hypothesis import strategies as st
 from jointattention import run_cell, run_experiment
 from jointattention.agent.attention import attended_index, interest_argmax, visual_feedback_rad
 from jointattention.agent.gates import SigmoidGate
-from jointattention.agent.learner import LearningModule
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 from jointattention.errors import ArgumentError
 from jointattention.experiment import evaluate as evaluate_module
@@ -25,6 +24,7 @@ from jointattention.experiment.cells import datasets_of
 from jointattention.experiment.evaluate import frozen_success
 from jointattention.jobs.learned import snapshots
 from jointattention.models.bootstrap import BootstrapOptions
+from jointattention.models.network.learner import LearningModule
 from jointattention.world import fast
 from jointattention.world.kinematics import HeadKinematics
 
@@ -158,7 +158,7 @@ def test_a_second_process_loads_the_compiled_engine_from_the_cache():
     """The engine is compiled once per machine: a new process finds it in the cache."""
     script = ("import dataclasses\n"
               "from jointattention import load_config, run_cell\n"
-              "from jointattention.experiment._compiled_loop import run_trials\n"
+              "from jointattention.experiment.compiled._loop import run_trials\n"
               "c = load_config('quick')\n"
               "c = dataclasses.replace(c, experiment=dataclasses.replace(c.experiment, "
               "n_steps=50))\n"
@@ -192,7 +192,7 @@ def test_a_constant_argument_compiles_no_version_of_its_own():
     import numba
     from numba.core import types
 
-    from jointattention.agent._backprop import accumulate
+    from jointattention.models.network._backprop import accumulate
 
     twin = numba.typeof(accumulate).dispatcher
     vector, matrix = types.float64[::1], types.float64[:, ::1]

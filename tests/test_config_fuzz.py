@@ -10,10 +10,10 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from jointattention.agent.gates import ConstantGate, EvidenceGate, PerformanceGate, SigmoidGate
-from jointattention.agent.memory import MemoryOptions
 from jointattention.config import ConditionConfig, Config, load_config, to_toml
 from jointattention.errors import ConfigError
 from jointattention.models.bootstrap import BootstrapOptions
+from jointattention.models.memory.options import MemoryOptions
 
 
 def _field_names(*classes) -> list[str]:

@@ -443,7 +443,7 @@ def test_the_compiled_step_gives_the_trial_loops_episodes(kwargs):
 def test_detection_rows_are_the_detections_rounded_then_clipped(n, seed):
     """The compiled rows equal numpy's: float32 rows of the detections, clipped to the space."""
     from jointattention.agent.detections import Detections
-    from jointattention.env._looks import _row_bounds, detection_rows
+    from jointattention.env._observation import _row_bounds, detection_rows
 
     rng = np.random.default_rng(seed)
     c, a = rng.uniform(-5, 330, (n, 2)), rng.uniform(-1, 4e5, n)

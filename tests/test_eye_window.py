@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from jointattention import GazeFollower, evaluate, load_model, run_cell, train
-from jointattention.agent.face_features import n_features
 from jointattention.agent.gates import SigmoidGate
 from jointattention.config import ConditionConfig, Config, ExperimentConfig, load_config
 from jointattention.config.run import RecordingConfig
@@ -16,6 +15,7 @@ from jointattention.datasets import CaregiverDatasets, load, save
 from jointattention.errors import ArgumentError, ConfigError, DatasetError
 from jointattention.experiment.cells import datasets_of, make_agent
 from jointattention.models.bootstrap import BootstrapOptions
+from jointattention.models.population.features import n_features
 from jointattention.world.options import EyeWindowConfig
 from jointattention.world.recording import eye_box, make_datasets
 from jointattention.world.simulator import World

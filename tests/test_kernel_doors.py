@@ -18,10 +18,13 @@ SCRIPT = textwrap.dedent("""
 
     from jointattention.agent.attention import most_interesting
     from jointattention.agent.detections import Detections
-    from jointattention.agent.face_features import face_features
-    from jointattention.agent.learner import FaceStandardiser, LearningModule
-    from jointattention.agent.memory import EpisodicMemory, MemoryOptions
-    from jointattention.agent.population import PopulationCode, PopulationOptions
+    from jointattention.models.population.features import face_features
+    from jointattention.agent.face_standardiser import FaceStandardiser
+    from jointattention.models.network.learner import LearningModule
+    from jointattention.models.memory.episodic import EpisodicMemory
+    from jointattention.models.memory.options import MemoryOptions
+    from jointattention.models.population.code import PopulationCode
+    from jointattention.models.population.options import PopulationOptions
     from jointattention.agent.protocol import Body
     from jointattention.config import load_config, model_options
     from jointattention.errors import ArgumentError

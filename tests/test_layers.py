@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 import jointattention
-from jointattention._moved import MOVED
+from jointattention._moved import MOVED, new_paths
 
 ROOT = Path(jointattention.__file__).parent
 
@@ -24,7 +24,7 @@ LAYERS = [
     ("robot", {"agent"}),
     ("world and models", {"world", "models"}),
     ("config", {"config"}),
-    ("data and deployment", {"recordings", "deploy"}),
+    ("data and deployment", {"head_recording", "deploy"}),
     ("runner", {"experiment"}),
     ("analysis and env", {"analysis", "env"}),
     ("figures", {"figures"}),
@@ -34,6 +34,11 @@ LAYERS = [
 # The package's root (``jointattention/__init__``) is above them all: it names its exports
 # as strings and loads each on first use.
 ROOT_MODULE = ""
+# Folders inside a layer's folder (docs/architecture.md, "Modules and their names"): one per
+# learner with kernels of its own, and the compiled engine. A learner's folder imports only
+# itself, the robot's parts and the plumbing; the engine's private loops only the engine.
+LEARNERS = ("models.memory", "models.network", "models.population")
+ENGINE = "experiment.compiled"
 
 
 
@@ -165,6 +170,48 @@ def test_each_folder_states_its_layer():
             assert f"Layer {i + 1}" in doc, f"{head}/: expected 'Layer {i + 1}' ({name})"
 
 
+def subfolders(root: Path) -> list[str]:
+    """Every package folder below a top-level folder, as a dotted name (``models.memory``)."""
+    return sorted(".".join(init.parent.relative_to(root).parts)
+                  for init in root.glob("*/*/**/__init__.py"))
+
+
+def test_each_subfolder_says_what_it_holds_and_may_import():
+    """Each folder inside a layer's folder names its layer and what it may import."""
+    assert set(LEARNERS) | {ENGINE} <= set(subfolders(ROOT))
+    for folder in subfolders(ROOT):
+        init = ROOT.joinpath(*folder.split(".")) / "__init__.py"
+        doc = ast.get_docstring(ast.parse(init.read_text(encoding="utf-8"))) or ""
+        assert f"layer {layer_of(folder) + 1}" in doc.lower(), folder
+        assert "may import" in doc, folder
+
+
+def foreign_imports(graph: dict[str, set[str]]) -> list[str]:
+    """Imports out of a learner's folder past the robot, and into the engine's private loops."""
+    wrong = []
+    for module, imported in sorted(graph.items()):
+        for folder in LEARNERS:
+            if module.startswith(f"{folder}."):
+                wrong += [f"{module} imports {other}" for other in sorted(imported)
+                          if not other.startswith(f"{folder}.") and layer_of(other) > 1]
+        if not module.startswith(f"{ENGINE}."):
+            wrong += [f"{module} imports {other}" for other in sorted(imported)
+                      if other.startswith(f"{ENGINE}._")]
+    return wrong
+
+
+def test_learner_folders_and_the_engine_keep_to_themselves():
+    """A learner folder imports no other learner or model; no one else runs the engine's loops."""
+    assert foreign_imports(module_graph(ROOT)) == []
+
+
+def test_the_folder_check_sees_a_learner_reaching_out():
+    """A memory module importing the population code, and a job the engine's loop, are caught."""
+    graph = {"models.memory.module": {"models.population.code", "agent.moves", "_jit"},
+             "jobs.y": {"experiment.compiled._loop", "experiment.compiled.cell"}}
+    assert len(foreign_imports(graph)) == 2
+
+
 def test_the_layer_check_sees_an_upward_import():
     """A figure that imports a job, and the world importing a model, are both caught."""
     graph = {"figures.x": {"jobs.y"}, "world.a": {"models.b"}, "jobs.y": set(),
@@ -198,10 +245,10 @@ def test_the_package_imports_no_old_path():
 
 @pytest.mark.parametrize("old", sorted(MOVED))
 def test_an_old_module_path_warns_and_gives_the_new_objects(old):
-    """Importing a path of version 0.3 warns, naming the new one, and holds the same objects."""
-    new = importlib.import_module(f"jointattention.{MOVED[old]}")
+    """Importing a path of version 0.3.0 warns, naming the new ones, and holds their objects."""
+    new = [importlib.import_module(f"jointattention.{path}") for path in new_paths(old)]
     sys.modules.pop(f"jointattention.{old}", None)
-    with pytest.warns(DeprecationWarning, match=f"jointattention.{MOVED[old]}"):
+    with pytest.warns(DeprecationWarning, match=f"jointattention.{new_paths(old)[-1]}"):
         module = importlib.import_module(f"jointattention.{old}")
-    assert module.__all__ == new.__all__
-    assert all(getattr(module, name) is getattr(new, name) for name in new.__all__)
+    assert module.__all__ == [name for n in new for name in n.__all__]
+    assert all(getattr(module, name) is getattr(n, name) for n in new for name in n.__all__)

@@ -11,20 +11,21 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jointattention import run_cell
-from jointattention.agent._left_out import (
+from jointattention.agent.detections import Detections
+from jointattention.agent.gates import EvidenceGate, SigmoidGate
+from jointattention.agent.protocol import Body
+from jointattention.config import AgentConfig, ConditionConfig, Config, ExperimentConfig
+from jointattention.errors import ArgumentError, ConfigError
+from jointattention.models.bootstrap import BootstrapOptions
+from jointattention.models.memory._left_out import (
     drop_left_out_from,
     empty_arrival,
     leave_out,
     left_out_of,
     passed_over_into,
 )
-from jointattention.agent.detections import Detections
-from jointattention.agent.gates import EvidenceGate, SigmoidGate
-from jointattention.agent.memory import EpisodicMemory, MemoryOptions
-from jointattention.agent.protocol import Body
-from jointattention.config import AgentConfig, ConditionConfig, Config, ExperimentConfig
-from jointattention.errors import ArgumentError, ConfigError
-from jointattention.models.bootstrap import BootstrapOptions
+from jointattention.models.memory.episodic import EpisodicMemory
+from jointattention.models.memory.options import MemoryOptions
 
 LIMITS = ((-1.0, 1.0), (-0.7, 0.6))
 BODY = Body(image_size_px=(320, 240), joint_limits_rad=LIMITS, face_size_px=(4, 3))

@@ -16,11 +16,12 @@ from jointattention.agent.gates import (
     evidence_rate,
     performance_rate,
 )
-from jointattention.agent.memory import EpisodicMemory, MemoryOptions
 from jointattention.agent.protocol import Body
 from jointattention.config import AgentConfig
 from jointattention.errors import ConfigError
 from jointattention.models.bootstrap import BootstrapOptions
+from jointattention.models.memory.episodic import EpisodicMemory
+from jointattention.models.memory.options import MemoryOptions
 
 LIMITS = ((-1.0, 1.0), (-0.7, 0.6))
 BODY = Body(image_size_px=(320, 240), joint_limits_rad=LIMITS, face_size_px=(4, 3))
@@ -160,7 +161,7 @@ def test_the_old_agent_classes_build_the_composed_agent_with_a_warning():
 @settings(deadline=None)  # the first example may compile the kernel
 def test_weighted_kth_is_numpys_partition_of_the_repeated_values(values, data):
     """The recall's selection over distinct codes is np.partition's over every trial."""
-    from jointattention.agent._recall import weighted_kth
+    from jointattention.models.memory._recall import weighted_kth
 
     a = np.array(values)
     w = np.array(data.draw(st.lists(st.integers(0, 5), min_size=len(a), max_size=len(a))))

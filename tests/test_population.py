@@ -10,8 +10,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jointattention.agent.face_features import face_features, n_features
-from jointattention.agent.population import PopulationCode, PopulationOptions
 from jointattention.agent.protocol import Body
 from jointattention.config import AgentConfig, ConditionConfig, load_config
 from jointattention.datasets import default_datasets
@@ -20,7 +18,10 @@ from jointattention.experiment.cells import run_cell
 from jointattention.experiment.evaluate import freeze, frozen_success
 from jointattention.experiment.probes import angle_errors
 from jointattention.models.bootstrap import BootstrapAgent, BootstrapOptions
-from jointattention.models.population import PopulationModule, line_step
+from jointattention.models.population.code import PopulationCode
+from jointattention.models.population.features import face_features, n_features
+from jointattention.models.population.module import PopulationModule, line_step
+from jointattention.models.population.options import PopulationOptions
 
 BODY = Body(image_size_px=(320, 240), joint_limits_rad=((-1.0, 1.0), (-0.8, 0.6)),
             face_size_px=(30, 25))
@@ -240,7 +241,7 @@ def test_a_replayed_trial_teaches_as_teaching_it_again():
 @settings(max_examples=40, deadline=None)
 def test_teaching_rows_in_one_pass_each_gives_the_bits_of_one_row_at_a_time(seed, counts):
     """population_teach_rows (one w1 pass per row, the last also averaging) equals row by row."""
-    from jointattention.agent.population import (
+    from jointattention.models.population.code import (
         average_into,
         population_teach,
         population_teach_rows,
@@ -268,7 +269,7 @@ def test_teaching_rows_in_one_pass_each_gives_the_bits_of_one_row_at_a_time(seed
 
 def test_one_teaching_step_is_the_cross_entropy_gradient_step():
     """A teaching step is numpy's cross-entropy gradient step (1e-12), and population_update's."""
-    from jointattention.agent.population import population_update, von_mises_into
+    from jointattention.models.population.code import population_update, von_mises_into
 
     code = PopulationCode(7, PopulationOptions(n_hidden=5, n_bins=8, learning_rate=0.05),
                           np.random.default_rng(4))

@@ -13,7 +13,7 @@ from jointattention.agent.faces import face_window
 from jointattention.cli import main
 from jointattention.config import load_config
 from jointattention.errors import FileError
-from jointattention.recordings import import_recording
+from jointattention.head_recording import import_recording
 
 EXAMPLE = Path(__file__).parent.parent / "examples" / "recorded_head.py"
 

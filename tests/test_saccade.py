@@ -12,10 +12,10 @@ from hypothesis import strategies as st
 
 from jointattention import run_cell
 from jointattention.agent.attention import largest_feedback_rad, visual_feedback_rad
-from jointattention.agent.memory import MemoryOptions
 from jointattention.agent.moves import place_step
 from jointattention.config import ConditionConfig, Config, ExperimentConfig
 from jointattention.models.bootstrap import BootstrapOptions
+from jointattention.models.memory.options import MemoryOptions
 
 ANGLE = st.floats(-2.0, 2.0)
 MEMORY = {"learner": "memory", "vf_fallback": "sweep",

@@ -150,9 +150,9 @@ def test_a_look_ends_a_trial_by_eq3_first_then_the_limit_then_the_step_limit():
 def test_every_trial_loop_steps_with_the_one_step():
     """The python trial, the compiled loops and the vector env step with the one move and end."""
     root = Path(jointattention.__file__).parent
-    assert "end_after_look(" in (root / "experiment/_loop_steps.py").read_text()  # their look
-    for name in ("experiment/trial.py", "experiment/_compiled_loop.py", "experiment/_rl_loop.py",
-                 "env/_vector_kernels.py"):
+    assert "end_after_look(" in (root / "experiment/compiled/steps.py").read_text()  # their look
+    for name in ("experiment/trial.py", "experiment/compiled/_loop.py",
+                 "experiment/compiled/_rl_loop.py", "env/_vector_kernels.py"):
         text = (root / name).read_text()
         # the step's body: after the kernels themselves; the vector env's start may clip the
         # caregiver's face angle into the joint ranges (a start, not a move)

@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from jointattention import load_config
-from jointattention.agent._recall import CODE_OF
 from jointattention.experiment.cells import datasets_of, run_cell
+from jointattention.models.memory._recall import CODE_OF
 
 CONDITIONS = ("memory-evidence-quick-leave-n10", "memory-evidence-quick-pass-n10")
 

@@ -23,7 +23,7 @@ import numpy as np
 
 from jointattention import load_config, run_cell
 from jointattention.experiment.trial import END_FIRED
-from jointattention.models.memory import MemoryModule
+from jointattention.models.memory.module import MemoryModule
 
 CONDITION = "memory-evidence-quick-pass-n10"
 BANDS = ((0.0, 1.5), (1.5, 3.0), (3.0, np.inf))  # evidence of the recalled place, in trials

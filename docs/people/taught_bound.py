@@ -5,7 +5,7 @@ Usage::
     python docs/people/taught_bound.py [--epochs 12] [--out docs/people/taught_bound.md]
 
 The bootstrap learners teach themselves from their evaluator, which with many objects mostly
-finds distractors. Here the same network (:class:`jointattention.agent.population.
+finds distractors. Here the same network (:class:`jointattention.models.population.code.
 PopulationCode`, the population learner's defaults, the mode read out) is taught the true
 direction from each face to its caregiver's target instead, over ``epochs`` passes of a
 run's training sets, and reads the directions of 32 unseen caregivers x 25 poses (held-out
@@ -13,7 +13,7 @@ seed 5151). Rows: the generalise preset's world (the default world, 128 caregive
 people preset's (256 caregivers), the people world with the 60x50 face window of
 ``docs/people/window.toml``, and the people world with an eye window (``[world.eye_window]``
 of 96 x 24 pixels from a fovea 4 times finer than the camera: docs/world.md), whose
-features (:mod:`jointattention.agent.face_features`, as the face window's) are added to the
+features (:mod:`jointattention.models.population.features`, as the face window's) are added to the
 input. Writes the median and 90th-percentile
 angle errors.
 """
@@ -28,11 +28,12 @@ from pathlib import Path
 import numpy as np
 
 from jointattention._files import write_text
-from jointattention.agent.face_features import face_features
-from jointattention.agent.population import PopulationCode, PopulationOptions
 from jointattention.config import load_config
 from jointattention.experiment.cells import datasets_of
 from jointattention.experiment.held_out import held_out_datasets
+from jointattention.models.population.code import PopulationCode
+from jointattention.models.population.features import face_features
+from jointattention.models.population.options import PopulationOptions
 from jointattention.world.options import EyeWindowConfig
 
 SEED, N_CAREGIVERS, N_POSES = 5151, 32, 25

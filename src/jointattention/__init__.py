@@ -43,7 +43,7 @@ _EXPORTS = {
     "default_datasets": "jointattention.datasets:default_datasets",
     "Evaluation": "jointattention.experiment.evaluate:Evaluation",
     "evaluate": "jointattention.experiment.evaluate:evaluate",
-    "import_recording": "jointattention.recordings:import_recording",
+    "import_recording": "jointattention.head_recording:import_recording",
     "load_config": "jointattention.config:load_config",
     "load_datasets": "jointattention.datasets:load",
     "load_model": "jointattention.deploy.saved:load_model",

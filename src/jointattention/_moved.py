@@ -1,10 +1,12 @@
-"""Old module paths of version 0.3, kept for one minor version: each warns and gives the new.
+"""Module paths that shipped in version 0.3.0 and moved since: each warns and gives the new.
 
-Issue 30 put the options with what they configure and split the robot's folder (the parts,
-the whole models, deployment) and the experiment's (the runner, the jobs). ``import`` of an old
-path still works through :class:`MovedFinder` (installed by the package's ``__init__``): it
-issues a :class:`DeprecationWarning` naming the new path, and the module it gives holds the
-new module's names (the same objects). Version 0.5 removes this table.
+The policy (CHANGELOG.md): a public module path that shipped in a release keeps working for
+one minor version after it moved; ``import`` of it goes through :class:`MovedFinder`
+(installed by the package's ``__init__``), which issues a :class:`DeprecationWarning` naming
+the new path, and the module it gives holds the new module's names (the same objects); a
+path split in two gives the names of both.
+Paths that never shipped in a release (they were moved before one) and private modules (a
+leading underscore) get no shim. Version 0.5 removes this table.
 """
 
 from __future__ import annotations
@@ -15,11 +17,12 @@ import importlib.machinery
 import sys
 import warnings
 
-__all__ = ["MOVED", "MovedFinder", "install"]
+__all__ = ["MOVED", "MovedFinder", "install", "new_paths"]
 
 _TOP = __name__.rpartition(".")[0]
 
-# old path -> new path, both relative to the package
+# old path (as version 0.3.0 shipped it) -> new path, or the new paths of a module split in
+# two, relative to the package
 MOVED = {
     "config.agent": "agent.options",
     "config.world": "world.options",
@@ -31,18 +34,29 @@ MOVED = {
     "agent.teacher": "models.teacher",
     "agent.developmental": "models.developmental",
     "agent.models": "models.registry",
-    "agent.network_state": "models.network_state",
     "agent.saved": "deploy.saved",
     "agent.follower": "deploy.follower",
     "figures.follow": "deploy.overlay",
     "experiment.reproduce": "jobs.reproduce",
     "experiment.sweep": "jobs.sweep",
     "experiment.closed_loop": "jobs.closed_loop",
-    "experiment.face_finders": "jobs.face_finders",
     "analysis.parity": "jobs.parity",
     "analysis.learned": "jobs.learned",
     "bench": "jobs.bench",
+    # one folder per learner, and names that say what they hold
+    "agent.memory": "models.memory.episodic",
+    "agent.population": "models.population.code",
+    "agent.face_features": "models.population.features",
+    "experiment.recorded": "experiment.dataset_cache",
+    "recordings": "head_recording",
+    "agent.learner": ("models.network.learner", "agent.face_standardiser"),
 }
+
+
+def new_paths(old: str) -> tuple[str, ...]:
+    """The new path or paths of the old path ``old`` (both relative to the package)."""
+    new = MOVED[old]
+    return (new,) if isinstance(new, str) else new
 
 
 class MovedFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
@@ -60,15 +74,17 @@ class MovedFinder(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         return None
 
     def exec_module(self, module):
-        """Fill the old module with the new module's names, after one DeprecationWarning."""
-        new = f"{_TOP}.{MOVED[module.__name__.removeprefix(f'{_TOP}.')]}"
-        warnings.warn(f"{module.__name__} moved to {new}; the old path goes in version 0.5",
-                      DeprecationWarning, stacklevel=2)
-        real = importlib.import_module(new)
-        module.__dict__.update({k: v for k, v in vars(real).items()
-                                if not (k.startswith("__") and k.endswith("__"))})
-        module.__all__ = list(getattr(real, "__all__", ()))
-        module.__doc__ = f"Moved to :mod:`{new}` (version 0.4)."
+        """Fill the old module with the new modules' names, after one DeprecationWarning."""
+        new = [f"{_TOP}.{path}" for path in new_paths(module.__name__.removeprefix(f"{_TOP}."))]
+        warnings.warn(f"{module.__name__} moved to {' and '.join(new)}; the old path goes in "
+                      "version 0.5", DeprecationWarning, stacklevel=2)
+        module.__all__ = []
+        for name in new:
+            real = importlib.import_module(name)
+            module.__dict__.update({k: v for k, v in vars(real).items()
+                                    if not (k.startswith("__") and k.endswith("__"))})
+            module.__all__ += list(getattr(real, "__all__", ()))
+        module.__doc__ = f"Moved to {' and '.join(f':mod:`{n}`' for n in new)} (version 0.4)."
 
 
 def install() -> None:

@@ -1,5 +1,5 @@
-"""The package's version: one place, read by the files it writes and by the command line."""
+"""The package's version, written here alone: pyproject.toml and the files it writes read it."""
 
 __all__ = ["__version__"]
 
-__version__ = "0.3.0"
+__version__ = "0.4.0"

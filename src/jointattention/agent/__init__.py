@@ -1,8 +1,10 @@
 """The robot's parts: what the robot has and knows.
 
 Its detectors and face finders, visual attention (Eq. 1, 2), the internal evaluator's radius
-(Eq. 3), the learning modules (the paper's network, the episodic memory, the population code),
-the gates, the head's moves, the agent protocol and the robot's options.
+(Eq. 3), the faces' running statistics (:mod:`.face_standardiser`), the gates, the head's moves,
+the agent protocol and the robot's options. The learners, each with its kernels, are folders
+of :mod:`jointattention.models` (``models/network/``, ``models/memory/``,
+``models/population/``).
 
 Layer 2 of ``docs/architecture.md``: it may import only the plumbing (the package's top-level
 private modules, ``errors``, ``rng``, ``datasets``). Nothing here imports

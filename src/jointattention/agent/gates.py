@@ -22,7 +22,7 @@ __all__ = ["CONSTANT", "EVIDENCE", "GATES", "PERFORMANCE", "SIGMOID", "ConstantG
            "EvidenceGate", "Gate", "PerformanceGate", "SigmoidGate", "agreement_update",
            "evidence_rate", "performance_rate", "sigmoid_rate"]
 
-# The compiled loop's code of each gate it runs (jointattention.experiment._compiled_loop)
+# The compiled loop's code of each gate it runs (jointattention.experiment.compiled._loop)
 SIGMOID, CONSTANT, PERFORMANCE, EVIDENCE = 0, 1, 2, 3
 
 
@@ -204,8 +204,8 @@ class EvidenceGate(Gate):
 
     At each trial's start the episodic memory recalls a place for the caregiver's face, with
     its evidence: how many kept trials agree on it beyond chance
-    (:func:`~jointattention.agent.memory.memory_recall`). The module drives the steps of faces
-    it has found often and leaves the others to visual attention, so control passes face by
+    (:func:`~jointattention.models.memory.episodic.memory_recall`). The module drives the steps
+    of faces it has found often and leaves the others to visual attention, so control passes face by
     face as soon as each is known. The rate nears 1 only as the evidence grows
     (:func:`evidence_rate`): visual attention keeps some steps, and a face whose place is wrong
     (its evidence stops growing) goes on being explored. Needs ``learner = "memory"``.

@@ -1,7 +1,7 @@
 """The bootstrap agent's compiled kernels: its moves, its inputs and its learning samples.
 
 Shared by :class:`~.bootstrap.BootstrapAgent` (step by step) and the compiled engine
-(:mod:`jointattention.experiment._compiled_loop`), so that both compute the same numbers.
+(:mod:`jointattention.experiment.compiled._loop`), so that both compute the same numbers.
 """
 
 from __future__ import annotations
@@ -11,10 +11,9 @@ import math
 import numpy as np
 
 from .._jit import jit
-from .learner import accumulate, face_part, forward, standardise
 
-__all__ = ["capped_step", "learning_samples", "lm_commands_into", "network_command",
-           "place_step", "random_step", "scale_angle_into", "unit_step"]
+__all__ = ["capped_step", "learning_samples", "place_step", "random_step", "scale_angle_into",
+           "unit_step"]
 
 
 @jit
@@ -58,42 +57,6 @@ def scale_angle_into(pan_rad, tilt_rad, theta_mid_rad, theta_half_rad, out, firs
     """
     out[first] = (pan_rad - theta_mid_rad[0]) / theta_half_rad[0]
     out[first + 1] = (tilt_rad - theta_mid_rad[1]) / theta_half_rad[1]
-
-
-@jit(inline=True)  # into the compiled loop's lm_step: nine arrays not counted in and out
-def network_command(face_acc, pan, tilt, w1, b1, w2, b2, theta_mid_rad, theta_half_rad,
-                    step_rad, acc, scaled, hidden, out) -> tuple[float, float]:
-    """The network's command at head angle (``pan``, ``tilt``): its output's direction.
-
-    ``face_acc`` is the face's part of the hidden input (:func:`~.learner.face_part`); the
-    head angle's is added in ``acc``. ``acc``, ``scaled``, ``hidden`` and ``out`` are
-    scratch space.
-    """
-    for i in range(len(acc)):  # element by element: quicker for numba to compile
-        acc[i] = face_acc[i]
-    scale_angle_into(pan, tilt, theta_mid_rad, theta_half_rad, scaled, 0)
-    accumulate(scaled, w1, w1.shape[1] - 2, acc)
-    forward(acc, b1, w2, b2, hidden, out)
-    return unit_step(out[0], out[1], step_rad)
-
-
-@jit
-def lm_commands_into(faces, thetas_rad, mean, m2, n_seen, min_std, w1, b1, w2, b2,
-                     theta_mid_rad, theta_half_rad, step_rad, out) -> None:
-    """The learning module's command for each face window (K, pixels) and head angle (K, 2).
-
-    As :meth:`BootstrapAgent.lm_command` computes it, one row at a time, into ``out`` (K, 2).
-    """
-    n_pix = faces.shape[1]
-    x, scaled = np.empty(n_pix), np.empty(2)
-    face_acc, acc = np.empty(len(b1)), np.empty(len(b1))
-    h, o = np.empty(len(b1)), np.empty(w2.shape[1])
-    for k in range(len(faces)):
-        standardise(faces[k], mean, m2, n_seen, min_std, x)
-        face_part(x, w1, face_acc)
-        out[k, 0], out[k, 1] = network_command(face_acc, thetas_rad[k, 0], thetas_rad[k, 1],
-                                               w1, b1, w2, b2, theta_mid_rad, theta_half_rad,
-                                               step_rad, acc, scaled, h, o)
 
 
 @jit

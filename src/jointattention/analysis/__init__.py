@@ -1,7 +1,7 @@
 """Analysis: pure functions of saved results.
 
 Success curves and intervals (:mod:`.metrics`, :mod:`.curves`), tables (:mod:`.tables`), the
-paper's claims (:mod:`.claims`, :mod:`.claim`, :mod:`.neighbours`), the held-out measures'
+paper's claims (:mod:`.claims`, :mod:`.claim_record`, :mod:`.neighbours`), the held-out measures'
 table (:mod:`.held_out`) and the diagnostics (:mod:`.diagnostics`).
 
 Layer 7 (beside the environments, which it never imports): it may import the runner's results

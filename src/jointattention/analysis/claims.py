@@ -37,7 +37,7 @@ import numpy as np
 from .._files import write_text
 from ..config import Config, model_options
 from ..errors import FileError
-from .claim import PAIRED_RULE, SOURCES, Claim, finals_of, paired, paired_lower, reading_of
+from .claim_record import PAIRED_RULE, SOURCES, Claim, finals_of, paired, paired_lower, reading_of
 from .neighbours import neighbour_claims
 from .tables import Table
 

@@ -26,7 +26,7 @@ import numpy as np
 from ..config import Config, ExperimentConfig
 from ..experiment.results import Cells, cell_records
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
-from .claim import finals_of
+from .claim_record import finals_of
 from .curves import Curves, condition_curves
 from .metrics import bin_index
 from .tables import Table

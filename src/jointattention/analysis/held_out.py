@@ -14,7 +14,7 @@ import numpy as np
 
 from ..config import Config
 from ..experiment.results import Cells, cell_records
-from .claim import Claim, reading_of
+from .claim_record import Claim, reading_of
 from .tables import Table
 
 __all__ = ["AIM", "KINDS", "held_out_claims", "held_out_curves", "held_out_table"]

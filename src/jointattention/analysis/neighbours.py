@@ -39,7 +39,7 @@ from ..models.bootstrap import BootstrapOptions
 from ..models.developmental import DevelopmentalOptions
 from ..models.registry import MODELS
 from ..models.teacher import TeacherOptions
-from .claim import PAIRED_RULE, Claim, finals_of, paired, paired_lower, reading_of
+from .claim_record import PAIRED_RULE, Claim, finals_of, paired, paired_lower, reading_of
 from .metrics import mean_interval
 
 __all__ = ["AxisErrors", "geometry_ratio", "neighbour_claims"]

@@ -137,7 +137,7 @@ def _cmd_follow(args: argparse.Namespace) -> None:
 def _cmd_datasets_import(args: argparse.Namespace) -> None:
     from ..config import load_config
     from ..datasets import load, save
-    from ..recordings import import_recording
+    from ..head_recording import import_recording
 
     config = load_config(args.config)
     if not args.out.endswith(".npz"):

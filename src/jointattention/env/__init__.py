@@ -51,7 +51,7 @@ except ImportError:  # pragma: no cover - depends on the installed extras
 
 from .._readers import read_json
 from ..world.options import N_OBJECTS
-from ._looks import DETECTION_COLUMNS, MAX_DETECTIONS, detections_of
+from ._observation import DETECTION_COLUMNS, MAX_DETECTIONS, detections_of
 from .joint_attention import JointAttentionEnv
 from .trial import EnvTrial
 from .wrappers import FaceWindowObservation

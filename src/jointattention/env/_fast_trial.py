@@ -18,7 +18,7 @@ from ..experiment.cells import trial_geometries
 from ..experiment.trial import END_FIRED, RUNNING
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
-from ._looks import _SCALED_ROW_BOUNDS, DETECTION_COLUMNS, MAX_DETECTIONS, _row_bounds
+from ._observation import _SCALED_ROW_BOUNDS, DETECTION_COLUMNS, MAX_DETECTIONS, _row_bounds
 from ._vector_kernels import CAM, FLAGS, STATE, STEP, start_all, step_all
 
 __all__ = ["Episodes", "FastSteps", "FastTrial"]
@@ -51,7 +51,7 @@ class FastSteps:
     def __init__(self, env):
         kin, cfg, ds = env.kinematics, env.config, env._datasets
         limits = env.joint_limits_rad
-        mid, half = limits.mean(axis=1), (limits[:, 1] - limits[:, 0]) / 2  # as _looks.scaled
+        mid, half = limits.mean(axis=1), (limits[:, 1] - limits[:, 0]) / 2  # as _observation.scaled
         self.n, self.max_steps = env.n_objects, env.max_steps
         self.scaled, self.with_rows = env.scaled_obs, env.obs_mode == "detections"
         self.cam = np.array([kin.pan_limits_rad[0], kin.tilt_limits_rad[0],
@@ -64,7 +64,7 @@ class FastSteps:
         self.targets_m, self.faces_m = trial_geometries(ds, kin, cfg.world.caregiver.distance_m)
         self.region = region_of(cfg.world)
         self.theta_face_rad = ds.theta_face_rad
-        # as _looks.scaled scales one face: the same float32 operations, once per data set
+        # as _observation.scaled scales one face: the same float32 operations, once per data set
         self.faces = np.ascontiguousarray(  # the kernel copies them as rows of pixels
             (ds.face / np.float32(255) - np.float32(0.5)).astype(np.float32) if self.scaled
             else ds.face)

@@ -5,9 +5,10 @@ environment's, and the single environment's (a vector of one: :mod:`._fast_trial
 the package's one scene draw (:func:`~jointattention.world.fast.draw_objects`), head move and
 end of a look (:func:`~jointattention.experiment.trial.move_head`, ``end_after_look``).
 :func:`step_all` also writes the step's observations and ``info`` arrays, as
-:func:`~._looks.scaled`, :func:`~._looks.detection_rows` and :func:`~._looks.info_of` build
-them for a :class:`~jointattention.experiment.trial.SceneTrial`: a step is one compiled call,
-not a dozen small numpy ones (``tests/test_env_modes.py`` checks the two agree).
+:func:`~._observation.scaled`, :func:`~._observation.detection_rows` and
+:func:`~._observation.info_of` build them for a
+:class:`~jointattention.experiment.trial.SceneTrial`: a step is one compiled call, not a dozen
+small numpy ones (``tests/test_env_modes.py`` checks the two agree).
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from ..agent.attention import attended_index
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING, end_after_look, move_head
 from ..world.fast import detect_into, draw_index, draw_objects
 from ..world.kinematics import rotation_into, separation_rad
-from ._looks import _rows_into
+from ._observation import _rows_into
 
 __all__ = ["CAM", "FLAGS", "HOLD", "STATE", "STEP", "clip_moves", "start_all", "step_all"]
 
@@ -90,8 +91,8 @@ def _write_look(i, m, theta, looks, face_k, faces, bounds, scaled, with_rows, wi
     """Sub-environment ``i``'s observation and padded detections, as the single env's.
 
     The head angle rounded to float32, then (v2) scaled in float64 and rounded again
-    (:func:`~._looks.scaled`); the detection rows rounded then clipped
-    (:func:`~._looks.detection_rows`), then (v2) scaled in float32, as numpy scales them.
+    (:func:`~._observation.scaled`); the detection rows rounded then clipped
+    (:func:`~._observation.detection_rows`), then (v2) scaled in float32, as numpy scales them.
     """
     for d in range(2):
         angle = np.float32(theta[i, d])

@@ -25,7 +25,7 @@ from ..world.kinematics import HeadKinematics
 from ..world.options import N_OBJECTS
 from ._args import EpisodePickle, check_action, check_seed, env_config, refuse_options
 from ._fast_trial import FastSteps, FastTrial
-from ._looks import OBS_MODES, detection_rows, info_of, observation_space, scaled
+from ._observation import OBS_MODES, detection_rows, info_of, observation_space, scaled
 
 __all__ = ["CAREGIVERS", "JointAttentionEnv", "split_datasets"]
 

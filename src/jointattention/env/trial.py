@@ -8,7 +8,7 @@ import numpy as np
 from ..agent.detections import Detections
 from ..agent.protocol import Outcome
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS
-from ._looks import detections_of
+from ._observation import detections_of
 
 __all__ = ["EnvTrial"]
 

@@ -22,11 +22,11 @@ from ..errors import ArgumentError
 from ..rng import stream
 from ..world.fast import FastScene
 from ..world.kinematics import HeadKinematics
-from ._loop_inputs import placed
-from .compiled import compiled_cell, pack_world, unsupported
+from .compiled.cell import compiled_cell, pack_world, unsupported
+from .compiled.inputs import placed
+from .dataset_cache import training_file
 from .oracle import oracle_trials
 from .probes import lm_errors_deg, probe_sets
-from .recorded import training_file
 from .trial import SceneTrial, StepObserver, TrialResult, records, run_trial
 
 __all__ = ["body_of", "check_condition", "datasets_file", "datasets_of", "engine_of",
@@ -39,7 +39,7 @@ _CHUNK_STEPS = 10_000  # the compiled engine reports progress this often (learni
 def datasets_file(config: Config) -> Path:
     """The file of the run's training sets: ``config.datasets``, the recording, or the shipped.
 
-    A ``[recording]`` is made on first use and kept (:mod:`.recorded`).
+    A ``[recording]`` is made on first use and kept (:mod:`.dataset_cache`).
     """
     if config.datasets:
         return Path(config.datasets)

@@ -28,7 +28,7 @@ from ..world.identity import Caregiver, caregiver_from_dict
 from ..world.kinematics import HeadKinematics
 from ..world.novelty import novelty
 from .cells import evaluator, fast_world, oracle_wins, random_scene
-from .compiled import compiled_cell, unsupported
+from .compiled.cell import compiled_cell, unsupported
 from .probes import angle_errors
 from .trial import SceneTrial, run_trial
 

@@ -21,9 +21,9 @@ from ..datasets import CaregiverDatasets, load
 from ..errors import ConfigError
 from .cells import datasets_of, run_cell
 from .controls import blank_spread_deg, mirror_flip_share
+from .dataset_cache import recorded_file
 from .evaluate import _errors, data_sets_novelty, freeze, frozen_success, who_posed
 from .probes import probe_sets
-from .recorded import recorded_file
 
 __all__ = ["KINDS", "MEASURES", "checkpoint_steps", "final_held_out", "held_out_datasets",
            "held_out_novelty", "held_out_sets", "measure_held_out", "run_cell_measured",

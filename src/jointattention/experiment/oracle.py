@@ -12,7 +12,7 @@ import numpy as np
 from .._jit import jit
 from ..agent.moves import capped_step
 from ..agent.protocol import LM, Outcome
-from ._loop_steps import draw_trial, look, look_arrays, look_camera
+from .compiled.steps import draw_trial, look, look_arrays, look_camera
 from .trial import RUNNING, move_head
 
 __all__ = ["OracleAgent", "oracle_step", "oracle_trials"]
@@ -54,7 +54,7 @@ def oracle_trials(world, theta_target_rad, rng, step_rad, d_th_px, max_steps, n_
     ``any_object``: count the trials it ends on any object instead (the evaluator fired: the
     intrinsic reward's ceiling).
 
-    The compiled engine's trials (:mod:`._compiled_loop`: the same draws as
+    The compiled engine's trials (:mod:`.compiled._loop`: the same draws as
     :func:`~.cells.random_scene` and :class:`~.trial.SceneTrial`) with :class:`OracleAgent`'s
     step toward ``theta_target_rad`` (K, 2), the target's head angle of each data set.
     """

@@ -37,7 +37,7 @@ def learning_bytes(options, face_size_px: tuple[int, int],
     """
     learner = getattr(options, "learner", None)
     if learner == "population":
-        from ..models.population import PopulationModule
+        from ..models.population.module import PopulationModule
 
         o = options.population
         n = PopulationModule.view_features(o, face_size_px, eye_size_px)

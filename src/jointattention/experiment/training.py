@@ -14,10 +14,10 @@ from ..datasets import CaregiverDatasets, scenes_sha256
 from ..deploy.saved import LearnedModel, check_savable, save_model
 from ..errors import FileError
 from .cells import datasets_file, datasets_of
+from .dataset_cache import training_file
 from .evaluate import who_posed
 from .held_out import final_held_out, run_cell_measured
 from .preflight import check_memory
-from .recorded import training_file
 from .results import datasets_sha256
 
 __all__ = ["model_datasets", "model_path", "provenance", "run_cell_saving_model", "train"]

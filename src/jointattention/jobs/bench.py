@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 
 from .._jit import jit
-from ..agent.learner import LearningModule, sgd_rows, sgd_update
 from ..agent.vision import ImageDetector
 from ..config import WorldConfig
+from ..models.network.learner import LearningModule, sgd_rows, sgd_update
 from ..world.options import FAST_CAMERA
 from .bounds import RENDERED_ROW, cell_rate, learner_cell_rows, rendered_rows
 from .env_bench import run_env_benchmark, with_camera
@@ -190,7 +190,7 @@ def _update_us(trial_rows: int = 1, n: int = 20000) -> float:
     """Microseconds of one back-propagation step (forward and backward) of a 752-7-2 network.
 
     Alone (``trial_rows`` 1), or as one of a trial's ``trial_rows`` updates, which share the
-    face (750 inputs) and are summed in closed form (:func:`~.agent.learner.sgd_rows`).
+    face (750 inputs) and are summed in closed form (:func:`~.models.network.learner.sgd_rows`).
     """
     net = LearningModule(752, 7, 2, rng=np.random.default_rng(0))
     x, y = np.random.default_rng(1).normal(size=(n, 752)), np.tile([0.6, 0.8], (n, 1))
@@ -208,8 +208,8 @@ def _update_us(trial_rows: int = 1, n: int = 20000) -> float:
 def _updates(x, angles, y, trial_rows, w1, b1, w2, b2, v1, vb1, v2, vb2) -> None:
     """The updates, in one compiled loop (no call overhead).
 
-    One :func:`~.agent.learner.sgd_update` per row, or with ``trial_rows`` above 1 one
-    :func:`~.agent.learner.sgd_rows` call per block of rows, the block's first face
+    One :func:`~.models.network.learner.sgd_update` per row, or with ``trial_rows`` above 1 one
+    :func:`~.models.network.learner.sgd_rows` call per block of rows, the block's first face
     (``x[:, :750]``) shared by its rows (``angles``: ``x[:, 750:]``).
     """
     if trial_rows == 1:

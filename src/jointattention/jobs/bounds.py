@@ -22,12 +22,12 @@ import time
 import numpy as np
 
 from .._jit import jit
-from ..agent.learner import standardise, welford_update
-from ..agent.memory import face_code_into, left_out_of, memory_recall, memory_store
+from ..agent.face_standardiser import standardise, welford_update
 from ..agent.vision import ImageDetector
 from ..config import WorldConfig
-from ..models._population_kernels import population_begin, population_learn
 from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
+from ..models.memory.episodic import face_code_into, left_out_of, memory_recall, memory_store
+from ..models.population._trial import population_begin, population_learn
 from ..models.rl import RLAgent
 
 __all__ = ["RENDERED_ROW", "cell_rate", "learner_cell_rows", "rendered_rows"]
@@ -162,7 +162,7 @@ def _rl_us(agent, faces, places, width_px: int) -> tuple[float, float]:
     Each is its own loop (not the difference of two timings, which noise can make negative):
     the ends learn from the inputs, values and shifts the starts computed.
     """
-    from ..experiment.compiled_rl import loop_robot, loop_state
+    from ..experiment.compiled.rl_cell import loop_robot, loop_state
 
     robot, n_dir = loop_robot(agent, width_px), len(agent.steps_rad)
     xs, qs = np.empty_like(faces), np.empty((len(faces), n_dir))

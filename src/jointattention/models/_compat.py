@@ -13,7 +13,7 @@ import dataclasses
 import warnings
 
 from .bootstrap import BootstrapAgent
-from .population import line_step
+from .population.module import line_step
 
 __all__ = ["MemoryAgent", "PopulationAgent", "line_step"]
 

@@ -1,8 +1,8 @@
 """The reinforcement learner's arithmetic (:mod:`.rl`), compiled.
 
 One implementation of each of its equations, called by :class:`~.rl.RLAgent` step by step and
-by the compiled engine's loop (:mod:`jointattention.experiment._rl_loop`), so that both give
-the same cells.
+by the compiled engine's loop (:mod:`jointattention.experiment.compiled._rl_loop`), so that
+both give the same cells.
 """
 
 from __future__ import annotations

@@ -16,18 +16,19 @@ from .._arrays import angles, views
 from .._fields import param
 from ..agent.attention import most_interesting, visual_feedback
 from ..agent.detections import Detections
+from ..agent.face_standardiser import FaceStandardiser
 from ..agent.gates import GATES, Gate, SigmoidGate
-from ..agent.learner import FaceStandardiser, LearningModule
-from ..agent.memory import MemoryOptions
 from ..agent.moves import random_step
 from ..agent.options import AgentConfig
-from ..agent.population import PopulationOptions
 from ..agent.protocol import LM, RANDOM, VF, Body, Outcome
 from ..errors import ConfigError
-from .memory import MemoryModule
-from .network import NetworkModule
-from .network_state import NetworkState
-from .population import PopulationModule
+from .memory.module import MemoryModule
+from .memory.options import MemoryOptions
+from .network.learner import LearningModule
+from .network.module import NetworkModule
+from .network.state import NetworkState
+from .population.module import PopulationModule
+from .population.options import PopulationOptions
 from .registry import ModelOptions
 
 __all__ = ["LEARNERS", "LEARNING_TARGETS", "BootstrapAgent", "BootstrapOptions"]
@@ -149,9 +150,10 @@ class BootstrapAgent(NetworkState):
     happens in ``end_trial`` if the internal evaluator fired.
 
     Attributes:
-        module: the learning module (``options.learner``: :class:`~.network.NetworkModule`,
-            :class:`~.memory.MemoryModule` or :class:`~.population.PopulationModule`); the
-            agent asks it for commands and hands it the trials to learn from.
+        module: the learning module (``options.learner``: :class:`~.network.module.NetworkModule`,
+            :class:`~.memory.module.MemoryModule` or
+            :class:`~.population.module.PopulationModule`); the agent asks it for commands and
+            hands it the trials to learn from.
         learner, faces: the paper's network and the face windows' running statistics (the
             network module's; a model file keeps them for every module).
         learning: whether it learns (True); a frozen agent (False) acts as at its learning

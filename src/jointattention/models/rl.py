@@ -35,7 +35,7 @@ marked *reading* are ours):
 There is no gate and no visual controller: steps spent looking at her are module ``"stay"``
 (neither :data:`~.protocol.LM` nor random in the trial records). Its arithmetic is compiled
 (:mod:`._rl_kernels`), and the compiled engine runs it too
-(:mod:`jointattention.experiment.compiled_rl`).
+(:mod:`jointattention.experiment.compiled.rl_cell`).
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ import numpy as np
 from .._arrays import angles, windows
 from .._fields import param
 from ..agent.detections import Detections
-from ..agent.learner import FaceStandardiser
+from ..agent.face_standardiser import FaceStandardiser
 from ..agent.options import AgentConfig
 from ..agent.protocol import LM, Body, Outcome
 from ..errors import ConfigError

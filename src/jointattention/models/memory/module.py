@@ -1,8 +1,8 @@
 """The episodic learning module of the bootstrap agent (``learner = "memory"``).
 
 Visual attention, the evaluator, the gate and the readings are the paper's
-(:class:`~.bootstrap.BootstrapAgent`, which composes this module); the module is an
-:class:`~jointattention.agent.memory.EpisodicMemory`. At the start of a trial it recalls, from
+(:class:`~..bootstrap.BootstrapAgent`, which composes this module); the module is an
+:class:`~.episodic.EpisodicMemory`. At the start of a trial it recalls, from
 the caregiver's face, the place to look at; its command is one step from the head angle toward
 that place (``memory.saccade``: the whole way there, in moves as long as visual feedback's
 longest). A trial the evaluator ends is kept as (face code, place): the place is the attended
@@ -10,26 +10,26 @@ object's (``object_direction``: the final head angle plus the visual controller'
 centres it) or the final head angle (``final_direction``); with ``memory.keep = "in_view"`` (the
 default) every other object in the last image is kept too, at its place. With
 ``memory.leave_out_empty``, a recalled place that the head reaches and finds empty is left out
-of that face's recalls (:meth:`MemoryModule.observe`, :mod:`~jointattention.agent._left_out`).
+of that face's recalls (:meth:`MemoryModule.observe`, :mod:`._left_out`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit
-from ..agent._left_out import drop_left_out_from, empty_arrival, passed_over_into
-from ..agent.attention import largest_feedback_rad
-from ..agent.detections import Detections
-from ..agent.memory import (
+from ..._jit import jit
+from ...agent.attention import largest_feedback_rad
+from ...agent.detections import Detections
+from ...agent.moves import place_step, random_step
+from ...agent.protocol import Outcome
+from ._left_out import drop_left_out_from, empty_arrival, passed_over_into
+from .episodic import (
     EpisodicMemory,
     code_distances_into,
     face_code_into,
     left_out_of,
     recall_at_distances,
 )
-from ..agent.moves import place_step, random_step
-from ..agent.protocol import Outcome
 
 __all__ = ["MemoryModule", "recall_commands_into"]
 
@@ -90,7 +90,7 @@ class MemoryModule:
         rng: the generator left after the agent's streams: one more split, for the face
             code's projection.
 
-    It answers :class:`~.network.NetworkModule`'s calls.
+    It answers :class:`~..network.module.NetworkModule`'s calls.
 
     Attributes:
         memory: the memory.
@@ -140,7 +140,7 @@ class MemoryModule:
     def observe(self, det: Detections, theta_rad) -> np.ndarray | None:
         """Leave the recalled place out if the head found it empty; what attention passes over.
 
-        While learning (:mod:`~jointattention.agent._left_out`): with ``memory.leave_out_empty``
+        While learning (:mod:`._left_out`): with ``memory.leave_out_empty``
         the trial then has no recalled place, and no evidence for the gate (with
         ``memory.recall_again``, the face's next place and its evidence); with
         ``memory.pass_over_left_out`` the answer flags the detections at the face's places left

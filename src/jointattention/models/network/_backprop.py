@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
 
 __all__ = ["accumulate", "face_part", "forward", "sgd_rows", "sgd_rows_from", "sgd_update"]
 

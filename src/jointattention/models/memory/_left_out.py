@@ -4,7 +4,7 @@ A data set's target does not move. So when the head reaches the place the memory
 for a face (within one step of it) and no object is near the view's centre (within the voting
 radius, in pixels through Eq. 2's gain), that place is not the face's target: the memory
 leaves it out of that face's recalls from then on, and the place that agrees most among the
-others is recalled instead (:func:`~.memory.recall_at_distances`). Everything it uses is the
+others is recalled instead (:func:`~.episodic.recall_at_distances`). Everything it uses is the
 robot's own: its recall, its head angle and its detections.
 
 The places are kept with the face's code in a ring as long as the memory's capacity (the
@@ -24,9 +24,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
+from ...agent.attention import visual_feedback_rad
 from ._recall import same_code
-from .attention import visual_feedback_rad
 
 __all__ = ["drop_left_out_from", "empty_arrival", "leave_out", "left_out_of", "near_any",
            "passed_over_into"]

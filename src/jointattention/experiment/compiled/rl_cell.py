@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..agent.learner import NO_FACE_SEEN
-from ..errors import ArgumentError
-from ..models.rl import RLAgent
-from ._compiled_loop import COLUMNS
-from ._loop_inputs import LoopWorld, placed, trial_records
+from ...agent.face_standardiser import NO_FACE_SEEN
+from ...errors import ArgumentError
+from ...models.rl import RLAgent
+from ._loop import COLUMNS
 from ._rl_loop import NO_FACE_STATISTICS, RLRobot, RLState, run_rl_trials
+from .inputs import LoopWorld, placed, trial_records
 
 __all__ = ["RLCell", "loop_robot", "loop_state"]
 
@@ -26,7 +26,7 @@ class RLCell:
 
     Args:
         agent: the cell's agent; it learns in place (frozen, it only acts).
-        world: the data sets, the world and the condition (:func:`~.compiled.pack_world`).
+        world: the data sets, the world and the condition (:func:`~.cell.pack_world`).
         trials: the stream that draws each trial's data set and scene.
         shuffle: the stream that draws a random face (``shuffle_faces`` conditions).
         max_trials: the most trials the cell may hold.

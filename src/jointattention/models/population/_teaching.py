@@ -1,8 +1,8 @@
-"""The population code's compiled learning step (:mod:`.population` is its wrapper).
+"""The population code's compiled learning step (:mod:`.code` is its wrapper).
 
 The von Mises spread of a taught direction, the cross-entropy step and its passes over ``w1``
 (each also summing the next row's hidden units, or moving the running average), and the
-running averages. The forward pass is in :mod:`._population_kernels`.
+running averages. The forward pass is in :mod:`._forward`.
 """
 
 from __future__ import annotations
@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from .._jit import jit
-from ._population_kernels import population_activate, population_forward
+from ..._jit import jit
+from ._forward import population_activate, population_forward
 
 __all__ = ["average_into", "population_teach", "population_teach_rows", "population_update",
            "von_mises_into"]

@@ -16,10 +16,10 @@ caregiver's target falls in the direction she looks. The readout (``excess``) is
 direction whose probability for this face most exceeds its probability for the average face
 (the module's own output at the running mean of its hidden units): the target, not the mean.
 
-Inputs are the robot's own features of the face window (:mod:`.face_features`) and the head
+Inputs are the robot's own features of the face window (:mod:`.features`) and the head
 angle at the face. The kernels (:func:`population_forward`, :func:`population_teach_rows`,
 :func:`population_scores_into`, :func:`population_readout`, ...) are compiled, in
-:mod:`._population_kernels` (the forward pass and readout) and :mod:`._population_teaching`
+:mod:`._forward` (the forward pass and readout) and :mod:`._teaching`
 (the learning step); :class:`PopulationCode` is their scikit-learn-style wrapper
 (``partial_fit`` on inputs and directions, ``predict`` a direction).
 """
@@ -27,13 +27,11 @@ angle at the face. The kernels (:func:`population_forward`, :func:`population_te
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from .._arrays import floats, rows
-from .._fields import Section, param
-from ._population_kernels import (
+from ..._arrays import floats, rows
+from ._forward import (
     EXCESS,
     average_face_into,
     population_activate,
@@ -43,66 +41,20 @@ from ._population_kernels import (
     population_scores_into,
     scores_of_output_into,
 )
-from ._population_teaching import (
+from ._teaching import (
     average_into,
     population_teach,
     population_teach_rows,
     population_update,
     von_mises_into,
 )
+from .options import READOUTS, PopulationOptions
 
-__all__ = ["EXCESS", "READOUTS", "PopulationCode", "PopulationOptions", "average_face_into",
+__all__ = ["EXCESS", "PopulationCode", "average_face_into",
            "population_activate", "population_forward", "population_hidden_into",
            "population_readout", "population_scores_into", "population_teach",
            "population_teach_rows", "population_update", "scores_of_output_into",
            "von_mises_into"]
-
-READOUTS = ("excess", "ratio", "mode")
-
-
-@dataclass(frozen=True)
-class PopulationOptions(Section):
-    """The population code's options (``[model.population]``, with ``learner = "population"``)."""
-
-    n_bins: int = param(72, "output units: directions around the face, evenly on the circle",
-                        lo=8, hi=720)
-    n_hidden: int = param(128, "hidden units (tanh) between the face features and the output",
-                          lo=1, hi=1024)
-    learning_rate: float = param(0.02, "step size of the cross-entropy gradient, per place "
-                                 "taught", lo=0, hi=10)
-    label_width_deg: float = param(
-        5.0, "s.d. of the von Mises kernel that spreads a taught direction over nearby units",
-        lo=0.1, hi=90)
-    features: str = param(
-        "pixels+hog", "the face's features: its contrast-normalised grey levels, a histogram "
-        "of its gradient orientations, or both", choices=("pixels+hog", "pixels", "hog"))
-    cell_px: int = param(5, "side of a cell of the gradient-orientation histogram (pixels)",
-                         lo=2, hi=64)
-    n_orientations: int = param(12, "signed orientation bins per histogram cell", lo=2, hi=36)
-    standardise: bool = param(
-        False, "centre and scale each feature by its running mean and s.d. over the faces "
-        "seen (the histogram's features are all positive: uncentred inputs slow learning)")
-    readout: str = param(
-        "excess", "how the direction is read out: where p(direction | face) most exceeds "
-        "p(direction | the average face) (excess), where its log does (ratio), or the plain "
-        "mode of p(direction | face) (mode: no base rate)", choices=READOUTS)
-    average_rate: float = param(
-        0.002, "rate of the running average of the weights, per trial taught, that the "
-        "readout uses (Polyak averaging: the noise of the last steps averaged out; 0: the "
-        "weights themselves)", lo=0, hi=1)
-    hidden_rate: float = param(0.01, "rate of the running mean of the hidden units over the "
-                               "faces taught (the average face of the readout)", lo=0, hi=1)
-    keep: str = param(
-        "in_view", "places taught when the evaluator fires: the attended object's, or every "
-        "object's in view then (the target is often in view when a distractor is attended)",
-        choices=("attended", "in_view"))
-    replay: int = param(8, "updates on trials drawn from the replay memory after each trial "
-                        "taught (0: none)", lo=0, hi=100)
-    replay_capacity: int = param(20_000, "trials the replay memory keeps (the oldest is "
-                                 "forgotten); each keeps its face's features, 8.9 kB with "
-                                 "the default features (178 MB when full)", lo=1,
-                                 hi=10_000_000)
-
 
 class PopulationCode:
     """The population-coded network (see the module docstring).

@@ -1,33 +1,39 @@
 """The compiled engine's loop over a cell's trials.
 
-:mod:`.compiled` packs the inputs (:mod:`._loop_inputs`) and drives the loop; this module is
+:mod:`.cell` packs the inputs (:mod:`.inputs`) and drives the loop; this module is
 the loop itself. Each step calls the kernels the step-by-step path calls
 (:mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
-:mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner`,
-:mod:`~jointattention.agent.memory` or :mod:`~jointattention.models._population_kernels`,
+:mod:`~jointattention.agent.attention`, :mod:`~jointattention.models.network.learner`,
+:mod:`~jointattention.models.memory.episodic` or :mod:`~jointattention.models.population._trial`,
 :mod:`~jointattention.models.bootstrap`), in the order of its random draws; the agent's
-gate, its module's command and the places it keeps are :mod:`._loop_agent`'s.
+gate, its module's command and the places it keeps are :mod:`._agent`'s.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit
-from ..agent._left_out import drop_left_out_from, empty_arrival, leave_out, passed_over_into
-from ..agent.attention import interest_argmax, visual_feedback_rad
-from ..agent.gates import PERFORMANCE, agreement_update
-from ..agent.learner import face_part, sgd_rows_from, standardise, welford_update
-from ..agent.memory import face_code_into, left_out_of
-from ..agent.moves import learning_samples, random_step, scale_angle_into
-from ..models._population_kernels import population_begin, population_learn
-from ..models.bootstrap import LEARNING_TARGETS
-from ..models.developmental import blur_into, blur_px, caregiver_update
-from ..models.population import PopulationModule
-from ..world.kinematics import separation_rad
-from ._loop_agent import gate_rate, keep_place, lm_step, places_into, recall_place
-from ._loop_steps import draw_trial, look, look_arrays, look_camera
-from .trial import END_FIRED, RUNNING, move_head
+from ..._jit import jit
+from ...agent.attention import interest_argmax, visual_feedback_rad
+from ...agent.face_standardiser import standardise, welford_update
+from ...agent.gates import PERFORMANCE, agreement_update
+from ...agent.moves import learning_samples, random_step, scale_angle_into
+from ...models.bootstrap import LEARNING_TARGETS
+from ...models.developmental import blur_into, blur_px, caregiver_update
+from ...models.memory._left_out import (
+    drop_left_out_from,
+    empty_arrival,
+    leave_out,
+    passed_over_into,
+)
+from ...models.memory.episodic import face_code_into, left_out_of
+from ...models.network.learner import face_part, sgd_rows_from
+from ...models.population._trial import population_begin, population_learn
+from ...models.population.module import PopulationModule
+from ...world.kinematics import separation_rad
+from ..trial import END_FIRED, RUNNING, move_head
+from ._agent import gate_rate, keep_place, lm_step, places_into, recall_place
+from .steps import draw_trial, look, look_arrays, look_camera
 
 __all__ = ["COLUMNS", "run_trials"]
 
@@ -45,12 +51,12 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                trials_rng, shuffle_rng, gate_rng, move_rng, module_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
 
-    ``memory``: the episodic memory (:class:`~._loop_inputs.LoopMemory`), or None for the
+    ``memory``: the episodic memory (:class:`~.inputs.LoopMemory`), or None for the
     learners that back-propagate (its branches are then pruned at compile time: its kernels
     are compiled only for a memory learner). ``development``: the developmental model's
-    caregiver and blur (:class:`~._loop_inputs.LoopDevelopment`), or None, likewise.
+    caregiver and blur (:class:`~.inputs.LoopDevelopment`), or None, likewise.
     ``population``: the population code's arrays
-    (:class:`~jointattention.models._population_kernels.PopulationArrays`), or None; its
+    (:class:`~jointattention.models.population._trial.PopulationArrays`), or None; its
     replay draws from ``module_rng``.
 
     A frozen robot (``robot.learning`` False) learns nothing and its learning time stands

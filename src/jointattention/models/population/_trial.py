@@ -1,6 +1,6 @@
 """The population module's compiled kernels: its input, commands, replay, trial start and end.
 
-:class:`~.population.PopulationModule` (the step-by-step agent) and the compiled engine's
+:class:`~.module.PopulationModule` (the step-by-step agent) and the compiled engine's
 loop call the same kernels on the same arrays (:class:`PopulationArrays`), so both engines
 learn the same bits.
 """
@@ -12,11 +12,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._jit import jit
-from ..agent.face_features import face_features_into, n_window_features
-from ..agent.learner import standardise, welford_update
-from ..agent.moves import scale_angle_into
-from ..agent.population import (
+from ..._jit import jit
+from ...agent.face_standardiser import standardise, welford_update
+from ...agent.moves import scale_angle_into
+from .code import (
     EXCESS,
     average_face_into,
     average_into,
@@ -27,6 +26,7 @@ from ..agent.population import (
     population_teach_rows,
     scores_of_output_into,
 )
+from .features import face_features_into, n_window_features
 
 __all__ = ["InputSpec", "PopulationArrays", "commands_into",
            "population_begin", "population_learn", "replay_rows_into"]
@@ -148,7 +148,7 @@ class PopulationArrays(NamedTuple):
 
     The arrays are the module's own (changed in place); ``counters`` are its trials kept,
     places taught and faces whose features were standardised (see
-    :meth:`~.population.PopulationModule.arrays`).
+    :meth:`~.module.PopulationModule.arrays`).
     """
 
     spec: InputSpec

@@ -1,4 +1,4 @@
-"""The episodic memory's recall, its costly parts (:func:`.memory.memory_recall`).
+"""The episodic memory's recall, its costly parts (:func:`.episodic.memory_recall`).
 
 The face code (:func:`face_code_into`), the base rate's grid (:func:`cell_of`,
 :func:`count_around`), whether two face codes are the same (:func:`same_code`), how far a
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
 
 __all__ = ["AGREE", "CODE_OF", "HEAD", "NEXT", "cell_of", "code_distances_into", "count_around",
            "face_code_into", "link", "near_slots", "new_lap", "no_links", "same_code", "unlink",

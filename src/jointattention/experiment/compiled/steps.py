@@ -1,6 +1,6 @@
 """The parts of a trial that both compiled loops share: drawing the trial, and one look.
 
-:mod:`._compiled_loop` (the bootstrap family) and :mod:`._rl_loop` (the reinforcement
+:mod:`._loop` (the bootstrap family) and :mod:`._rl_loop` (the reinforcement
 learner) call them in the order of the step-by-step path's draws (:func:`~.cells.random_scene`,
 then :class:`~.trial.SceneTrial`'s looks).
 """
@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit
-from ..agent.attention import attended_index
-from ..world.fast import detect_into, draw_index, draw_objects
-from ..world.kinematics import rotation_into
-from .trial import END_FIRED, end_after_look
+from ..._jit import jit
+from ...agent.attention import attended_index
+from ...world.fast import detect_into, draw_index, draw_objects
+from ...world.kinematics import rotation_into
+from ..trial import END_FIRED, end_after_look
 
 __all__ = ["draw_trial", "look", "look_arrays", "look_camera"]
 

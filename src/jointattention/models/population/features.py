@@ -22,9 +22,9 @@ import math
 
 import numpy as np
 
-from .._arrays import floats
-from .._jit import jit
-from ..errors import ArgumentError
+from ..._arrays import floats
+from ..._jit import jit
+from ...errors import ArgumentError
 
 __all__ = ["face_features", "face_features_into", "n_features", "n_window_features"]
 

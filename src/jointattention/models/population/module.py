@@ -1,9 +1,9 @@
 """The population-coded learning module of the bootstrap agent (``learner = "population"``).
 
 Visual attention, the evaluator, the gate and the readings are the paper's
-(:class:`~.bootstrap.BootstrapAgent`, which composes this module); the module is a
-:class:`~jointattention.agent.population.PopulationCode` over the robot's own features of the
-face window (:mod:`jointattention.agent.face_features`) and the head angle at the face. At the
+(:class:`~..bootstrap.BootstrapAgent`, which composes this module); the module is a
+:class:`~.code.PopulationCode` over the robot's own features of the face window
+(:mod:`.features`) and the head angle at the face. At the
 start of a trial it reads out, from the caregiver's face, the direction in which she looks; its
 command follows the line from the face in that direction, one step at a time (back toward the
 line if another module moved the head off it), as the oracle follows the true gaze line.
@@ -21,19 +21,19 @@ import math
 
 import numpy as np
 
-from .._jit import jit
-from ..agent.face_features import n_features
-from ..agent.learner import FaceStandardiser
-from ..agent.moves import unit_step
-from ..agent.population import PopulationCode
-from ..agent.protocol import Outcome
-from ._population_kernels import (
+from ..._jit import jit
+from ...agent.face_standardiser import FaceStandardiser
+from ...agent.moves import unit_step
+from ...agent.protocol import Outcome
+from ._trial import (
     InputSpec,
     PopulationArrays,
     commands_into,
     population_begin,
     population_learn,
 )
+from .code import PopulationCode
+from .features import n_features
 
 __all__ = ["PopulationModule", "line_step"]
 
@@ -64,7 +64,7 @@ class PopulationModule:
         rng: the generator left after the agent's streams: split once more, for the
             population code's initial weights and the replay draws.
 
-    It answers :class:`~.network.NetworkModule`'s calls.
+    It answers :class:`~..network.module.NetworkModule`'s calls.
 
     Attributes:
         population: the learning module.
@@ -110,7 +110,7 @@ class PopulationModule:
                       eye_size_px: tuple[int, int] | None = None) -> int:
         """The features of a view under population options ``o``.
 
-        Each window's (:func:`~jointattention.agent.face_features.n_features`): the face's,
+        Each window's (:func:`~jointattention.models.population.features.n_features`): the face's,
         then the eyes' if kept.
         """
         return sum(n_features(size, o.cell_px, o.n_orientations, *_parts(o))

@@ -1,4 +1,4 @@
-"""Data sets a run records itself, kept in a cache so that each is recorded once per machine.
+"""The cache of data sets a run records itself, so that each is recorded once per machine.
 
 A configuration may record its training sets (``[recording]``: K caregivers of the run's
 world) instead of naming a file, and runs record their held-out sets

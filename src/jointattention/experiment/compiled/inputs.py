@@ -1,8 +1,8 @@
 """What the compiled loops take (the world, the robot, its state) and what they give back.
 
-Plain named tuples of numbers and arrays, which numba compiles as records; :mod:`.compiled`
-packs them from the configuration and the agent. The loops (:mod:`._compiled_loop`,
-:mod:`._rl_loop`) write one row per trial of :data:`~._compiled_loop.COLUMNS`, which
+Plain named tuples of numbers and arrays, which numba compiles as records; :mod:`.cell`
+packs them from the configuration and the agent. The loops (:mod:`._loop`,
+:mod:`._rl_loop`) write one row per trial of :data:`~._loop.COLUMNS`, which
 :func:`trial_records` turns into the trial records.
 """
 
@@ -12,9 +12,9 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..errors import ConfigError
-from ._compiled_loop import COLUMNS
-from .trial import END_FIRED, RECORD
+from ...errors import ConfigError
+from ..trial import END_FIRED, RECORD
+from ._loop import COLUMNS
 
 __all__ = ["LoopDevelopment", "LoopMemory", "LoopRobot", "LoopState", "LoopWorld", "placed",
            "trial_records"]
@@ -86,7 +86,7 @@ class LoopState(NamedTuple):
 
 
 class LoopMemory(NamedTuple):
-    """The episodic memory (agent.memory), its options and kept trials (changed in place).
+    """The episodic memory (models.memory.episodic), its options and kept trials (changed in place).
 
     The loop takes None instead for a learner without one: numba then prunes the memory's
     branches, and compiles none of its kernels for the network learners.
@@ -98,12 +98,12 @@ class LoopMemory(NamedTuple):
     k: int
     radius_rad: float
     in_view: bool  # keep every object in view, not only the attended one
-    codes: np.ndarray  # the kept trials (agent/_recall.py)
+    codes: np.ndarray  # the kept trials (models/memory/_recall.py)
     counts: np.ndarray
     links: np.ndarray
     aims: np.ndarray
     base: np.ndarray
-    leave_out_empty: bool  # leave out a recalled place found empty (agent/_left_out.py)
+    leave_out_empty: bool  # leave out a recalled place found empty (models/memory/_left_out.py)
     left_codes: np.ndarray
     left_aims: np.ndarray
     pass_over: bool  # visual attention passes over objects at places left out

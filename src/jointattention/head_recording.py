@@ -1,4 +1,4 @@
-"""Recordings of a real (or simulated) head imported as caregiver data sets.
+"""A head's recording (a real or simulated robot's folder) imported as caregiver data sets.
 
 A recording is a folder a robot's script writes: camera images, and ``recording.csv`` with
 one row per image, taken while the head looked at the caregiver:

@@ -1,7 +1,7 @@
-"""The population code's compiled forward pass and readout (:mod:`.population` wraps them).
+"""The population code's compiled forward pass and readout (:mod:`.code` wraps them).
 
 The hidden and output units, the readout's scores and direction: the step-by-step agent and
-the batched commands call the same ones; :mod:`._population_teaching` holds the learning step.
+the batched commands call the same ones; :mod:`._teaching` holds the learning step.
 """
 
 from __future__ import annotations
@@ -10,13 +10,13 @@ import math
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
 
 __all__ = ["EXCESS", "MODE", "RATIO", "average_face_into", "population_activate",
            "population_forward", "population_hidden_into", "population_readout",
            "population_scores_into", "scores_of_output_into"]
 
-EXCESS, RATIO, MODE = 0, 1, 2  # the readouts (population.READOUTS), as codes
+EXCESS, RATIO, MODE = 0, 1, 2  # the readouts (options.READOUTS), as codes
 
 
 @jit
@@ -136,7 +136,7 @@ def population_readout(score) -> tuple[float, float]:
 @jit
 def population_scores_into(x, w1, b1, w2, b2, hidden_mean, readout: int, h, p, z,
                            score) -> None:
-    """The readout's score of each unit for input ``x`` (``population.READOUTS``, as codes).
+    """The readout's score of each unit for input ``x`` (``options.READOUTS``, as codes).
 
     ``mode``: p(direction | x). ``excess``: p(direction | x) minus p(direction | the average
     face), the softmax of the output at the running mean of the hidden units. ``ratio``: the

@@ -1,21 +1,21 @@
 """The paper's learning module inside the bootstrap agent: a network from face and head angle.
 
-:class:`NetworkModule` is what :class:`~.bootstrap.BootstrapAgent` composes with ``learner =
-"backprop"``: a three-layer network (the agent's ``learner``,
-:class:`~jointattention.agent.learner.LearningModule`) from the standardised face window and the
-scaled head angle to a direction; its command is that direction, one step long. A trial the
-evaluator ends teaches each of its steps toward the trial's aim (paper, section III-C). The
-episodic and the population-coded modules (:mod:`.memory`, :mod:`.population`) answer the same
-calls.
+:class:`NetworkModule` is what :class:`~..bootstrap.BootstrapAgent` composes with ``learner =
+"backprop"``: a three-layer network (the agent's ``learner``, :class:`~.learner.LearningModule`)
+from the standardised face window and the scaled head angle to a direction; its command is
+that direction, one step long (:mod:`.command`). A trial the evaluator ends teaches each of its
+steps toward the trial's aim (paper, section III-C). The episodic and the population-coded
+modules (:mod:`..memory`, :mod:`..population`) answer the same calls.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from ..agent.learner import face_part
-from ..agent.moves import learning_samples, lm_commands_into, network_command, scale_angle_into
-from ..agent.protocol import Outcome
+from ...agent.moves import learning_samples, scale_angle_into
+from ...agent.protocol import Outcome
+from .command import lm_commands_into, network_command
+from .learner import face_part
 
 __all__ = ["NetworkModule"]
 

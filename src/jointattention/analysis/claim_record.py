@@ -1,4 +1,4 @@
-"""One checked claim, a condition's reading, and the paired statistics every claim uses.
+"""The record of one checked claim, its reading, and the paired statistics every claim uses.
 
 :mod:`.claims` (the paper's claims), :mod:`.neighbours` (the neighbouring models' claims) and
 :mod:`.held_out` (generalisation) build on it; it imports none of them.

@@ -1,6 +1,6 @@
 """The compiled engine's loop over a cell's trials of the reinforcement learner.
 
-:mod:`.compiled_rl` packs its inputs and drives it. Each trial draws as the step-by-step path
+:mod:`.rl_cell` packs its inputs and drives it. Each trial draws as the step-by-step path
 draws (:func:`~.cells.random_scene`, then :class:`~.trial.SceneTrial` and
 :func:`~.trial.run_trial` of an :class:`~jointattention.models.rl.RLAgent`) and calls the same
 kernels (:mod:`jointattention.models._rl_kernels`).
@@ -12,11 +12,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._jit import jit
-from ..agent.learner import standardise, welford_update
-from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
-from ._loop_steps import draw_trial, look, look_arrays, look_camera
-from .trial import END_FIRED, RUNNING, move_head
+from ..._jit import jit
+from ...agent.face_standardiser import standardise, welford_update
+from ...models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
+from ..trial import END_FIRED, RUNNING, move_head
+from .steps import draw_trial, look, look_arrays, look_camera
 
 __all__ = ["NO_FACE_STATISTICS", "RLRobot", "RLState", "run_rl_trials"]
 
@@ -62,7 +62,7 @@ def run_rl_trials(until_steps, max_trials, world, robot, state, trials_rng, shuf
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
 
     A frozen robot runs ``max_trials`` trials (-2 if it has seen no face to standardise by).
-    ``records`` take the compiled loop's columns (:data:`._compiled_loop.COLUMNS`).
+    ``records`` take the compiled loop's columns (:data:`._loop.COLUMNS`).
     """
     n, n_pix = world.n_objects, world.faces.shape[1]
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)

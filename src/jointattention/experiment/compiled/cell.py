@@ -1,18 +1,18 @@
-"""The compiled engine: whole cells of learning in fast perception, without the Python loop.
+"""The compiled engine's door: whole cells of learning in fast perception, in one loop.
 
-It runs what :func:`~.cells.run_cell` runs step by step (scene sampling, projection and the fast
+It runs what :func:`~..cells.run_cell` runs step by step (scene sampling, projection and the fast
 detector, Eq. 1-3, the gate, the learning module) as one compiled loop over trials (in
-:mod:`._compiled_loop`; this module packs its inputs and drives it). It calls
+:mod:`._loop`; this module packs its inputs and drives it). It calls
 the same kernels as the step-by-step path (:mod:`~jointattention.world.kinematics`,
 :mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
-:mod:`~jointattention.agent.attention`, :mod:`~jointattention.agent.learner`,
+:mod:`~jointattention.agent.attention`, :mod:`~jointattention.models.network.learner`,
 :mod:`~jointattention.models.bootstrap`) and draws from the same random streams in the same
 order, so both give byte-identical cells (``tests/test_compiled.py``).
 
 It learns in place the arrays of a :class:`~jointattention.models.bootstrap.BootstrapAgent`,
 so the learned agent is the same object either way. It runs the bootstrap model (every gate,
 reading, the network, the memory and the population code), the teacher and the
-developmental model, and the reinforcement learner through :mod:`.compiled_rl`
+developmental model, and the reinforcement learner through :mod:`.rl_cell`
 (:func:`compiled_cell` picks the loop); anything else is refused (:func:`unsupported`).
 """
 
@@ -20,18 +20,18 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..config import WorldConfig
-from ..datasets import CaregiverDatasets
-from ..errors import ConfigError
-from ..models.bootstrap import LEARNING_TARGETS, BootstrapAgent
-from ..models.population import PopulationModule
-from ..models.registry import ModelOptions
-from ..models.rl import RLAgent
-from ..world.kinematics import HeadKinematics
-from ..world.mjcf import HEAD_RADII_M
-from ..world.placement import region_of
-from ._compiled_loop import COLUMNS, run_trials
-from ._loop_inputs import (
+from ...config import WorldConfig
+from ...datasets import CaregiverDatasets
+from ...errors import ConfigError
+from ...models.bootstrap import LEARNING_TARGETS, BootstrapAgent
+from ...models.population.module import PopulationModule
+from ...models.registry import ModelOptions
+from ...models.rl import RLAgent
+from ...world.kinematics import HeadKinematics
+from ...world.mjcf import HEAD_RADII_M
+from ...world.placement import region_of
+from ._loop import COLUMNS, run_trials
+from .inputs import (
     LoopDevelopment,
     LoopMemory,
     LoopRobot,
@@ -40,7 +40,7 @@ from ._loop_inputs import (
     placed,
     trial_records,
 )
-from .compiled_rl import RLCell
+from .rl_cell import RLCell
 
 __all__ = ["CompiledCell", "compiled_cell", "pack_world", "unsupported"]
 

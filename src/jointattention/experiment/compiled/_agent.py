@@ -1,18 +1,18 @@
 """The bootstrap agent in the compiled loop: its gate, its module's command, what it keeps.
 
-:mod:`._compiled_loop` calls them: the gate's rate of choosing the learning module, the
+:mod:`._loop` calls them: the gate's rate of choosing the learning module, the
 network's command at a head angle (with the face's part of its input summed once a trial), and
 the places the episodic memory and the population code keep from a trial. Each calls the
 kernels the step-by-step agent calls (:mod:`~jointattention.agent.gates`,
-:mod:`~jointattention.agent.moves`, :mod:`~jointattention.agent.memory`,
-:mod:`~jointattention.models.population`).
+:mod:`~jointattention.agent.moves`, :mod:`~jointattention.models.memory.episodic`,
+:mod:`~jointattention.models.population.module`).
 """
 
 from __future__ import annotations
 
-from .._jit import jit
-from ..agent.attention import visual_feedback_rad
-from ..agent.gates import (
+from ..._jit import jit
+from ...agent.attention import visual_feedback_rad
+from ...agent.gates import (
     CONSTANT,
     EVIDENCE,
     PERFORMANCE,
@@ -20,9 +20,10 @@ from ..agent.gates import (
     performance_rate,
     sigmoid_rate,
 )
-from ..agent.memory import memory_recall, memory_store
-from ..agent.moves import network_command, place_step
-from ..models.population import line_step
+from ...agent.moves import place_step
+from ...models.memory.episodic import memory_recall, memory_store
+from ...models.network.command import network_command
+from ...models.population.module import line_step
 
 __all__ = ["gate_rate", "keep_place", "lm_step", "places_into", "recall_place"]
 
@@ -47,8 +48,9 @@ def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, p
             memory, recalled, aim, saccade_rad, line, acc, scaled, hid, out):
     """The learning module's command at a head angle (no step if the memory recalled nothing).
 
-    As the learning module's ``direction`` computes it (:mod:`jointattention.models.network`):
-    the network's (:func:`~jointattention.agent.moves.network_command`, from ``face_acc``, the
+    As the learning module's ``direction`` computes it
+    (:mod:`jointattention.models.network.module`): the network's
+    (:func:`~jointattention.models.network.command.network_command`, from ``face_acc``, the
     face's part of the hidden input); ``memory`` is whether the learner is the episodic
     memory (``saccade_rad``: its longest move, 0 for one step); ``line`` is whether it is the
     population code, the direction it read out and the trial's start. The arrays come one by
@@ -67,7 +69,7 @@ def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, p
 
 @jit
 def recall_place(code, memory, c, left_out, aim) -> tuple[float, float]:
-    """:func:`~jointattention.agent.memory.memory_recall` of a face code, into ``aim``.
+    """:func:`~jointattention.models.memory.episodic.memory_recall` of a face code, into ``aim``.
 
     Its support and evidence; the places ``left_out`` (m, 2) do not win.
     """
@@ -78,7 +80,7 @@ def recall_place(code, memory, c, left_out, aim) -> tuple[float, float]:
 
 @jit
 def keep_place(code, pan, tilt, memory, c) -> int:
-    """:func:`~jointattention.agent.memory.memory_store` of a place; the codes in use."""
+    """:func:`~jointattention.models.memory.episodic.memory_store` of a place; the codes in use."""
     n_codes = memory_store(code, pan, tilt, memory.codes, memory.counts, memory.links,
                            memory.aims, memory.base, c[4], c[5], memory.lo_rad, memory.cell_rad,
                            memory.radius_rad)

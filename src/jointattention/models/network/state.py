@@ -1,6 +1,6 @@
 """What a model file keeps of an agent whose learning module is the paper's network.
 
-The bootstrap agent and its kin (:mod:`.bootstrap`) inherit it; :mod:`.saved` writes, checks
+The bootstrap agent and its kin (:mod:`..bootstrap`) inherit it; :mod:`.saved` writes, checks
 and loads the members by name. It imports only numpy.
 """
 
@@ -15,7 +15,8 @@ class NetworkState:
     """The network's weights and the face statistics, as a model file's members.
 
     Expects ``self.learner`` (:class:`~.learner.LearningModule`), ``self.faces``
-    (:class:`~.learner.FaceStandardiser`) and ``self.body`` (its face window size).
+    (:class:`~jointattention.agent.face_standardiser.FaceStandardiser`) and ``self.body`` (its
+    face window size).
     """
 
     def saved_arrays(self) -> dict[str, np.ndarray]:

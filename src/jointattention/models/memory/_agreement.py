@@ -3,7 +3,7 @@
 A recall lets the places kept for the face codes nearest a face vote (:func:`._recall.votes_into`):
 each place counts the places within the voting radius. A face seen often recalls its own code's
 places alone, and their counts change only when the code keeps or forgets a place. So
-:func:`.memory.memory_store` keeps them (``links[AGREE, slot]``: the code's places within the
+:func:`.episodic.memory_store` keeps them (``links[AGREE, slot]``: the code's places within the
 radius of the slot's, itself included; :func:`agree_keep`, :func:`agree_forget`), and a recall of
 one code's places reads them (:func:`votes_of`) instead of counting every pair anew: the same
 votes, bit for bit.
@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._jit import jit
+from ..._jit import jit
 from ._recall import AGREE, CODE_OF, HEAD, NEXT, votes_into
 
 __all__ = ["agree_forget", "agree_keep", "votes_of"]
