@@ -18,7 +18,13 @@ from ..experiment.cells import trial_geometries
 from ..experiment.trial import END_FIRED, RUNNING
 from ..world.mjcf import HEAD_RADII_M
 from ..world.placement import region_of
-from ._observation import _SCALED_ROW_BOUNDS, DETECTION_COLUMNS, MAX_DETECTIONS, _row_bounds
+from ._observation import (
+    _SCALED_ROW_BOUNDS,
+    DETECTION_COLUMNS,
+    MAX_DETECTIONS,
+    _row_bounds,
+    info_dict,
+)
 from ._vector_kernels import CAM, FLAGS, STATE, STEP, start_all, step_all
 
 __all__ = ["Episodes", "FastSteps", "FastTrial"]
@@ -177,11 +183,7 @@ class FastTrial:
             obs["detections"] = rows[0]
         _, end, limit_hit, attended, seen, n_det, target, _ = self._state
         fired = end == END_FIRED
-        info = {"detections": {"centre_px": centre[0], "colour_area_px": det[0, 0],
-                               "edge": det[1, 0], "motion": det[2, 0]},
-                "n_detections": n_det, "fired": fired, "seen": seen if fired else -1,
-                "attended": attended, "target": target, "limit_hit": limit_hit != 0,
-                "intrinsic_reward": float(fired),
-                "external_reward": float(fired and attended == target),
-                "caregiver_error_rad": self._error}
+        info = info_dict((centre[0], det[0, 0], det[1, 0], det[2, 0]), (
+            n_det, fired, seen if fired else -1, attended, target, limit_hit != 0,
+            float(fired), float(fired and attended == target), self._error))
         return obs, info

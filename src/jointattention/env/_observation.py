@@ -15,8 +15,9 @@ from .._jit import jit
 from ..agent.detections import Detections
 from ..experiment.trial import SceneTrial
 
-__all__ = ["DETECTION_COLUMNS", "MAX_DETECTIONS", "OBS_MODES", "detection_rows",
-           "detections_of", "info_of", "observation_space", "scaled"]
+__all__ = ["DETECTION_COLUMNS", "DETECTION_INFO", "MAX_DETECTIONS", "OBS_MODES", "STEP_INFO",
+           "detection_rows", "detections_of", "info_dict", "info_of", "observation_space",
+           "scaled"]
 
 OBS_MODES = ("image", "face", "detections")
 MAX_DETECTIONS = 20  # a scene has at most 20 objects (n_objects)
@@ -118,6 +119,18 @@ def detections_of(info: dict, image_size_px: tuple[int, int]) -> Detections:
                       d["motion"][:n], image_size_px=image_size_px)
 
 
+# A step's info: "detections" (a dict of these, padded to MAX_DETECTIONS), then these keys.
+DETECTION_INFO = ("centre_px", "colour_area_px", "edge", "motion")
+STEP_INFO = ("n_detections", "fired", "seen", "attended", "target", "limit_hit",
+             "intrinsic_reward", "external_reward", "caregiver_error_rad")
+
+
+def info_dict(detections, values) -> dict:
+    """A step's ``info`` from the values of :data:`DETECTION_INFO` and :data:`STEP_INFO`."""
+    return {"detections": dict(zip(DETECTION_INFO, detections, strict=True)),
+            **dict(zip(STEP_INFO, values, strict=True))}
+
+
 def info_of(trial: SceneTrial) -> dict:
     """The step's ``info``: the detector's report (padded) and how the trial stands."""
     det, fired = trial.detections, trial.seen is not None
@@ -125,16 +138,10 @@ def info_of(trial: SceneTrial) -> dict:
     centre = np.zeros((MAX_DETECTIONS, 2))
     centre[:n] = det.centre_px
     rows[0, :n], rows[1, :n], rows[2, :n] = det.colour_area_px, det.edge, det.motion
-    return {
-        "detections": {"centre_px": centre, "colour_area_px": rows[0], "edge": rows[1],
-                       "motion": rows[2]},
-        "n_detections": len(det), "fired": fired,
-        "seen": -1 if trial.seen is None else int(trial.seen),
-        "attended": int(trial.attended), "target": int(trial.target),
-        "limit_hit": bool(trial.limit_hit), "intrinsic_reward": float(fired),
-        "external_reward": float(fired and trial.attended == trial.target),
-        "caregiver_error_rad": _error_of(trial),
-    }
+    return info_dict((centre, rows[0], rows[1], rows[2]), (
+        len(det), fired, -1 if trial.seen is None else int(trial.seen), int(trial.attended),
+        int(trial.target), bool(trial.limit_hit), float(fired),
+        float(fired and trial.attended == trial.target), _error_of(trial)))
 
 
 def _error_of(trial: SceneTrial) -> float:

@@ -24,8 +24,11 @@ from .._checks import check_int
 from ..errors import ConfigError
 from ._args import check_action, refuse_options, vector_seeds
 from ._fast_trial import Episodes
+from ._observation import DETECTION_INFO, STEP_INFO, info_dict
 from ._vector_kernels import HOLD, STATE, STEP, clip_moves, step_all
 from .joint_attention import JointAttentionEnv
+
+_N_MASKS = len(DETECTION_INFO) + 1 + len(STEP_INFO)  # a "_key" mask per info key
 
 __all__ = ["MAX_ENVS", "JointAttentionVectorEnv"]
 
@@ -124,7 +127,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         """
         if self._fixed is None:  # the kernel's arguments that no step changes
             self._fixed = self._steps.kernel_args(self._episodes)
-        out = self._steps.outputs(self.num_envs, masks=15)
+        out = self._steps.outputs(self.num_envs, masks=_N_MASKS)
         step_all(starts, then, self._no_moves if dtheta is None else dtheta, *self._fixed, *out)
         head, face, rows, centre, (area, edge, motion), ints, flags, floats = out
         obs = {"head_angle": head, "face": face}
@@ -133,18 +136,13 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         n_det, seen, attended, target = ints
         intrinsic, external, error = floats
         # the flags, then Gymnasium's "_key" masks: every sub-environment has every key
-        fired, limit_hit, terminated, truncated, ended, *m = flags
+        fired, limit_hit, terminated, truncated, ended, *masks = flags
         self._ends = terminated, truncated, ended
-        detections = {"centre_px": centre, "_centre_px": m[0], "colour_area_px": area,
-                      "_colour_area_px": m[1], "edge": edge, "_edge": m[2], "motion": motion,
-                      "_motion": m[3]}
-        info = {"detections": detections, "_detections": m[4], "n_detections": n_det,
-                "_n_detections": m[5], "fired": fired, "_fired": m[6], "seen": seen,
-                "_seen": m[7], "attended": attended, "_attended": m[8], "target": target,
-                "_target": m[9], "limit_hit": limit_hit, "_limit_hit": m[10],
-                "intrinsic_reward": intrinsic, "_intrinsic_reward": m[11],
-                "external_reward": external, "_external_reward": m[12],
-                "caregiver_error_rad": error, "_caregiver_error_rad": m[13]}
+        info = info_dict((centre, area, edge, motion), (n_det, fired, seen, attended, target,
+                                                         limit_hit, intrinsic, external, error))
+        masks = iter(masks)
+        info["detections"].update((f"_{key}", next(masks)) for key in DETECTION_INFO)
+        info.update((f"_{key}", next(masks)) for key in ("detections", *STEP_INFO))
         return obs, info
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
