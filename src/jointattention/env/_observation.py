@@ -67,11 +67,26 @@ def _scaled_rows(rows: np.ndarray, image_hw: tuple[int, int]) -> np.ndarray:
     """Detection rows with centres in half image sizes from the centre and areas in images."""
     h, w = image_hw
     out = np.array(rows, np.float32)
-    present = out[..., 0]
-    out[..., 1] = (out[..., 1] - (w - 1) / 2) / (w / 2) * present  # zero rows stay zero
-    out[..., 2] = (out[..., 2] - (h - 1) / 2) / (h / 2) * present
-    out[..., 3] /= w * h
-    return np.clip(out, *_SCALED_ROW_BOUNDS)  # float32 rounding stays inside the space
+    _scale_rows_into(out.reshape(-1, out.shape[-1]), w, h, *_SCALED_ROW_BOUNDS)
+    return out
+
+
+@jit
+def _scale_rows_into(rows, width_px, height_px, low, high) -> None:
+    """Scale detection rows in place (:func:`scaled`), in float32, within [low, high].
+
+    The vector kernels scale their rows with it too.
+    """
+    x0, y0 = np.float32((width_px - 1) / 2), np.float32((height_px - 1) / 2)
+    xh, yh = np.float32(width_px / 2), np.float32(height_px / 2)
+    area = np.float32(width_px * height_px)
+    for r in range(rows.shape[0]):
+        present = rows[r, 0]
+        rows[r, 1] = (rows[r, 1] - x0) / xh * present  # zero rows stay (signed) zero
+        rows[r, 2] = (rows[r, 2] - y0) / yh * present
+        rows[r, 3] = rows[r, 3] / area
+        for j in range(rows.shape[1]):  # float32 rounding stays inside the space
+            rows[r, j] = min(max(rows[r, j], low[j]), high[j])
 
 
 # present, centre x and y (half image sizes from the centre), area (images), edge, motion

@@ -22,7 +22,7 @@ from ..agent.attention import attended_index
 from ..experiment.trial import END_FIRED, END_LIMIT, END_STEPS, RUNNING, end_after_look, move_head
 from ..world.fast import detect_into, draw_index, draw_objects
 from ..world.kinematics import rotation_into, separation_rad
-from ._observation import _rows_into
+from ._observation import _rows_into, _scale_rows_into
 
 __all__ = ["CAM", "FLAGS", "HOLD", "STATE", "STEP", "clip_moves", "start_all", "step_all"]
 
@@ -92,7 +92,7 @@ def _write_look(i, m, theta, looks, face_k, faces, bounds, scaled, with_rows, wi
 
     The head angle rounded to float32, then (v2) scaled in float64 and rounded again
     (:func:`~._observation.scaled`); the detection rows rounded then clipped
-    (:func:`~._observation.detection_rows`), then (v2) scaled in float32, as numpy scales them.
+    (:func:`~._observation.detection_rows`), then (v2) scaled by the same kernel.
     """
     for d in range(2):
         angle = np.float32(theta[i, d])
@@ -115,19 +115,8 @@ def _write_look(i, m, theta, looks, face_k, faces, bounds, scaled, with_rows, wi
     rows[:] = 0
     _rows_into(looks[i, :m, :2], looks[i, :m, 2], looks[i, :m, 3], det_out[2, i, :m],
                bounds[0], bounds[1], rows)
-    if not scaled:
-        return
-    # float32 throughout, as numpy computes on float32 rows with Python numbers
-    x0, y0 = np.float32((width_px - 1) / 2), np.float32((height_px - 1) / 2)
-    xh, yh = np.float32(width_px / 2), np.float32(height_px / 2)
-    area = np.float32(width_px * height_px)
-    for r in range(rows.shape[0]):
-        present = rows[r, 0]
-        rows[r, 1] = (rows[r, 1] - x0) / xh * present  # zero rows stay (signed) zero
-        rows[r, 2] = (rows[r, 2] - y0) / yh * present
-        rows[r, 3] = rows[r, 3] / area
-        for j in range(rows.shape[1]):
-            rows[r, j] = min(max(rows[r, j], bounds[2, j]), bounds[3, j])
+    if scaled:
+        _scale_rows_into(rows, width_px, height_px, bounds[2], bounds[3])
 
 
 @jit
