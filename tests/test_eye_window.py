@@ -17,7 +17,7 @@ from jointattention.experiment.cells import datasets_of, make_agent
 from jointattention.models.bootstrap import BootstrapOptions
 from jointattention.models.population.features import n_features
 from jointattention.world.options import EyeWindowConfig
-from jointattention.world.recording import eye_box, make_datasets
+from jointattention.world.recording import _placement_error, eye_box, make_datasets
 from jointattention.world.simulator import World
 
 PEOPLE = load_config("people").world
@@ -99,6 +99,18 @@ def test_placement_error_moves_the_eye_window_only():
         np.testing.assert_array_equal(getattr(moved, field), getattr(exact, field))
     assert all(not np.array_equal(a, b) for a, b in zip(moved.eyes, exact.eyes, strict=True))
     np.testing.assert_array_equal(make_datasets(sloppy, 4, seed=5).eyes, moved.eyes)
+
+
+def test_each_scene_draws_its_own_placement_error():
+    """Without sensor noise too, each scene's eye window is placed with an error of its own."""
+    quiet = dataclasses.replace(EYES, sensor=dataclasses.replace(
+        EYES.sensor, noise_sd_range_levels=(0.0, 0.0)))
+    with World(quiet, seed=5) as world:
+        errors = []
+        for _ in range(3):
+            world.reset()
+            errors.append(_placement_error(world, 0.05))
+    assert len({tuple(e) for e in errors}) == 3 and np.std(errors) > 0.01
 
 
 def test_the_fovea_renders_the_whole_view_finer_than_the_camera():

@@ -77,11 +77,21 @@ def capture_eye_window(world: World) -> np.ndarray:
     """
     centre, distance_px = eye_box(world)
     sd = world.config.eye_window.placement_sd
-    if sd > 0:  # the scene's own draw: the world's stream is left as it was
-        err = np.random.default_rng([world.state.look.noise_seed, _PLACEMENT_KEY]).normal(
-            0.0, sd, 3)
+    if sd > 0:
+        err = _placement_error(world, sd)
         centre, distance_px = centre + err[:2] * distance_px, distance_px * np.exp(err[2])
     return eye_window_at(world, centre, distance_px)
+
+
+def _placement_error(world: World, sd: float) -> np.ndarray:
+    """This scene's error in placing the eye window: (dx, dy, log width), ``sd`` each.
+
+    Seeded by the scene itself (its target's place, which every scene draws anew), so the
+    world's stream is left as it was.
+    """
+    place = np.ascontiguousarray(world.state.target_pos_m, np.float64)
+    entropy = np.frombuffer(place.tobytes(), np.uint32).tolist()
+    return np.random.default_rng([*entropy, _PLACEMENT_KEY]).normal(0.0, sd, 3)
 
 
 def eye_window_at(world: World, centre_px, distance_px: float) -> np.ndarray:
