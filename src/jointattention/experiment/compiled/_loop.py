@@ -14,6 +14,19 @@ e.g. the population code) hands its kernels instead: :func:`loop_for` compiles a
 and ``module_learn`` are them (``_jit.specialise``), and the loop calls them on the module's
 own state (its argument ``module``). Here they are None: the loop for the modules not on the
 protocol (``module`` None) prunes their calls.
+
+:func:`run_trials`'s arguments: ``memory`` is the episodic memory
+(:class:`~.inputs.LoopMemory`), or None for the learners that back-propagate (its branches are
+then pruned at compile time: its kernels are compiled only for a memory learner);
+``development`` the developmental model's caregiver and blur
+(:class:`~.inputs.LoopDevelopment`), or None, likewise; ``module`` the state of a learning
+module on the kernel protocol, or None (its ``learn`` draws from ``module_rng``). A frozen
+robot (``robot.learning`` False) learns nothing and its learning time stands still: it runs
+``max_trials`` trials. Each trial is :func:`~.cells.random_scene`, a
+:class:`~.trial.SceneTrial` and :func:`~.trial.run_trial` of a bootstrap agent, in that order
+of random draws. Its parts that run once a trial (the memory's start, the face statistics, the
+caregiver's approval, the network's and the memory's learning) are the private kernels below
+it.
 """
 
 from __future__ import annotations
@@ -68,34 +81,20 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                trials_rng, shuffle_rng, gate_rng, move_rng, module_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
 
-    ``memory``: the episodic memory (:class:`~.inputs.LoopMemory`), or None for the
-    learners that back-propagate (its branches are then pruned at compile time: its kernels
-    are compiled only for a memory learner). ``development``: the developmental model's
-    caregiver and blur (:class:`~.inputs.LoopDevelopment`), or None, likewise.
-    ``module``: the state of a learning module on the kernel protocol (its kernels are this
-    copy's, :func:`loop_for`), or None; its ``learn`` draws from ``module_rng``.
-
-    A frozen robot (``robot.learning`` False) learns nothing and its learning time stands
-    still: it runs ``max_trials`` trials. Each trial is :func:`~.cells.random_scene`, a
-    :class:`~.trial.SceneTrial` and :func:`~.trial.run_trial` of a bootstrap agent, in that
-    order of random draws.
+    See the module's docstring.
     """
-    n, n_pix = world.n_objects, world.faces.shape[1]
+    n, n_pix, n_hidden = world.n_objects, world.faces.shape[1], len(state.b1)
     cx, cy = (world.width_px - 1) / 2, (world.height_px - 1) / 2
     obj_pos, obj_rad, edge = np.empty((n, 3)), np.empty(n), np.empty(n)
     arrays, camera = look_arrays(n), look_camera(world, robot.d_th_px)
     centre, seen_area, seen_edge, motion = arrays[1], arrays[2], arrays[3], np.zeros(n)
     no_objects, passed_over = np.zeros(n, np.bool_), np.zeros(n, np.bool_)  # attention's
-    face_x, face_acc, acc = np.empty(n_pix), np.empty(len(state.b1)), np.empty(len(state.b1))
-    hid, out = np.empty(len(state.b1)), np.empty(2)
+    face_x, face_acc, acc, hid, out, scaled = _network_scratch(n_pix, n_hidden)
     recall, saccade_rad = _recall_scratch(memory, robot.learning, development is None,
                                           len(world.faces))
-    code, no_places, has_memory = recall[0], recall[5], memory is not None
-    scaled, sweep = np.empty(2), (0.0, 0.0)
-    places = np.empty((MAX_PLACES, 2))  # the memory's places found
-    aim, place = np.empty(2), np.empty(2)  # the place recalled, the place found
-    thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
-    y, angles_x = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
+    code, has_memory, sweep, place = recall[0], memory is not None, (0.0, 0.0), np.empty(2)
+    aim, places = np.empty(2), np.empty((MAX_PLACES, 2))  # the place recalled, those found
+    thetas, steps, y, angles_x = _steps_scratch(robot.max_steps)
     seen_face, blur_tmp = np.empty(n_pix), np.empty(n_pix)  # the face through the blur
     a1, a2, a3 = robot.weights[0], robot.weights[1], robot.weights[2]
     c = state.counters
@@ -108,37 +107,21 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         k, target, shown = draw_trial(world, trials_rng, shuffle_rng, obj_pos, obj_rad, edge)
         if target < 0:
             return -1
-        face = world.faces[shown]
+        face, pan, tilt = world.faces[shown], world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
         if development is not None and development.blur_start_px > 0:  # DevelopmentalAgent.see
-            d = development
-            blur_into(face, d.face_width_px, d.face_height_px,
-                      blur_px(d.blur_start_px, d.blur_sharp_steps, float(c[0])), blur_tmp,
-                      seen_face)
-            face = seen_face
-        # the agent begins (BootstrapAgent.begin_trial, the module's begin)
-        recalled, evidence, mine = False, 0.0, no_places  # mine: the face's places left out
-        if memory is not None:
-            recalled, evidence, mine = _memory_begin(memory, face, shown, c, recall, aim)
-        pan, tilt = world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
+            face = _blurred(development, face, float(c[0]), blur_tmp, seen_face)
+        # the agent begins (BootstrapAgent.begin_trial, the module's begin; mine: left out)
+        recalled, evidence, mine = _memory_begin(memory, face, shown, c, recall, aim)
         if module is not None:
             evidence = module_begin(module, face, pan, tilt, robot.learning)
-        if robot.learning:
-            c[1] += 1
-            welford_update(face, state.mean, state.m2, c[1])
-        if not has_memory and module is None:  # the network's input; the memory codes the face
-            standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
-            face_part(face_x, w1, face_acc)
+        _faces_begin(robot, state, face, not has_memory and module is None, face_x, face_acc)
         if robot.vf_fallback_sweep:
             sweep = random_step(move_rng, robot.step_rad)
-        trial_module = -1
-        if robot.gate_per_trial:
-            rate = gate_rate(robot, c[0], agreement[0], evidence)
-            trial_module = _LM if gate_rng.random() < rate else _VF
+        trial_module = (_gated(robot, c[0], agreement[0], evidence, gate_rng)
+                        if robot.gate_per_trial else -1)
         # the trial (SceneTrial, run_trial)
-        pan_start, tilt_start = pan, tilt
+        pan_start, tilt_start, limit_hit, last_module = pan, tilt, False, -1
         n_steps, n_lm, n_random, end, attended, seen = 0, 0, 0, -1, -1, -1
-        last_module = -1
-        limit_hit = False
         while True:
             m, seen, end, attended = look(obj_pos, obj_rad, edge, pan, tilt, camera, limit_hit,
                                           n_steps, robot.max_steps, arrays)
@@ -151,8 +134,7 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                 recalled, evidence, mine = _memory_left_out(memory, c, code, aim, mine)
             module_now = trial_module
             if module_now < 0:
-                rate = gate_rate(robot, c[0], agreement[0], evidence)
-                module_now = _LM if gate_rng.random() < rate else _VF
+                module_now = _gated(robot, c[0], agreement[0], evidence, gate_rng)
             i = -1
             if module_now == _VF:
                 passed = no_objects[:m]
@@ -188,22 +170,15 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
             pan, tilt, limit_hit = move_head(pan, tilt, d_pan, d_tilt, lim[0], lim[1], lim[2],
                                              lim[3])
             n_steps += 1
-        # the agent learns (BootstrapAgent.end_trial, the module's learn; the teacher only
-        # when the caregiver approves: TeacherAgent.end_trial, DevelopmentalAgent.end_trial)
-        approved = end == END_FIRED and attended == target
-        if development is not None:  # the developmental caregiver's criterion
-            approved = _caregiver(development, state.caregiver, robot.learning, end, attended,
-                                  target, obj_pos)
-        learns = (robot.learning and end == END_FIRED and n_steps > 0
-                  and (not robot.caregiver_judges or approved)
-                  and (not robot.learn_from_vf or last_module == _VF))
+        # the agent learns (BootstrapAgent.end_trial, the module's learn; TeacherAgent's too)
+        approved = _approved(development, state.caregiver, robot.learning, end, attended,
+                             target, obj_pos)
+        learns = _learns(robot, end, n_steps, approved, last_module)
         if learns:
-            v_pan, v_tilt = visual_feedback_rad(centre[seen, 0], centre[seen, 1], cx, cy,
-                                                robot.gain_rad_per_px)
+            v_pan, v_tilt = _aim(robot, centre[seen], cx, cy, pan, tilt, place)
             if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
                 if module is not None:
-                    u_pan, u_tilt = module_direction(module, pan_start, tilt_start,
-                                                     robot.step_rad)
+                    u_pan, u_tilt = module_direction(module, pan_start, tilt_start, robot.step_rad)
                 else:
                     u_pan, u_tilt = lm_step(w1, b1, w2, b2, mid, half, robot.step_rad, face_acc,
                                             pan_start, tilt_start, has_memory, recalled, aim,
@@ -211,27 +186,91 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                 agreement[0] = agreement_update(
                     agreement[0], u_pan, u_tilt, pan + v_pan - pan_start,
                     tilt + v_tilt - tilt_start, robot.gate_a, robot.gate_window)
-            place[0], place[1] = pan, tilt
-            if robot.learning_target == _OBJECT_DIRECTION:
-                place[0], place[1] = pan + v_pan, tilt + v_tilt
         if learns and memory is not None:  # MemoryModule.learn
-            n_places = places_into(place, centre[:m], seen, memory.in_view, pan, tilt, cx, cy,
-                                   robot.gain_rad_per_px, places)
-            if memory.drop_left_out:
-                n_places = drop_left_out_from(places, n_places, mine, memory.radius_rad)
-            for i in range(n_places):
-                c[5] = keep_place(code, places[i, 0], places[i, 1], memory, c)
+            _memory_learn(memory, c, code, place, centre[:m], seen, pan, tilt, cx, cy,
+                          robot.gain_rad_per_px, mine, places)
         elif learns and module is not None:  # the module's learn
             module_learn(module, place, centre[:m], seen, pan, tilt, cx, cy,
                          robot.gain_rad_per_px, face, module_rng)
         elif learns:
             _network_learn(robot, state, face_x, face_acc, thetas[:n_steps], steps[:n_steps],
                            place, y[:n_steps], angles_x)
-        r = c[3]
-        records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random
-        records[4, r], records[5, r], records[6, r] = attended, target, end
-        c[3] += 1
+        _record(records, c, start, n_steps, n_lm, n_random, attended, target, end)
     return 0
+
+
+@jit
+def _blurred(development, face, t, tmp, out):
+    """The face through the developmental model's blur at learning time ``t`` (into ``out``)."""
+    d = development
+    blur_into(face, d.face_width_px, d.face_height_px,
+              blur_px(d.blur_start_px, d.blur_sharp_steps, t), tmp, out)
+    return out
+
+
+@jit
+def _faces_begin(robot, state, face, network, face_x, face_acc) -> None:
+    """The face statistics learn the face (``BootstrapAgent.begin_trial``).
+
+    With ``network``, the network's input ``face_x`` and its part of the hidden sums
+    ``face_acc`` (``NetworkModule.begin``).
+    """
+    c = state.counters
+    if robot.learning:
+        c[1] += 1
+        welford_update(face, state.mean, state.m2, c[1])
+    if network:
+        standardise(face, state.mean, state.m2, c[1], robot.min_std, face_x)
+        face_part(face_x, state.w1, face_acc)
+
+
+@jit
+def _aim(robot, centre_seen, cx, cy, pan, tilt, place) -> tuple[float, float]:
+    """Eq. 2's command to the attended object; what the trial aims at into ``place``.
+
+    ``BootstrapAgent.aim_of``: the attended object's place, or the final head angle.
+    """
+    v_pan, v_tilt = visual_feedback_rad(centre_seen[0], centre_seen[1], cx, cy,
+                                        robot.gain_rad_per_px)
+    place[0], place[1] = pan, tilt
+    if robot.learning_target == _OBJECT_DIRECTION:
+        place[0], place[1] = pan + v_pan, tilt + v_tilt
+    return v_pan, v_tilt
+
+
+@jit
+def _memory_learn(memory, c, code, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px,
+                  mine, places) -> None:
+    """The episodic memory keeps the trial's places (``MemoryModule.learn``)."""
+    n_places = places_into(place, centre, seen, memory.in_view, pan, tilt, cx, cy,
+                           gain_rad_per_px, places)
+    if memory.drop_left_out:
+        n_places = drop_left_out_from(places, n_places, mine, memory.radius_rad)
+    for i in range(n_places):
+        c[5] = keep_place(code, places[i, 0], places[i, 1], memory, c)
+
+
+@jit
+def _record(records, c, start, n_steps, n_lm, n_random, attended, target, end) -> None:
+    """A trial's row of :data:`COLUMNS`; one more trial counted."""
+    r = c[3]
+    records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random
+    records[4, r], records[5, r], records[6, r] = attended, target, end
+    c[3] += 1
+
+
+@jit
+def _network_scratch(n_pix, n_hidden):
+    """The network's scratch: its face input, hidden sums (the face's part, all), outputs."""
+    return (np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden), np.empty(n_hidden),
+            np.empty(2), np.empty(2))
+
+
+@jit
+def _steps_scratch(max_steps):
+    """A trial's head angles and steps, and the network's aims and scaled angles of them."""
+    return (np.empty((max_steps, 2)), np.empty((max_steps, 2)), np.empty((max_steps, 2)),
+            np.empty((max_steps, 2)))
 
 
 @jit
@@ -260,9 +299,12 @@ def _recall_scratch(memory, learning, same_faces, n_faces):
 def _memory_begin(memory, face, shown, c, recall, aim):
     """The episodic memory's trial start (``MemoryModule.begin``): recalled, evidence, left out.
 
-    ``recall`` is :func:`_recall_scratch`'s; the place recalled goes into ``aim``.
+    ``recall`` is :func:`_recall_scratch`'s; the place recalled goes into ``aim``. Nothing
+    recalled without a memory (``memory`` None).
     """
     code, cached, cached_aim, coded, codes_of, mine = recall
+    if memory is None:
+        return False, 0.0, mine
     n_cached, n_coded = len(cached), len(coded)
     if n_cached and cached[shown]:
         aim[0], aim[1] = cached_aim[shown, 0], cached_aim[shown, 1]
@@ -298,9 +340,35 @@ def _memory_left_out(memory, c, code, aim, mine):
     return False, 0.0, mine
 
 
+@jit(inline=True)
+def _gated(robot, t, agreement, evidence, gate_rng) -> int:
+    """The module the gate chooses at learning time ``t``: one draw from ``gate_rng``."""
+    rate = gate_rate(robot, t, agreement, evidence)
+    return _LM if gate_rng.random() < rate else _VF
+
+
 @jit
-def _caregiver(development, caregiver, learning, end, attended, target, obj_pos) -> bool:
-    """Whether the developmental caregiver approves the trial; her criterion adapts."""
+def _learns(robot, end, n_steps, approved, last_module) -> bool:
+    """Whether the agent learns from the trial (``BootstrapAgent._learns``).
+
+    A learning agent learns from a trial the evaluator ended, if the caregiver approves it
+    (when she judges: the teacher) and, with ``learn_from = "vf"``, if visual attention made
+    its last move.
+    """
+    return (robot.learning and end == END_FIRED and n_steps > 0
+            and (not robot.caregiver_judges or approved)
+            and (not robot.learn_from_vf or last_module == _VF))
+
+
+@jit
+def _approved(development, caregiver, learning, end, attended, target, obj_pos) -> bool:
+    """Whether the caregiver approves the trial: it ended on her target.
+
+    The developmental caregiver (``development`` not None) approves an object near it too,
+    within her criterion, which adapts.
+    """
+    if development is None:
+        return end == END_FIRED and attended == target
     approved = end == END_FIRED and (attended == target or separation_rad(
         obj_pos[attended], obj_pos[target]) <= caregiver[0])
     if learning:
