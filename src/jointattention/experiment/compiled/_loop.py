@@ -89,15 +89,13 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
     arrays, camera = look_arrays(n), look_camera(world, robot.d_th_px)
     centre, seen_area, seen_edge, motion = arrays[1], arrays[2], arrays[3], np.zeros(n)
     no_objects, passed_over = np.zeros(n, np.bool_), np.zeros(n, np.bool_)  # attention's
-    face_x, face_acc, acc, hid, out, scaled = _network_scratch(n_pix, n_hidden)
+    face_x, face_acc, acc, hid, out, scaled, seen_face, blur_tmp = _scratch(n_pix, n_hidden)
     recall, saccade_rad = _recall_scratch(memory, robot.learning, development is None,
                                           len(world.faces))
     code, has_memory, sweep, place = recall[0], memory is not None, (0.0, 0.0), np.empty(2)
     aim, places = np.empty(2), np.empty((MAX_PLACES, 2))  # the place recalled, those found
     thetas, steps, y, angles_x = _steps_scratch(robot.max_steps)
-    seen_face, blur_tmp = np.empty(n_pix), np.empty(n_pix)  # the face through the blur
-    a1, a2, a3 = robot.weights[0], robot.weights[1], robot.weights[2]
-    c = state.counters
+    c, a1, a2, a3 = state.counters, robot.weights[0], robot.weights[1], robot.weights[2]
     # the arrays of every step, taken from the records once (each taking is counted in and out)
     w1, b1, w2, b2, agreement = state.w1, state.b1, state.w2, state.b2, state.agreement
     mid, half, lim = robot.theta_mid_rad, robot.theta_half_rad, world.limits_rad
@@ -110,8 +108,9 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
         face, pan, tilt = world.faces[shown], world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
         if development is not None and development.blur_start_px > 0:  # DevelopmentalAgent.see
             face = _blurred(development, face, float(c[0]), blur_tmp, seen_face)
-        # the agent begins (BootstrapAgent.begin_trial, the module's begin; mine: left out)
-        recalled, evidence, mine = _memory_begin(memory, face, shown, c, recall, aim)
+        recalled, evidence, mine = False, 0.0, recall[5]  # mine: the face's places left out
+        if memory is not None:  # the agent begins (BootstrapAgent.begin_trial, the modules')
+            recalled, evidence, mine = _memory_begin(memory, face, shown, c, recall, aim)
         if module is not None:
             evidence = module_begin(module, face, pan, tilt, robot.learning)
         _faces_begin(robot, state, face, not has_memory and module is None, face_x, face_acc)
@@ -134,7 +133,8 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                 recalled, evidence, mine = _memory_left_out(memory, c, code, aim, mine)
             module_now = trial_module
             if module_now < 0:
-                module_now = _gated(robot, c[0], agreement[0], evidence, gate_rng)
+                rate = gate_rate(robot, c[0], agreement[0], evidence)
+                module_now = _LM if gate_rng.random() < rate else _VF
             i = -1
             if module_now == _VF:
                 passed = no_objects[:m]
@@ -208,7 +208,7 @@ def _blurred(development, face, t, tmp, out):
     return out
 
 
-@jit
+@jit(inline=True)
 def _faces_begin(robot, state, face, network, face_x, face_acc) -> None:
     """The face statistics learn the face (``BootstrapAgent.begin_trial``).
 
@@ -224,7 +224,7 @@ def _faces_begin(robot, state, face, network, face_x, face_acc) -> None:
         face_part(face_x, state.w1, face_acc)
 
 
-@jit
+@jit(inline=True)
 def _aim(robot, centre_seen, cx, cy, pan, tilt, place) -> tuple[float, float]:
     """Eq. 2's command to the attended object; what the trial aims at into ``place``.
 
@@ -250,7 +250,7 @@ def _memory_learn(memory, c, code, place, centre, seen, pan, tilt, cx, cy, gain_
         c[5] = keep_place(code, places[i, 0], places[i, 1], memory, c)
 
 
-@jit
+@jit(inline=True)
 def _record(records, c, start, n_steps, n_lm, n_random, attended, target, end) -> None:
     """A trial's row of :data:`COLUMNS`; one more trial counted."""
     r = c[3]
@@ -260,10 +260,14 @@ def _record(records, c, start, n_steps, n_lm, n_random, attended, target, end) -
 
 
 @jit
-def _network_scratch(n_pix, n_hidden):
-    """The network's scratch: its face input, hidden sums (the face's part, all), outputs."""
+def _scratch(n_pix, n_hidden):
+    """The network's scratch, then the face seen through the blur and the blur's scratch.
+
+    The network's: its face input, hidden sums (the face's part, all), hidden outputs,
+    outputs, the scaled head angle.
+    """
     return (np.empty(n_pix), np.empty(n_hidden), np.empty(n_hidden), np.empty(n_hidden),
-            np.empty(2), np.empty(2))
+            np.empty(2), np.empty(2), np.empty(n_pix), np.empty(n_pix))
 
 
 @jit
@@ -299,12 +303,9 @@ def _recall_scratch(memory, learning, same_faces, n_faces):
 def _memory_begin(memory, face, shown, c, recall, aim):
     """The episodic memory's trial start (``MemoryModule.begin``): recalled, evidence, left out.
 
-    ``recall`` is :func:`_recall_scratch`'s; the place recalled goes into ``aim``. Nothing
-    recalled without a memory (``memory`` None).
+    ``recall`` is :func:`_recall_scratch`'s; the place recalled goes into ``aim``.
     """
     code, cached, cached_aim, coded, codes_of, mine = recall
-    if memory is None:
-        return False, 0.0, mine
     n_cached, n_coded = len(cached), len(coded)
     if n_cached and cached[shown]:
         aim[0], aim[1] = cached_aim[shown, 0], cached_aim[shown, 1]
@@ -347,7 +348,7 @@ def _gated(robot, t, agreement, evidence, gate_rng) -> int:
     return _LM if gate_rng.random() < rate else _VF
 
 
-@jit
+@jit(inline=True)
 def _learns(robot, end, n_steps, approved, last_module) -> bool:
     """Whether the agent learns from the trial (``BootstrapAgent._learns``).
 
@@ -379,7 +380,7 @@ def _approved(development, caregiver, learning, end, attended, target, obj_pos) 
     return approved
 
 
-@jit
+@jit(inline=True)
 def _network_learn(robot, state, face_x, face_acc, thetas, steps, place, y, angles_x) -> None:
     """The network learns from a trial's steps (``NetworkModule.learn``); ``y``: scratch."""
     n_steps = len(thetas)
