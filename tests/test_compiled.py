@@ -191,6 +191,23 @@ def test_a_loop_compiled_for_a_module_s_kernels_is_cached_under_its_own_name():
     assert out == ["True", "True", "1", "0"]
 
 
+def test_each_set_of_module_kernels_gets_a_loop_named_for_it():
+    """loop_for: one loop per set of kernels, named for them, kernels without a file too."""
+    import numba
+
+    from jointattention import ModuleKernels
+    from jointattention.experiment.compiled._loop import loop_for, run_trials
+
+    def stub(*args):
+        return 0.0
+
+    made = numba.njit(eval("lambda *args: 0.0"))  # no file: its code names the loop
+    a, b = ModuleKernels(*[numba.njit(stub)] * 4), ModuleKernels(*[made] * 4)
+    assert loop_for(None) is run_trials and loop_for(a) is loop_for(a)
+    names = {loop_for(k).py_func.__qualname__ for k in (a, b)}
+    assert len(names) == 2 and all(n.startswith("run_trials_") for n in names)
+
+
 def test_kernels_call_kernels_without_the_wrapper_for_python():
     """A kernel's callers call its wrapperless twin; from Python the kernel itself runs alike."""
     import numba

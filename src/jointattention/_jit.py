@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import marshal
 import os
 import sys
 import types
@@ -177,6 +178,14 @@ def jit(function=None, *, inline: bool = False):
     return kernel
 
 
+def _source_bytes(function) -> bytes:
+    """The bytes of ``function``'s file, or of its code if it has none (``python -c``)."""
+    try:
+        return Path(function.__code__.co_filename).read_bytes()
+    except OSError:
+        return marshal.dumps(function.__code__)
+
+
 def specialise(kernel, **bound):
     """A copy of ``kernel`` whose global names ``bound`` are the given kernels, compiled.
 
@@ -193,7 +202,7 @@ def specialise(kernel, **bound):
         inner = value.py_func
         digest.update(f"{name}={inner.__module__}.{inner.__qualname__};".encode())
         if not inner.__module__.startswith(f"{_TOP}."):
-            digest.update(Path(inner.__code__.co_filename).read_bytes())
+            digest.update(_source_bytes(inner))
     namespace = dict(function.__globals__)
     for name, value in bound.items():
         if name not in namespace:
