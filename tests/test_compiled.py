@@ -171,6 +171,43 @@ def test_a_second_process_loads_the_compiled_engine_from_the_cache():
     assert out == ["1", "0"]
 
 
+def test_a_loop_compiled_for_a_module_s_kernels_is_cached_under_its_own_name():
+    """The loop for the population code's kernels is its own copy, and a new process loads it."""
+    script = ("import dataclasses\n"
+              "from jointattention import load_config, run_cell\n"
+              "from jointattention.experiment.compiled._loop import loop_for, run_trials\n"
+              "from jointattention.models.population.module import PopulationModule\n"
+              "c = load_config('quick')\n"
+              "c = dataclasses.replace(c, model=dataclasses.replace(c.model, "
+              "learner='population'), experiment=dataclasses.replace(c.experiment, "
+              "n_steps=50))\n"
+              "run_cell(c, c.experiment.conditions[0], 0)\n"
+              "loop = loop_for(PopulationModule.kernels)\n"
+              "print(loop is not run_trials, loop.py_func.__qualname__ != 'run_trials', "
+              "sum(loop.stats.cache_hits.values()), sum(loop.stats.cache_misses.values()))")
+    for _ in range(2):  # the first may compile (a fresh machine); the second must not
+        out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                             check=True).stdout.split()
+    assert out == ["True", "True", "1", "0"]
+
+
+def test_each_set_of_module_kernels_gets_a_loop_named_for_it():
+    """loop_for: one loop per set of kernels, named for them, kernels without a file too."""
+    import numba
+
+    from jointattention import ModuleKernels
+    from jointattention.experiment.compiled._loop import loop_for, run_trials
+
+    def stub(*args):
+        return 0.0
+
+    made = numba.njit(eval("lambda *args: 0.0"))  # no file: its code names the loop
+    a, b = ModuleKernels(*[numba.njit(stub)] * 4), ModuleKernels(*[made] * 4)
+    assert loop_for(None) is run_trials and loop_for(a) is loop_for(a)
+    names = {loop_for(k).py_func.__qualname__ for k in (a, b)}
+    assert len(names) == 2 and all(n.startswith("run_trials_") for n in names)
+
+
 def test_kernels_call_kernels_without_the_wrapper_for_python():
     """A kernel's callers call its wrapperless twin; from Python the kernel itself runs alike."""
     import numba

@@ -29,18 +29,27 @@ took 2.34-2.41 s against 2.63-2.66 s (ablation-paper's v0.2-n5-sigmoid; v0.2-n10
 few callers: each caller compiles the body again (the first compile did not move with these
 two; with the hidden layer's sums and the forward pass inlined too, 10.2-10.4 s against
 8.0-9.0).
+
+:func:`specialise` compiles a copy of a kernel whose globals name other kernels: the compiled
+engine's loop, once for each set of kernels a model hands it. numba can take kernels as
+arguments too, but a function that does misses the cache in every new process (numba tells
+two dispatcher types apart by the object, not by the function), and a tuple of kernels is
+numba's experimental first-class function type; a copy named for its kernels is cached like
+any kernel.
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
+import marshal
 import os
 import sys
+import types
 from functools import cache
 from pathlib import Path
 
-__all__ = ["cache_dir", "jit"]
+__all__ = ["cache_dir", "jit", "specialise"]
 
 _TOP = __name__.rpartition(".")[0]
 _loaded = False  # whether numba is imported and the waiting kernels compiled
@@ -167,3 +176,40 @@ def jit(function=None, *, inline: bool = False):
     kernel = _Kernel(function, inline)
     _waiting.append(kernel)
     return kernel
+
+
+def _source_bytes(function) -> bytes:
+    """The bytes of ``function``'s file, or of its code if it has none (``python -c``)."""
+    try:
+        return Path(function.__code__.co_filename).read_bytes()
+    except OSError:
+        return marshal.dumps(function.__code__)
+
+
+def specialise(kernel, **bound):
+    """A copy of ``kernel`` whose global names ``bound`` are the given kernels, compiled.
+
+    Each name is a global of ``kernel``'s module (None there: the kernel prunes the branches
+    that call it). The copy is cached under a name of its own, made of the bound kernels'
+    modules and names and, for a kernel outside this package (whose sources
+    :func:`cache_dir` does not hash), the bytes of its file: a changed kernel of a user's
+    model gets a fresh loop too.
+    """
+    _load_numba()
+    function = kernel.py_func
+    digest = hashlib.sha256()
+    for name, value in sorted(bound.items()):
+        inner = value.py_func
+        digest.update(f"{name}={inner.__module__}.{inner.__qualname__};".encode())
+        if not inner.__module__.startswith(f"{_TOP}."):
+            digest.update(_source_bytes(inner))
+    namespace = dict(function.__globals__)
+    for name, value in bound.items():
+        if name not in namespace:
+            raise TypeError(f"{function.__qualname__} has no global {name!r} to bind")
+        namespace[name] = value
+    copy = types.FunctionType(function.__code__, namespace, function.__name__,
+                              function.__defaults__, function.__closure__)
+    copy.__qualname__ = f"{function.__qualname__}_{digest.hexdigest()[:12]}"
+    copy.__module__, copy.__doc__ = function.__module__, function.__doc__
+    return _compile(copy)

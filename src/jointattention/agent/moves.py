@@ -11,9 +11,12 @@ import math
 import numpy as np
 
 from .._jit import jit
+from .attention import visual_feedback_rad
 
-__all__ = ["capped_step", "learning_samples", "place_step", "random_step", "scale_angle_into",
-           "unit_step"]
+__all__ = ["MAX_PLACES", "capped_step", "learning_samples", "place_step", "places_into",
+           "random_step", "scale_angle_into", "unit_step"]
+
+MAX_PLACES = 20  # places a learning module keeps of one trial at most (objects in a scene: 20)
 
 
 @jit
@@ -76,3 +79,20 @@ def learning_samples(thetas_rad, steps_rad, aim_rad, executed: bool, y_out) -> n
         keep[i] = norm > 1e-9
         y_out[i, 0], y_out[i, 1] = d0 / norm, d1 / norm
     return keep
+
+
+@jit
+def places_into(place, centre, seen, in_view, pan, tilt, cx, cy, gain_rad_per_px,
+                places) -> int:
+    """``place``, then (``in_view``) every other object of the last image but ``seen``.
+
+    Into ``places``, as ``BootstrapAgent.place_of`` finds them; returns how many.
+    """
+    places[0, 0], places[0, 1], n = place[0], place[1], 1
+    for i in range(len(centre) if in_view else 0):
+        if i != seen and n < len(places):
+            v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
+                                                gain_rad_per_px)
+            places[n, 0], places[n, 1] = pan + v_pan, tilt + v_tilt
+            n += 1
+    return n

@@ -10,13 +10,13 @@ report (:class:`~jointattention.agent.detections.Detections`) and how each trial
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Protocol, runtime_checkable
+from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
 from .detections import Detections
 
-__all__ = ["LM", "RANDOM", "VF", "Agent", "Body", "Outcome"]
+__all__ = ["LM", "RANDOM", "VF", "Agent", "Body", "ModuleKernels", "Outcome"]
 
 # The modules that may move the head (the second value of Agent.act).
 VF, LM, RANDOM = "vf", "lm", "random"
@@ -106,3 +106,34 @@ class Agent(Protocol):
 
     def end_trial(self, outcome: Outcome) -> None:
         """The trial ended: learn from it (or not)."""
+
+
+class ModuleKernels(NamedTuple):
+    """A learning module's part of a trial, as compiled kernels (``_jit.jit``) of its state.
+
+    A learning module of the bootstrap agent declares them as its ``kernels`` and its state as
+    ``compiled_state()`` (a named tuple of numbers and arrays, its own arrays, changed in
+    place), then takes back what the kernels counted with ``sync(state)``. Its step-by-step
+    methods call the same kernels; the compiled engine compiles one loop for each set of
+    kernels it is handed and calls them at their place in the trial:
+
+    - ``begin(state, face, pan, tilt, learning) -> float``: the trial starts, the caregiver's
+      face (a flat view) in sight at head angle (``pan``, ``tilt``); ``learning`` is False for
+      a frozen agent. It returns the evidence for the face in view (the evidence gate's
+      measure; 0.0 for a module that keeps none).
+    - ``command(state, pan, tilt, step_rad, rng) -> (d_pan, d_tilt)``: the module's step at
+      a head angle; ``rng`` is the agent's move stream, for a module that may step at random.
+    - ``direction(state, pan, tilt, step_rad) -> (d_pan, d_tilt)``: the step it would take,
+      drawing nothing (the performance gate's measure).
+    - ``learn(state, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face, rng)
+      -> int``: a trial the agent learns from ended at head angle (``pan``, ``tilt``);
+      ``place`` (2,) is what it aims at (the learning target), ``centre`` (m, 2) the last
+      image's objects in pixels (``seen`` the attended one, ``cx``, ``cy`` the image's centre,
+      ``gain_rad_per_px`` Eq. 2's gain: ``agent.moves.places_into`` finds their places);
+      ``rng`` is the module's own stream. It returns how many places it learned.
+    """
+
+    begin: Any
+    command: Any
+    direction: Any
+    learn: Any

@@ -2,16 +2,14 @@
 
 :mod:`._loop` calls them: the gate's rate of choosing the learning module, the
 network's command at a head angle (with the face's part of its input summed once a trial), and
-the places the episodic memory and the population code keep from a trial. Each calls the
+the places the episodic memory keeps from a trial. Each calls the
 kernels the step-by-step agent calls (:mod:`~jointattention.agent.gates`,
-:mod:`~jointattention.agent.moves`, :mod:`~jointattention.models.memory.episodic`,
-:mod:`~jointattention.models.population.module`).
+:mod:`~jointattention.agent.moves`, :mod:`~jointattention.models.memory.episodic`).
 """
 
 from __future__ import annotations
 
 from ..._jit import jit
-from ...agent.attention import visual_feedback_rad
 from ...agent.gates import (
     CONSTANT,
     EVIDENCE,
@@ -23,9 +21,8 @@ from ...agent.gates import (
 from ...agent.moves import place_step
 from ...models.memory.episodic import memory_recall, memory_store
 from ...models.network.command import network_command
-from ...models.population.module import line_step
 
-__all__ = ["gate_rate", "keep_place", "lm_step", "places_into", "recall_place"]
+__all__ = ["gate_rate", "keep_place", "lm_step", "recall_place"]
 
 
 @jit
@@ -45,15 +42,14 @@ def gate_rate(robot, t, agreement, evidence):
 
 @jit
 def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, pan, tilt,
-            memory, recalled, aim, saccade_rad, line, acc, scaled, hid, out):
+            memory, recalled, aim, saccade_rad, acc, scaled, hid, out):
     """The learning module's command at a head angle (no step if the memory recalled nothing).
 
     As the learning module's ``direction`` computes it
     (:mod:`jointattention.models.network.module`): the network's
     (:func:`~jointattention.models.network.command.network_command`, from ``face_acc``, the
     face's part of the hidden input); ``memory`` is whether the learner is the episodic
-    memory (``saccade_rad``: its longest move, 0 for one step); ``line`` is whether it is the
-    population code, the direction it read out and the trial's start. The arrays come one by
+    memory (``saccade_rad``: its longest move, 0 for one step). The arrays come one by
     one, not in the loop's records: each array taken from a record is counted in and out (two
     atomic operations), at every step.
     """
@@ -61,8 +57,6 @@ def lm_step(w1, b1, w2, b2, theta_mid_rad, theta_half_rad, step_rad, face_acc, p
         if not recalled:
             return 0.0, 0.0
         return place_step(aim[0] - pan, aim[1] - tilt, step_rad, saccade_rad)
-    if line[0]:
-        return line_step(line[2], line[3], line[1], pan, tilt, step_rad)
     return network_command(face_acc, pan, tilt, w1, b1, w2, b2, theta_mid_rad, theta_half_rad,
                            step_rad, acc, scaled, hid, out)
 
@@ -86,20 +80,3 @@ def keep_place(code, pan, tilt, memory, c) -> int:
                            memory.radius_rad)
     c[4] += 1
     return n_codes
-
-
-@jit
-def places_into(place, centre, seen, in_view, pan, tilt, cx, cy, gain_rad_per_px,
-                places) -> int:
-    """``place``, then (``in_view``) every other object of the last image but ``seen``.
-
-    Into ``places``, as ``BootstrapAgent.place_of`` finds them; returns how many.
-    """
-    places[0, 0], places[0, 1], n = place[0], place[1], 1
-    for i in range(len(centre) if in_view else 0):
-        if i != seen and n < len(places):
-            v_pan, v_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
-                                                gain_rad_per_px)
-            places[n, 0], places[n, 1] = pan + v_pan, tilt + v_tilt
-            n += 1
-    return n

@@ -11,7 +11,8 @@ order, so both give byte-identical cells (``tests/test_compiled.py``).
 
 It learns in place the arrays of a :class:`~jointattention.models.bootstrap.BootstrapAgent`,
 so the learned agent is the same object either way. It runs the bootstrap model (every gate,
-reading, the network, the memory and the population code), the teacher and the
+reading, the network, the memory, and any learning module that declares its kernels, such
+as the population code: :func:`~._loop.loop_for`), the teacher and the
 developmental model, and the reinforcement learner through :mod:`.rl_cell`
 (:func:`compiled_cell` picks the loop); anything else is refused (:func:`unsupported`).
 """
@@ -24,13 +25,12 @@ from ...config import WorldConfig
 from ...datasets import CaregiverDatasets
 from ...errors import ConfigError
 from ...models.bootstrap import LEARNING_TARGETS, BootstrapAgent
-from ...models.population.module import PopulationModule
 from ...models.registry import ModelOptions
 from ...models.rl import RLAgent
 from ...world.kinematics import HeadKinematics
 from ...world.mjcf import HEAD_RADII_M
 from ...world.placement import region_of
-from ._loop import COLUMNS, run_trials
+from ._loop import COLUMNS, loop_for
 from .inputs import (
     LoopDevelopment,
     LoopMemory,
@@ -123,8 +123,9 @@ class CompiledCell:
         learner, faces = agent.learner, agent.faces
         self._memory = (None if memory is None
                         else _loop_memory(memory, agent.module.saccade_rad))
-        self._population = (agent.module.arrays()
-                            if isinstance(agent.module, PopulationModule) else None)
+        # a learning module on the kernel protocol (agent.protocol.ModuleKernels): its state
+        self._kernels = agent.module.kernels
+        self._module = None if self._kernels is None else agent.module.compiled_state()
         self._module_rng = getattr(agent.module, "replay_rng", agent.move_rng)  # a stand-in
         kept = (0, 0, 0) if memory is None else (*memory.kept_arrays()[5:], memory.n_left_)
         self._state = LoopState(
@@ -138,10 +139,11 @@ class CompiledCell:
 
     def run_until(self, learning_time_steps: int) -> None:
         """Learn trial after trial until the learning time reaches ``learning_time_steps``."""
-        placed(run_trials(learning_time_steps, self._records.shape[1], self._world, self._robot,
-                          self._state, self._memory, self._development, self._population,
-                          self._trials, self._shuffle, self.agent.gate_rng,
-                          self.agent.move_rng, self._module_rng, self._records), self._world)
+        loop = loop_for(self._kernels)
+        placed(loop(learning_time_steps, self._records.shape[1], self._world, self._robot,
+                    self._state, self._memory, self._development, self._module, self._trials,
+                    self._shuffle, self.agent.gate_rng, self.agent.move_rng, self._module_rng,
+                    self._records), self._world)
         c = self._state.counters
         self.agent.learning_time_steps = int(c[0])
         self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
@@ -149,8 +151,8 @@ class CompiledCell:
         if hasattr(self.agent, "criterion_rad_"):  # the caregiver's criterion adapts
             self.agent.criterion_rad_, self.agent.approved_rate_ = map(float,
                                                                        self._state.caregiver)
-        if self._population is not None:
-            self.agent.module.sync(self._population)
+        if self._module is not None:
+            self.agent.module.sync(self._module)
         if hasattr(self.agent.module, "memory"):
             memory = self.agent.module.memory
             memory.n_stored_, memory.n_codes_, memory.n_left_ = int(c[4]), int(c[5]), int(c[6])

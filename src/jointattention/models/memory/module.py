@@ -99,6 +99,8 @@ class MemoryModule:
         evidence_: that place's evidence, in trials (the evidence gate's measure).
     """
 
+    kernels = None  # not on the kernel protocol: the compiled loop runs it itself
+
     def __init__(self, host, rng: np.random.Generator):
         self.host = host
         (code_rng,) = rng.spawn(1)

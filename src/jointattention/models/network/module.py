@@ -35,6 +35,8 @@ class NetworkModule:
     beyond the agent's network and face statistics).
     """
 
+    kernels = None  # not on the kernel protocol: the compiled loop runs it itself
+
     def __init__(self, host):
         self.host = host
 

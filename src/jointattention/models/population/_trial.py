@@ -2,7 +2,8 @@
 
 :class:`~.module.PopulationModule` (the step-by-step agent) and the compiled engine's
 loop call the same kernels on the same arrays (:class:`PopulationArrays`), so both engines
-learn the same bits.
+learn the same bits. :data:`KERNELS` are its part of a trial
+(:class:`~jointattention.agent.protocol.ModuleKernels`): the compiled loop is handed them.
 """
 
 from __future__ import annotations
@@ -14,7 +15,8 @@ import numpy as np
 
 from ..._jit import jit
 from ...agent.face_standardiser import standardise, welford_update
-from ...agent.moves import scale_angle_into
+from ...agent.moves import places_into, scale_angle_into, unit_step
+from ...agent.protocol import ModuleKernels
 from .code import (
     EXCESS,
     average_face_into,
@@ -28,8 +30,9 @@ from .code import (
 )
 from .features import face_features_into, n_window_features
 
-__all__ = ["InputSpec", "PopulationArrays", "commands_into",
-           "population_begin", "population_learn", "replay_rows_into"]
+__all__ = ["KERNELS", "InputSpec", "PopulationArrays", "commands_into", "line_step",
+           "population_begin", "population_learn", "replay_rows_into", "trial_begin",
+           "trial_command", "trial_direction", "trial_learn"]
 
 
 class InputSpec(NamedTuple):
@@ -188,6 +191,8 @@ class PopulationArrays(NamedTuple):
     z: np.ndarray
     score: np.ndarray
     counters: np.ndarray  # trials kept, places taught, faces standardised by
+    trial: np.ndarray  # (3,): the direction read out, the head angle at the trial's start
+    places: np.ndarray  # (MAX_PLACES, 2): the places of a trial, scratch
 
 
 @jit
@@ -251,3 +256,53 @@ def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
     average_into(a.averaged_w2.reshape(-1), a.w2.reshape(-1), a.average_rate)
     average_into(a.averaged_b2, a.b2, a.average_rate)
     return n
+
+
+@jit
+def line_step(start_pan, start_tilt, psi_rad, pan, tilt, step_rad) -> tuple[float, float]:
+    """One step along the line from ``start`` in direction ``psi_rad``, from the head angle now.
+
+    It aims one step beyond the head's projection on the line (never behind the start), so
+    a head on the line moves along it and a head off it turns back toward it.
+    """
+    u0, u1 = math.cos(psi_rad), math.sin(psi_rad)
+    s = max((pan - start_pan) * u0 + (tilt - start_tilt) * u1, 0.0) + step_rad
+    return unit_step(start_pan + s * u0 - pan, start_tilt + s * u1 - tilt, step_rad)
+
+
+@jit
+def trial_begin(a, face, pan, tilt, learning) -> float:
+    """The trial starts: :func:`population_begin`, its direction and start kept in ``a.trial``.
+
+    The module keeps no evidence: 0.0.
+    """
+    a.trial[0] = population_begin(a, face, pan, tilt, learning)
+    a.trial[1], a.trial[2] = pan, tilt
+    return 0.0
+
+
+@jit
+def trial_direction(a, pan, tilt, step_rad) -> tuple[float, float]:
+    """The step along the line from the trial's start in the direction read out."""
+    return line_step(a.trial[1], a.trial[2], a.trial[0], pan, tilt, step_rad)
+
+
+@jit
+def trial_command(a, pan, tilt, step_rad, rng) -> tuple[float, float]:
+    """The module's step: :func:`trial_direction` (it draws nothing from ``rng``)."""
+    return trial_direction(a, pan, tilt, step_rad)
+
+
+@jit
+def trial_learn(a, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face,
+                rng) -> int:
+    """The trial's end: :func:`population_learn` of ``place`` (and ``in_view``, the others').
+
+    The places are :func:`~jointattention.agent.moves.places_into`'s, from the last image.
+    """
+    n = places_into(place, centre, seen, a.in_view, pan, tilt, cx, cy, gain_rad_per_px,
+                    a.places)
+    return population_learn(a, a.places[:n], face, a.trial[1], a.trial[2], rng)
+
+
+KERNELS = ModuleKernels(trial_begin, trial_command, trial_direction, trial_learn)

@@ -17,37 +17,24 @@ trial: more updates from each trial the robot lived through.
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
-from ..._jit import jit
 from ...agent.face_standardiser import FaceStandardiser
-from ...agent.moves import unit_step
+from ...agent.moves import MAX_PLACES
 from ...agent.protocol import Outcome
 from ._trial import (
+    KERNELS,
     InputSpec,
     PopulationArrays,
     commands_into,
-    population_begin,
+    line_step,
     population_learn,
+    trial_begin,
 )
 from .code import PopulationCode
 from .features import n_features
 
 __all__ = ["PopulationModule", "line_step"]
-
-
-@jit
-def line_step(start_pan, start_tilt, psi_rad, pan, tilt, step_rad) -> tuple[float, float]:
-    """One step along the line from ``start`` in direction ``psi_rad``, from the head angle now.
-
-    It aims one step beyond the head's projection on the line (never behind the start), so
-    a head on the line moves along it and a head off it turns back toward it.
-    """
-    u0, u1 = math.cos(psi_rad), math.sin(psi_rad)
-    s = max((pan - start_pan) * u0 + (tilt - start_tilt) * u1, 0.0) + step_rad
-    return unit_step(start_pan + s * u0 - pan, start_tilt + s * u1 - tilt, step_rad)
 
 
 def _parts(o) -> tuple[bool, bool]:
@@ -64,7 +51,10 @@ class PopulationModule:
         rng: the generator left after the agent's streams: split once more, for the
             population code's initial weights and the replay draws.
 
-    It answers :class:`~..network.module.NetworkModule`'s calls.
+    It answers :class:`~..network.module.NetworkModule`'s calls, and declares its part of a
+    trial as compiled kernels (:attr:`kernels`, over :meth:`compiled_state`; see
+    :class:`~jointattention.agent.protocol.ModuleKernels`): its :meth:`begin`, :meth:`step`
+    and :meth:`direction` call them too.
 
     Attributes:
         population: the learning module.
@@ -75,7 +65,8 @@ class PopulationModule:
         n_kept_: trials kept in it so far (forgotten ones included).
     """
 
-    MAX_PLACES = 20  # places taught per trial at most (objects in a scene: 20)
+    MAX_PLACES = MAX_PLACES  # places taught per trial at most (objects in a scene: 20)
+    kernels = KERNELS  # its part of a trial, for the compiled engine
 
     def __init__(self, host, rng: np.random.Generator):
         self.host = host
@@ -94,7 +85,7 @@ class PopulationModule:
         n_in = self.n_features + 2
         self._x, self._features = np.empty(n_in), np.empty(self.n_features)
         self._score = np.empty(o.n_bins)
-        self.direction_rad_ = 0.0
+        self._trial, self._places = np.zeros(3), np.empty((self.MAX_PLACES, 2))
         self._replay_memory(0)  # sized when learning first needs it: a loaded model never does
         self.n_kept_ = 0
 
@@ -177,7 +168,15 @@ class PopulationModule:
             *p._readout_weights(), p.hidden_mean_, f.mean_, f.m2_,
             self.replay_features_, self.replay_thetas_, self.replay_directions_,
             self.replay_counts_, self._x, self._features, p._h, p._p, p._grad_h, p._taught, p._z,
-            self._score, np.array([self.n_kept_, p.n_taught_, f.n_seen_], np.int64))
+            self._score, np.array([self.n_kept_, p.n_taught_, f.n_seen_], np.int64),
+            self._trial, self._places)
+
+    compiled_state = arrays  # the state its kernels take
+
+    @property
+    def direction_rad_(self) -> float:
+        """The direction read out for the current trial's face."""
+        return float(self._trial[0])
 
     def sync(self, arrays: PopulationArrays) -> None:
         """Take back the counters the kernels moved (trials kept, places taught, faces fitted)."""
@@ -186,10 +185,9 @@ class PopulationModule:
 
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
         """Read out the direction for the caregiver's face (a checked flat window)."""
-        self._face, self._theta_start = face, theta_rad
+        self._face = face
         a = self.arrays()
-        self.direction_rad_ = population_begin(a, face, float(theta_rad[0]),
-                                               float(theta_rad[1]), self.host.learning)
+        trial_begin(a, face, float(theta_rad[0]), float(theta_rad[1]), self.host.learning)
         self.sync(a)
 
     def observe(self, det, theta_rad) -> None:
@@ -197,9 +195,9 @@ class PopulationModule:
 
     def step(self, theta_rad) -> np.ndarray:
         """A step along the line from the face in the direction read out."""
-        s = self._theta_start
-        return np.array(line_step(s[0], s[1], self.direction_rad_, float(theta_rad[0]),
-                                  float(theta_rad[1]), self.host.step_rad))
+        t = self._trial  # trial_direction's, without packing the state at every step
+        return np.array(line_step(t[1], t[2], t[0], float(theta_rad[0]), float(theta_rad[1]),
+                                  self.host.step_rad))
 
     def direction(self, theta_rad) -> np.ndarray:
         """The step along the line (it draws nothing): the gate's measure."""
@@ -220,8 +218,8 @@ class PopulationModule:
     def learn_places(self, places_rad: np.ndarray) -> int:
         """:meth:`learn` of the places found (n, 2), for the trial :meth:`begin` started."""
         a = self.arrays()
-        n = population_learn(a, places_rad, self._face, float(self._theta_start[0]),
-                             float(self._theta_start[1]), self.replay_rng)
+        n = population_learn(a, places_rad, self._face, float(self._trial[1]),
+                             float(self._trial[2]), self.replay_rng)
         self.sync(a)
         return n
 
