@@ -10,12 +10,12 @@ PopulationCode`, the population learner's defaults, the mode read out) is taught
 direction from each face to its caregiver's target instead, over ``epochs`` passes of a
 run's training sets, and reads the directions of 32 unseen caregivers x 25 poses (held-out
 seed 5151). Rows: the generalise preset's world (the default world, 128 caregivers), the
-people preset's (256 caregivers), the people world with the 60x50 face window of
-``docs/people/window.toml``, and the people world with an eye window (``[world.eye_window]``
-of 96 x 24 pixels from a fovea 4 times finer than the camera: docs/world.md), whose
-features (:mod:`jointattention.models.population.features`, as the face window's) are added to the
-input. Writes the median and 90th-percentile
-angle errors.
+many-caregivers world of ``docs/generalise/wide.toml`` (256 caregivers), the people preset's
+(256 caregivers), the people world with the 60x50 face window of ``docs/people/window.toml``,
+and the people world with an eye window (``[world.eye_window]`` of 96 x 24 pixels from a
+fovea 4 times finer than the camera: docs/world.md), placed exactly and with an eye finder's
+error, whose features (:mod:`jointattention.models.population.features`, as the face
+window's) are added to the input. Writes the median and 90th-percentile angle errors.
 """
 
 from __future__ import annotations
@@ -37,12 +37,16 @@ from jointattention.models.population.options import PopulationOptions
 from jointattention.world.options import EyeWindowConfig
 
 SEED, N_CAREGIVERS, N_POSES = 5151, 32, 25
-EYES = {"width_px": 96, "height_px": 24, "zoom": 4.0}  # the eye window of the last row
-CONFIGS = {  # name: (configuration, with the eye window)
-    "default world (generalise preset)": ("generalise", False),
-    "people world (people preset)": ("people", False),
-    "people world, 60x50 window": (str(Path(__file__).parent / "window.toml"), False),
-    "people world, eye window 96x24 (4x fovea)": ("people", True),
+EYES = {"width_px": 96, "height_px": 24, "zoom": 4.0}  # the eye window of the last rows
+WIDE = str(Path(__file__).parents[1] / "generalise" / "wide.toml")
+CONFIGS = {  # name: (configuration, its eye window or None)
+    "default world (generalise preset)": ("generalise", None),
+    "many-caregivers world (docs/generalise/wide.toml)": (WIDE, None),
+    "people world (people preset)": ("people", None),
+    "people world, 60x50 window": (str(Path(__file__).parent / "window.toml"), None),
+    "people world, eye window 96x24 (4x fovea)": ("people", EYES),
+    "people world, eye window placed with an error of 0.03 eye distances": (
+        "people", {**EYES, "placement_sd": 0.03}),
 }
 
 
@@ -80,7 +84,7 @@ def main() -> None:
         config = load_config(source)
         if eyes:
             config = dataclasses.replace(config, world=dataclasses.replace(
-                config.world, eye_window=EyeWindowConfig(**EYES)))
+                config.world, eye_window=EyeWindowConfig(**eyes)))
         if args.train_caregivers:  # a small run (the tests'): a few caregivers, four poses each
             config = dataclasses.replace(config, recording=dataclasses.replace(
                 config.recording, caregivers=args.train_caregivers, poses_per_caregiver=4))
