@@ -14,7 +14,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path):
-    """``examples/rl_baselines.py --quick``: five families, tuned DQN, the runner's, the floor."""
+    """``rl_baselines.py --quick``: five families, tuned A2C and DQN, the runner's, the floor."""
     pytest.importorskip("stable_baselines3", reason="needs the rl extra: make test-rl")
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
                            "--quick", "--out", str(tmp_path)], capture_output=True, text=True,
@@ -22,17 +22,18 @@ def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path
     assert proc.returncode == 0, proc.stderr
     table = (tmp_path / "baselines.md").read_text().splitlines()
     learners = [row.split(" | ")[0].lstrip("| ") for row in table[2:] if row.startswith("| ")]
-    assert learners == ["PPO", "A2C", "SAC", "TD3", "DQN", "DQN, gamma=0.9",
-                        "own RL model (kind rl), runner", "bootstrap model (paper), runner",
-                        "random actions", "random actions"]
+    assert learners == ["PPO", "A2C", "SAC", "TD3", "DQN", "A2C, learning_rate=2e-4",
+                        "DQN, gamma=0.9", "own RL model (kind rl), runner",
+                        "bootstrap model (paper), runner", "random actions", "random actions"]
     for dqn in (row for row in table if row.startswith("| DQN")):
         assert "JointAttentionFace-N1-Discrete-v2" in dqn
-    for row in table[2:10]:
+    learned = len(learners) - 2  # every row but the floor's two
+    for row in table[2:2 + learned]:
         cells = row.strip("| ").split(" | ")
         values = [float(c.split(" ")[0]) for c in cells[2:9] if c != "-"]
         assert all(0 <= v <= 1 for v in values) and len(values) >= 4
     runs = json.loads((tmp_path / "baselines_runs.json").read_text())
-    assert len(runs) == 8
+    assert len(runs) == learned
     again = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
                             "--quick", "--algos", "td3", "--out", str(tmp_path)],
                            capture_output=True, text=True, timeout=900)
