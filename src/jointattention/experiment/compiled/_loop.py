@@ -131,10 +131,8 @@ def run_trials(until_steps, max_trials, world, robot, state, memory, development
                     and empty_arrival(aim[0], aim[1], pan, tilt, robot.step_rad, centre[:m], cx,
                                       cy, memory.radius_rad / robot.gain_rad_per_px)):
                 recalled, evidence, mine = _memory_left_out(memory, c, code, aim, mine)
-            module_now = trial_module
-            if module_now < 0:
-                rate = gate_rate(robot, c[0], agreement[0], evidence)
-                module_now = _LM if gate_rng.random() < rate else _VF
+            module_now = (trial_module if trial_module >= 0 else
+                          _gated(robot, c[0], agreement[0], evidence, gate_rng))
             i = -1
             if module_now == _VF:
                 passed = no_objects[:m]
