@@ -73,9 +73,7 @@ def first_errors(model, world_config, n_caregivers: int, n_poses: int, zoom: int
             command = kin.centring_angles(state.target_pos_m) - theta
             centre, distance = eye_box(world)
             for sd in TESTED_SD:
-                err = place.normal(0.0, sd, 3)
-                eyes = eye_window_at(world, centre + err[:2] * distance,
-                                     distance * np.exp(err[2]))
+                eyes = eye_window_at(world, centre, distance, place.normal(0.0, sd, 3))
                 errors[sd].append(angle_deg(model.lm_command(np.r_[face, eyes.ravel()], theta),
                                             command))
             found = net.detect(world.render_fovea(kin.centre_px, kin.width_px, fine_size))

@@ -75,12 +75,8 @@ def capture_eye_window(world: World) -> np.ndarray:
     through the fovea (:func:`eye_window_at`). With ``placement_sd`` the field is placed and
     sized with the error an eye finder would make, drawn once per scene.
     """
-    centre, distance_px = eye_box(world)
     sd = world.config.eye_window.placement_sd
-    if sd > 0:
-        err = _placement_error(world, sd)
-        centre, distance_px = centre + err[:2] * distance_px, distance_px * np.exp(err[2])
-    return eye_window_at(world, centre, distance_px)
+    return eye_window_at(world, *eye_box(world), _placement_error(world, sd) if sd > 0 else None)
 
 
 def _placement_error(world: World, sd: float) -> np.ndarray:
@@ -94,12 +90,13 @@ def _placement_error(world: World, sd: float) -> np.ndarray:
     return np.random.default_rng([*entropy, _PLACEMENT_KEY]).normal(0.0, sd, 3)
 
 
-def eye_window_at(world: World, centre_px, distance_px: float) -> np.ndarray:
+def eye_window_at(world: World, centre_px, distance_px: float, error=None) -> np.ndarray:
     """The eye window placed at ``centre_px`` for eyes ``distance_px`` apart (camera pixels).
 
     The field, ``span`` times ``distance_px`` wide, is seen through the fovea
     (:meth:`World.render_fovea`), no finer than a sensor ``zoom`` times the camera's: where the
     field holds fewer of its pixels than the window, it is averaged down to them first.
+    ``error``: (dx, dy, log width) of a misplaced window, in eye distances, or None.
     """
     import cv2
 
@@ -107,6 +104,9 @@ def eye_window_at(world: World, centre_px, distance_px: float) -> np.ndarray:
     if not ew.enabled:
         raise ValueError("the world keeps no eye window; expected eye_window.width_px and "
                          "height_px above 0")
+    if error is not None:
+        centre_px = np.asarray(centre_px) + np.asarray(error[:2]) * distance_px
+        distance_px = distance_px * np.exp(error[2])
     field_px = ew.span * distance_px
     size = (FOVEA_SUPERSAMPLE * ew.width_px, FOVEA_SUPERSAMPLE * ew.height_px)
     gray = cv2.cvtColor(world.render_fovea(centre_px, field_px, size), cv2.COLOR_RGB2GRAY)
