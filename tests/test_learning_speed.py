@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -28,9 +29,19 @@ def test_each_seed_gets_its_own_steps_to_90pct_and_final():
     rows = {(r[0], r[2]): r for r in table.rows}
     assert rows[("fast", 0)][5] == 20_000 and rows[("fast", 1)][5] == 60_000
     assert rows[("fast", 0)][4] == 1.0 and rows[("flat", 0)][4] == 0.0
-    assert rows[("fast", 0)][6] is True  # 2x10^4 steps and the whole ceiling
-    assert rows[("fast", 1)][6] is False  # 6x10^4 steps: too slow
-    assert rows[("flat", 0)][6] is False  # fast to nothing: below 0.95 of the ceiling
+    assert rows[("fast", 0)][7] is True  # 2x10^4 steps and the whole ceiling
+    assert rows[("fast", 1)][7] is False  # 6x10^4 steps: too slow
+    assert rows[("flat", 0)][7] is False  # fast to nothing: below 0.95 of the ceiling
+
+
+def test_steps_are_also_given_in_minutes_of_a_real_head():
+    """The minutes column is the steps at ``experiment.head_moves_per_s`` moves a second."""
+    slow = dataclasses.replace(CONFIG, experiment=dataclasses.replace(CONFIG.experiment,
+                                                                      head_moves_per_s=2.0))
+    for config, moves_per_s in ((CONFIG, 5.0), (slow, 2.0)):
+        rows = {(r[0], r[2]): r for r in learning_speed_table(config, _curves(),
+                                                              {"5": 0.9}).rows}
+        assert rows[("fast", 1)][6] == round(60_000 / moves_per_s / 60, 1)
 
 
 def test_the_figures_points_are_the_tables_rows(tmp_path):

@@ -26,14 +26,16 @@ def learning_speed_table(config: Config, curves: dict, ceilings: dict[str, float
     """One row per condition and seed: its final success, and how fast it got there.
 
     The final success (also as a fraction of the ceiling) and the learning time at which the
-    seed's own curve first reaches 90% of it (NaN if never); ``meets_target``: both within
-    the targets above.
+    seed's own curve first reaches 90% of it (NaN if never), also in minutes of a real head
+    making ``experiment.head_moves_per_s`` moves a second; ``meets_target``: both within the
+    targets above.
 
     ``curves``: {condition: (bin ends, per-seed curves)}
     (:func:`~.curves.condition_curves`); ``ceilings``: {str(n_objects): oracle success}.
     """
     columns = ("condition", "n_objects", "seed", "final_success", "fraction_of_ceiling",
-               "steps_to_90pct_of_final", "meets_target")
+               "steps_to_90pct_of_final", "real_head_minutes_to_90pct", "meets_target")
+    moves_per_min = 60 * config.experiment.head_moves_per_s
     rows = []
     for c in config.experiment.conditions:
         ends, per_seed = curves[c.name]
@@ -43,6 +45,7 @@ def learning_speed_table(config: Config, curves: dict, ceilings: dict[str, float
             steps = time_to_fraction(curve, ends)
             fraction = final / ceiling
             rows.append((c.name, c.n_objects, seed, round(final, 3), round(fraction, 3), steps,
+                         round(steps / moves_per_min, 1),
                          bool(steps <= TARGET_STEPS and fraction >= TARGET_FRACTION)))
     return Table(columns, rows)
 

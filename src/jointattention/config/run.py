@@ -120,6 +120,9 @@ class ExperimentConfig(Section):
         "each held-out kind's errors and controls: all, or this many drawn once from the "
         "run's seed if there are more (0: all)", lo=0,
         hi=10**7)
+    head_moves_per_s: float = param(
+        5.0, "moves a real pan/tilt head makes per second: the learning-speed table gives each "
+        "learning time in minutes of such a head too", lo=0.01, hi=1000)
     held_out: HeldOutConfig = HeldOutConfig()
     conditions: tuple[ConditionConfig, ...] = param(
         (ConditionConfig(),), "the conditions to run (at least one)")
