@@ -22,12 +22,12 @@ from pathlib import Path
 from jointattention._files import write_text
 from jointattention.analysis.held_out import held_out_curves, held_out_table
 from jointattention.config import load_config
-from jointattention.jobs.reproduce import _held_out_ceilings
+from jointattention.jobs.reproduce import held_out_ceilings
 
 
 def _rows(folder: Path) -> tuple[int, dict[str, dict]]:
     config = load_config(folder / "config.toml")
-    ceilings = _held_out_ceilings(config, folder / "held_out_ceilings.json", None)
+    ceilings = held_out_ceilings(config, folder / "held_out_ceilings.json")
     table = held_out_table(config, held_out_curves(folder, config), ceilings)
     return config.recording.caregivers, {r[0]: dict(zip(table.columns, r, strict=True))
                                           for r in table.rows}

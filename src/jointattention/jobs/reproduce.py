@@ -41,7 +41,7 @@ from ..experiment.results import cell_path, load_cell, prepare_run_dir, write_tr
 from ..experiment.training import model_path, run_cell_saving_model
 from .progress import CellBar
 
-__all__ = ["RunResult", "reproduce", "run_experiment"]
+__all__ = ["RunResult", "held_out_ceilings", "reproduce", "run_ceilings", "run_experiment"]
 
 _log = logging.getLogger("jointattention")
 
@@ -113,7 +113,8 @@ def _read_or_measure(path: Path, what: str, whole: Callable[[dict], bool], missi
     return measured
 
 
-def _held_out_ceilings(config: Config, path: Path, progress) -> dict[str, dict[str, float]]:
+def held_out_ceilings(config: Config, path: Path,
+                      progress=None) -> dict[str, dict[str, float]]:
     """The oracle ceilings of the held-out sets, {kind: {str(n): ceiling}}: read or measured.
 
     Measured with the trials of the held-out measures (:func:`~.evaluate.oracle_success`,
@@ -132,7 +133,7 @@ def _held_out_ceilings(config: Config, path: Path, progress) -> dict[str, dict[s
                  for kind, ds in held_out_sets(config).items()}, progress, "held-out ceilings")
 
 
-def _ceilings(config: Config, path: Path, progress) -> dict[str, float]:
+def run_ceilings(config: Config, path: Path, progress=None) -> dict[str, float]:
     """The oracle ceilings of the run's object counts: read from ``path``, or measured there.
 
     A file that is not whole (unreadable, or without every count) is measured again.
@@ -247,8 +248,8 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
                                      save_models, lock)
         cells_min = (time.perf_counter() - start) / 60
         cells = {(j.condition.name, j.seed_index): load_cell(j.path) for j in jobs}
-        ceilings = _ceilings(config, out / "ceilings.json", progress)
-        held_ceilings = _held_out_ceilings(config, out / "held_out_ceilings.json", progress)
+        ceilings = run_ceilings(config, out / "ceilings.json", progress)
+        held_ceilings = held_out_ceilings(config, out / "held_out_ceilings.json", progress)
         curves = condition_curves(out, config, cells)
         held = held_out_curves(out, config, cells)
         claims = check_claims(config, curves, ceilings, condition_axis_errors(out, config, cells))
@@ -272,7 +273,8 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
         if held:
             files += [*held_out_table(config, held, held_ceilings,
                                       held_out_novelty(config)).write(out / "held_out"),
-                      held_out_figure(config, held, held_ceilings, out / "held_out.png")]
+                      held_out_figure(config, held, held_ceilings, out / "held_out.png", curves,
+                                      ceilings)]
         wall_min = (time.perf_counter() - start) / 60
         if cells_run or not _measured(out / "timing.json"):  # a redraw keeps the measure
             save_json({"wall_min": round(wall_min, 2), "cells_min": round(cells_min, 2),
