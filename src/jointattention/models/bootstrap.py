@@ -246,10 +246,35 @@ class BootstrapAgent(NetworkState):
             return self.place_of(outcome, outcome.seen)
         return np.asarray(outcome.theta_rad, dtype=float)
 
+    def trial_end(self, outcome: Outcome) -> tuple:
+        """A trial's end as a learning module's ``learn`` kernel takes it.
+
+        (place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face): what it aims at
+        (:meth:`aim_of`), the last image's objects (pixels) and the attended one, the final
+        head angle, the image's centre, Eq. 2's gain and the trial's face (flat)
+        (:class:`~jointattention.agent.protocol.ModuleKernels`).
+        """
+        det, theta = outcome.detections, np.asarray(outcome.theta_rad, dtype=float)
+        cx, cy = det.image_centre_px
+        return (self.aim_of(outcome), np.ascontiguousarray(det.centre_px, dtype=float),
+                int(outcome.seen), float(theta[0]), float(theta[1]), float(cx), float(cy),
+                float(self.mechanisms.vf_gain_rad_per_px), self._face)
+
+    def caregiver_state(self) -> tuple[float, float]:
+        """Her criterion (rad) and rate of approving, where they adapt; (0, 0) here: they do not.
+
+        The compiled engine carries them (:class:`~.developmental.DevelopmentalAgent`).
+        """
+        return 0.0, 0.0
+
+    def set_caregiver_state(self, criterion_rad: float, approved_rate: float) -> None:
+        """Take back her criterion and rate from the compiled engine: nothing here."""
+
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Start a trial looking at the caregiver, whose face window (its view) the robot keeps."""
         face = views("face_window", face_window, self.body)
+        self._face = np.ascontiguousarray(face, dtype=float)
         self._theta_start = angles("theta_rad", theta_rad)
         if self.learning:
             self.faces.partial_fit(face)

@@ -154,6 +154,14 @@ class DevelopmentalAgent(TeacherAgent):
         self.criterion_rad_ = math.radians(options.criterion_start_deg)
         self.approved_rate_ = 0.0
 
+    def caregiver_state(self) -> tuple[float, float]:
+        """Her criterion (rad) and rate of approving, which the compiled engine carries."""
+        return self.criterion_rad_, self.approved_rate_
+
+    def set_caregiver_state(self, criterion_rad: float, approved_rate: float) -> None:
+        """Take back her criterion and rate from the compiled engine."""
+        self.criterion_rad_, self.approved_rate_ = float(criterion_rad), float(approved_rate)
+
     def blur_px(self, learning_time_steps: float | None = None) -> float:
         """The blur's s.d. (face-window pixels) at a learning time (default: now)."""
         o = self.options
