@@ -207,23 +207,29 @@ def test_learner_folders_and_the_engine_keep_to_themselves():
 
 
 # What the compiled engine's bootstrap loop may not name: the learners' options (the memory's
-# and the population code's sections, the network's fields of [model]) and the words for their
-# parts. Their kernels carry them (agent.protocol.ModuleKernels). The reinforcement learner's
-# loop (_rl_loop, rl_cell) is its own model's engine, and is not scanned.
+# and the population code's sections, the network's fields of [model]), the developmental
+# model's own, and the words for their parts. Their kernels carry them
+# (agent.protocol.ModuleKernels, AgentKernels). The reinforcement learner's loop (_rl_loop,
+# rl_cell) is its own model's engine, and is not scanned.
 LEARNER_WORDS = ("memory", "population", "network", "backprop", "saccade", "recall",
                  "left_out", "pass_over", "hidden", "cell_rad", "radius", "radius_rad",
-                 "n_passes", "momentum", "learning_rate", "init_scale", "replay")
+                 "n_passes", "momentum", "learning_rate", "init_scale", "replay", "blur",
+                 "criterion", "developmental")
 
 
 def learner_option_words() -> set[str]:
-    """The option names of the learners' sections, and :data:`LEARNER_WORDS`."""
+    """The learners' option names, the developmental model's own, :data:`LEARNER_WORDS`."""
     from dataclasses import fields
 
+    from jointattention.models.bootstrap import BootstrapOptions
+    from jointattention.models.developmental import DevelopmentalOptions
     from jointattention.models.memory.options import MemoryOptions
     from jointattention.models.population.options import PopulationOptions
 
+    own = {f.name for f in fields(DevelopmentalOptions)} - {
+        f.name for f in fields(BootstrapOptions)}
     return {f.name for cls in (MemoryOptions, PopulationOptions) for f in fields(cls)} | set(
-        LEARNER_WORDS)
+        LEARNER_WORDS) | own
 
 
 def words_named(source: str, words: set[str]) -> list[str]:
@@ -233,7 +239,7 @@ def words_named(source: str, words: set[str]) -> list[str]:
 
 
 def test_the_compiled_engine_names_no_learner_and_none_of_its_options():
-    """The engine's bootstrap loop imports no learner's folder and names none of their options."""
+    """The engine's bootstrap loop imports no learner and names no learner's or model's option."""
     engine = ROOT.joinpath(*ENGINE.split("."))
     words = learner_option_words()
     for path in sorted(engine.glob("*.py")):

@@ -17,8 +17,8 @@ import numpy as np
 from .._jit import jit
 from .detections import Detections
 
-__all__ = ["LM", "RANDOM", "VF", "Agent", "Body", "ModuleKernels", "Outcome", "no_observe",
-           "no_passed_over"]
+__all__ = ["LM", "RANDOM", "VF", "Agent", "AgentKernels", "Body", "ModuleKernels", "Outcome",
+           "judge_target", "no_observe", "no_passed_over", "see_as_is"]
 
 # The modules that may move the head (the second value of Agent.act).
 VF, LM, RANDOM = "vf", "lm", "random"
@@ -166,3 +166,38 @@ class ModuleKernels(NamedTuple):
     learn: Any
     observe: Any = no_observe
     passed_over: Any = no_passed_over
+
+
+@jit
+def see_as_is(state, face, learning_time_steps, out) -> bool:
+    """``see`` of an agent that sees the face window as it is: False (``out`` not written)."""
+    return False
+
+
+@jit
+def judge_target(state, fired, on_target, error_rad, learning) -> bool:
+    """``judge`` of a caregiver who approves her target only: the evaluator fired on it."""
+    return fired and on_target
+
+
+class AgentKernels(NamedTuple):
+    """A bootstrap agent's own part of a trial beyond its learning module, as compiled kernels.
+
+    The agent declares them as its ``kernels``, its state as ``compiled_state(n_pixels)`` (a
+    named tuple of numbers and arrays, changed in place; ``n_pixels``: a face window's) and
+    takes back what they changed with ``sync(state)``. Its step-by-step methods call the same
+    kernels:
+
+    - ``see(state, face, learning_time_steps, out) -> bool``: the face window (flat) as the
+      robot sees it at a learning time, into ``out``; False if it sees the face as it is
+      (``out`` not written). Default :func:`see_as_is`.
+    - ``judge(state, fired, on_target, error_rad, learning) -> bool``: whether the caregiver
+      approves a trial: the evaluator ``fired`` on an object, ``on_target`` if it is the one
+      she looks at, ``error_rad`` the angle between the two at the robot's head (inf where
+      unknown); a learning agent's caregiver may update what she judges by. A taught model
+      learns only from the trials she approves (``ModelOptions.taught``). Default
+      :func:`judge_target`.
+    """
+
+    see: Any = see_as_is
+    judge: Any = judge_target

@@ -20,7 +20,7 @@ from ..agent.face_standardiser import FaceStandardiser
 from ..agent.gates import GATES, Gate, SigmoidGate
 from ..agent.moves import random_step
 from ..agent.options import AgentConfig
-from ..agent.protocol import LM, RANDOM, VF, Body, Outcome
+from ..agent.protocol import LM, RANDOM, VF, AgentKernels, Body, Outcome
 from ..errors import ConfigError
 from .memory.module import MemoryModule
 from .memory.options import MemoryOptions
@@ -99,14 +99,6 @@ class BootstrapOptions(ModelOptions):
             raise ConfigError(f"gate kind '{self.gate.label}' follows the episodic memory's "
                               f"evidence; expected learner = 'memory', not '{self.learner}'")
 
-    def caregiver_inputs(self, face_size_px) -> tuple:
-        """The caregiver's part as the compiled loop takes it: she judges if she teaches.
-
-        (judges, adapts, criterion level, window, shrink, blur start, blur sharp steps, face
-        width, face height); her criterion adapts in the developmental model only.
-        """
-        return (self.taught, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px)
-
     def save_refusal(self) -> str | None:
         """None: the network and the population code are saved; an episodic memory is not."""
         if self.learner == "memory":
@@ -159,6 +151,10 @@ class BootstrapAgent(NetworkState):
         learning: whether it learns (True); a frozen agent (False) acts as at its learning
             time and changes nothing it learned: it can be measured on other data sets.
     """
+
+    # its own part of a trial as compiled kernels (agent.protocol.AgentKernels): it sees the
+    # face as it is, and a caregiver who judges approves her target only
+    kernels = AgentKernels()
 
     def __init__(self, options: BootstrapOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
@@ -260,15 +256,12 @@ class BootstrapAgent(NetworkState):
                 int(outcome.seen), float(theta[0]), float(theta[1]), float(cx), float(cy),
                 float(self.mechanisms.vf_gain_rad_per_px), self._face)
 
-    def caregiver_state(self) -> tuple[float, float]:
-        """Her criterion (rad) and rate of approving, where they adapt; (0, 0) here: they do not.
+    def compiled_state(self, n_pixels: int) -> np.ndarray:
+        """The state of its own kernels (:attr:`kernels`): none, as they keep nothing."""
+        return np.zeros(0)
 
-        The compiled engine carries them (:class:`~.developmental.DevelopmentalAgent`).
-        """
-        return 0.0, 0.0
-
-    def set_caregiver_state(self, criterion_rad: float, approved_rate: float) -> None:
-        """Take back her criterion and rate from the compiled engine: nothing here."""
+    def sync(self, state) -> None:
+        """Take back what its own kernels changed: nothing here."""
 
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:

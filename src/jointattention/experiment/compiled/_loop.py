@@ -13,14 +13,18 @@ The learning module hands its kernels (:class:`~jointattention.agent.protocol.Mo
 ``module_learn`` are them (``_jit.specialise``), and the loop calls them on the module's own
 state (its argument ``module``). The loop names no module's options: they are in its state.
 
-:func:`run_trials`'s arguments: ``development`` the developmental model's caregiver and blur
-(:class:`~.inputs.LoopDevelopment`), or None (its branches are then pruned at compile time);
-``module`` the learning module's state (its ``learn`` draws from ``module_rng``). A frozen
+The agent's own part beyond its module, how it sees the face and how the caregiver judges
+(:class:`~jointattention.agent.protocol.AgentKernels`: a face window the robot sees
+blurred, a caregiver whose judgement adapts), are bound likewise: ``agent_see`` and
+``agent_judge``.
+
+:func:`run_trials`'s arguments: ``sight`` the agent's state for its own kernels; ``module``
+the learning module's state (its ``learn`` draws from ``module_rng``). A frozen
 robot (``robot.learning`` False) learns nothing and its learning time stands still: it runs
 ``max_trials`` trials. Each trial is :func:`~.cells.random_scene`, a
 :class:`~.trial.SceneTrial` and :func:`~.trial.run_trial` of a bootstrap agent, in that order
-of random draws. Its parts that run once a trial (the face statistics, the caregiver's
-approval) are the private kernels below it.
+of random draws. Its parts that run once a trial (the face statistics, the trial's record)
+are the private kernels below it.
 """
 
 from __future__ import annotations
@@ -42,8 +46,8 @@ from ...agent.gates import (
     sigmoid_rate,
 )
 from ...agent.moves import random_step
+from ...agent.protocol import AgentKernels
 from ...models.bootstrap import LEARNING_TARGETS
-from ...models.developmental import blur_into, blur_px, caregiver_update
 from ...world.kinematics import separation_rad
 from ..trial import END_FIRED, RUNNING, move_head
 from .steps import draw_trial, look, look_arrays, look_camera
@@ -55,22 +59,34 @@ _VF, _LM, _RANDOM = 0, 1, 2  # the modules, as codes
 COLUMNS = ("learning_time", "n_steps", "n_lm_steps", "n_random_steps", "attended", "target",
            "end")
 _OBJECT_DIRECTION = LEARNING_TARGETS.index("object_direction")
-# a learning module's kernels (agent.protocol.ModuleKernels), bound by loop_for's copies
+# a learning module's kernels (agent.protocol.ModuleKernels) and the agent's own
+# (agent.protocol.AgentKernels), bound by loop_for's copies
 module_begin = module_observe = module_passed_over = None
 module_command = module_direction = module_learn = None
+agent_see = agent_judge = None
+
+
+def loop_for(kernels, agent_kernels=AgentKernels()):  # noqa: B008 (a constant named tuple)
+    """:func:`run_trials` for a learning module's kernels (a ``ModuleKernels``) and an agent's.
+
+    ``agent_kernels``: an ``AgentKernels``, by default the bootstrap agent's. One loop for
+    each pair, however it is asked for.
+    """
+    return _loop_for(kernels, agent_kernels)
 
 
 @cache
-def loop_for(kernels):
-    """:func:`run_trials` for a learning module's kernels (a ``ModuleKernels``)."""
+def _loop_for(kernels, agent_kernels):
+    """:func:`loop_for`, cached by its two sets of kernels."""
     return specialise(run_trials, module_begin=kernels.begin, module_observe=kernels.observe,
                       module_passed_over=kernels.passed_over, module_command=kernels.command,
-                      module_direction=kernels.direction, module_learn=kernels.learn)
+                      module_direction=kernels.direction, module_learn=kernels.learn,
+                      agent_see=agent_kernels.see, agent_judge=agent_kernels.judge)
 
 
 @jit
-def run_trials(until_steps, max_trials, world, robot, state, development, module,
-               trials_rng, shuffle_rng, gate_rng, move_rng, module_rng, records) -> int:
+def run_trials(until_steps, max_trials, world, robot, state, sight, module, trials_rng,
+               shuffle_rng, gate_rng, move_rng, module_rng, records) -> int:
     """Trials until the learning time reaches ``until_steps``; -1 if objects cannot be placed.
 
     See the module's docstring.
@@ -81,12 +97,11 @@ def run_trials(until_steps, max_trials, world, robot, state, development, module
     arrays, camera = look_arrays(n), look_camera(world, robot.d_th_px)
     centre, seen_area, seen_edge, motion = arrays[1], arrays[2], arrays[3], np.zeros(n)
     no_objects, passed_over = np.zeros(n, np.bool_), np.zeros(n, np.bool_)  # attention's
-    seen_face, blur_tmp = np.empty(n_pix), np.empty(n_pix)  # the face through the blur
+    seen_face = np.empty(n_pix)  # the face as the agent sees it, if not as it is
     sweep, place = (0.0, 0.0), np.empty(2)
     thetas, steps = np.empty((robot.max_steps, 2)), np.empty((robot.max_steps, 2))
     c, a1, a2, a3 = state.counters, robot.weights[0], robot.weights[1], robot.weights[2]
     agreement, lim = state.agreement, world.limits_rad
-    blurred = development is not None and development.blur_start_px > 0
     while (c[0] < until_steps or not robot.learning) and c[1] < max_trials:
         start = c[0]
         # the scene (cells.random_scene, FastScene.sample)
@@ -94,13 +109,13 @@ def run_trials(until_steps, max_trials, world, robot, state, development, module
         if target < 0:
             return -1
         face, pan, tilt = world.faces[shown], world.theta_face_rad[k, 0], world.theta_face_rad[k, 1]
-        if blurred:  # DevelopmentalAgent.see
-            face = _blurred(development, face, float(c[0]), blur_tmp, seen_face)
-        # the agent begins (BootstrapAgent.begin_trial, the module's); a face blurred anew
-        # each trial is no data set's face
+        face_id = shown
+        if agent_see(sight, face, float(c[0]), seen_face):  # e.g. DevelopmentalAgent.see
+            # seen anew as the learning time moves, it is no data set's face
+            face, face_id = seen_face, -1 if robot.learning else shown
+        # the agent begins (BootstrapAgent.begin_trial, the module's)
         _faces_begin(robot, state, face)
-        evidence = module_begin(module, face, -1 if blurred and robot.learning else shown, pan,
-                                tilt, robot.learning)
+        evidence = module_begin(module, face, face_id, pan, tilt, robot.learning)
         if robot.vf_fallback_sweep:
             sweep = random_step(move_rng, robot.step_rad)
         trial_module = (_gated(robot, c[0], agreement[0], evidence, gate_rng)
@@ -147,8 +162,9 @@ def run_trials(until_steps, max_trials, world, robot, state, development, module
                                              lim[3])
             n_steps += 1
         # the agent learns (BootstrapAgent.end_trial, the module's learn; TeacherAgent's too)
-        approved = _approved(development, state.caregiver, robot.learning, end, attended,
-                             target, obj_pos)
+        # the caregiver judges (the agent's judge: TeacherAgent's, DevelopmentalAgent's)
+        fired, on_target, error_rad = _told(end, attended, target, obj_pos)
+        approved = agent_judge(sight, fired, on_target, error_rad, robot.learning)
         if _learns(robot, end, n_steps, approved, last_module):
             v_pan, v_tilt = _aim(robot, centre[seen], cx, cy, pan, tilt, place)
             if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
@@ -177,15 +193,6 @@ def gate_rate(robot, t, agreement, evidence):
     if robot.gate_kind == EVIDENCE:
         return evidence_rate(evidence, robot.gate_a, robot.gate_b)
     return sigmoid_rate(float(t), robot.gate_a, robot.gate_b)
-
-
-@jit
-def _blurred(development, face, t, tmp, out):
-    """The face through the developmental model's blur at learning time ``t`` (into ``out``)."""
-    d = development
-    blur_into(face, d.face_width_px, d.face_height_px,
-              blur_px(d.blur_start_px, d.blur_sharp_steps, t), tmp, out)
-    return out
 
 
 @jit(inline=True)
@@ -239,20 +246,15 @@ def _learns(robot, end, n_steps, approved, last_module) -> bool:
             and (not robot.learn_from_vf or last_module == _VF))
 
 
-@jit
-def _approved(development, caregiver, learning, end, attended, target, obj_pos) -> bool:
-    """Whether the caregiver approves the trial: it ended on her target.
+@jit(inline=True)
+def _told(end, attended, target, obj_pos) -> tuple[bool, bool, float]:
+    """What the caregiver is told of a trial: fired, on her target, and else how far from it.
 
-    The developmental caregiver (``development`` not None) approves an object near it too,
-    within her criterion, which adapts.
+    How far: the angle at the robot's head between the object the evaluator fired on and her
+    target (``Outcome.caregiver_error_rad``; 0.0 where not asked).
     """
-    if development is None:
-        return end == END_FIRED and attended == target
-    approved = end == END_FIRED and (attended == target or separation_rad(
-        obj_pos[attended], obj_pos[target]) <= caregiver[0])
-    if learning:
-        d = development
-        caregiver[0], caregiver[1] = caregiver_update(
-            approved, caregiver[0], caregiver[1], d.criterion_level, d.criterion_window_trials,
-            d.criterion_shrink)
-    return approved
+    fired = end == END_FIRED
+    on_target = fired and attended == target
+    error_rad = (separation_rad(obj_pos[attended], obj_pos[target]) if fired and not on_target
+                 else 0.0)
+    return fired, on_target, error_rad

@@ -12,9 +12,11 @@ byte-identical cells (``tests/test_compiled.py``).
 It learns in place the arrays of a :class:`~jointattention.models.bootstrap.BootstrapAgent`,
 so the learned agent is the same object either way. It runs the bootstrap model (every gate,
 reading, and any learning module, which declares its kernels and state:
-:class:`~jointattention.agent.protocol.ModuleKernels`, :func:`~._loop.loop_for`), the teacher
-and the developmental model, and the reinforcement learner through :mod:`.rl_cell`
-(:func:`compiled_cell` picks the loop); anything else is refused (:func:`unsupported`).
+:class:`~jointattention.agent.protocol.ModuleKernels`, :func:`~._loop.loop_for`), its kin
+that declare their own kernels (:class:`~jointattention.agent.protocol.AgentKernels`: the
+teacher, and the one whose sight and caregiver change with time), and the reinforcement
+learner through :mod:`.rl_cell` (:func:`compiled_cell` picks the loop); anything else is
+refused (:func:`unsupported`).
 """
 
 from __future__ import annotations
@@ -31,7 +33,7 @@ from ...world.kinematics import HeadKinematics
 from ...world.mjcf import HEAD_RADII_M
 from ...world.placement import region_of
 from ._loop import COLUMNS, loop_for
-from .inputs import LoopDevelopment, LoopRobot, LoopState, LoopWorld, placed, trial_records
+from .inputs import LoopRobot, LoopState, LoopWorld, placed, trial_records
 from .rl_cell import RLCell
 
 __all__ = ["CompiledCell", "compiled_cell", "pack_world", "unsupported"]
@@ -89,20 +91,19 @@ class CompiledCell:
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
         opts, shared = agent.options, agent.mechanisms
-        caregiver = opts.caregiver_inputs(agent.body.face_size_px)
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),
             float(shared.d_th_px(world.width_px)), float(agent.step_rad), int(shared.max_steps),
             *opts.gate.compiled_inputs(), opts.gate_per == "trial",
             opts.vf_fallback == "lm", opts.vf_fallback == "sweep",
             LEARNING_TARGETS.index(opts.learning_target), opts.learn_from == "vf",
-            caregiver[0], bool(agent.learning))
-        self._development = LoopDevelopment(*caregiver[2:]) if caregiver[1] else None
+            bool(opts.taught), bool(agent.learning))
         faces = agent.faces
         self._state = LoopState(
             *faces.statistics(world.faces.shape[1]), faces.seen,
-            np.array([agent.learning_time_steps, 0]), np.array([agent.agreement_]),
-            np.array(agent.caregiver_state(), dtype=float))
+            np.array([agent.learning_time_steps, 0]), np.array([agent.agreement_]))
+        # the agent's own part beyond its module (agent.protocol.AgentKernels): its state
+        self._sight = agent.compiled_state(world.faces.shape[1])
         # the learning module's part (agent.protocol.ModuleKernels): its kernels and its state,
         # told how many faces the run shows (ids: the data sets' indices)
         self._module = agent.module.compiled_state(len(world.faces))
@@ -111,14 +112,14 @@ class CompiledCell:
     def run_until(self, learning_time_steps: int) -> None:
         """Learn trial after trial until the learning time reaches ``learning_time_steps``."""
         agent = self.agent
-        loop = loop_for(agent.module.kernels)
+        loop = loop_for(agent.module.kernels, agent.kernels)
         placed(loop(learning_time_steps, self._records.shape[1], self._world, self._robot,
-                    self._state, self._development, self._module, self._trials, self._shuffle,
+                    self._state, self._sight, self._module, self._trials, self._shuffle,
                     agent.gate_rng, agent.move_rng, agent.module.learn_rng, self._records),
                self._world)
         agent.learning_time_steps = int(self._state.counters[0])
         agent.agreement_ = float(self._state.agreement[0])
-        agent.set_caregiver_state(*map(float, self._state.caregiver))
+        agent.sync(self._sight)
         agent.module.sync(self._module)
 
     def records(self) -> dict[str, np.ndarray]:

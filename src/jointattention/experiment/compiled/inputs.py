@@ -16,7 +16,7 @@ from ...errors import ConfigError
 from ..trial import END_FIRED, RECORD
 from ._loop import COLUMNS
 
-__all__ = ["LoopDevelopment", "LoopRobot", "LoopState", "LoopWorld", "placed", "trial_records"]
+__all__ = ["LoopRobot", "LoopState", "LoopWorld", "placed", "trial_records"]
 
 
 class LoopWorld(NamedTuple):
@@ -58,7 +58,7 @@ class LoopRobot(NamedTuple):
     vf_fallback_sweep: bool
     learning_target: int  # its index in LEARNING_TARGETS
     learn_from_vf: bool  # learn only from trials whose last move the visual controller made
-    caregiver_judges: bool  # the teacher: learn only when the caregiver approves
+    caregiver_judges: bool  # a taught model: learn only when the caregiver approves
     learning: bool  # False: frozen, nothing learned and the learning time stands still
 
 
@@ -70,22 +70,6 @@ class LoopState(NamedTuple):
     faces_seen: np.ndarray  # (1,): FaceStandardiser.seen, the same array
     counters: np.ndarray  # learning time, records
     agreement: np.ndarray  # (1,): the performance gate's measure
-    caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving
-
-
-class LoopDevelopment(NamedTuple):
-    """The developmental model's caregiver, whose criterion narrows, and its blurred face.
-
-    The loop takes None instead for the other models: numba then prunes its branches.
-    """
-
-    criterion_level: float  # models.developmental.caregiver_update's
-    criterion_window_trials: float
-    criterion_shrink: float
-    blur_start_px: float  # the visual development (0: none)
-    blur_sharp_steps: float
-    face_width_px: int
-    face_height_px: int
 
 
 def placed(code: int, world: LoopWorld) -> int:
