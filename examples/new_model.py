@@ -11,7 +11,7 @@ whole one, written here and nowhere else:
    ``direction``, ``learn``: :class:`jointattention.ModuleKernels` gives their signatures);
 3. the learning module, whose step-by-step methods call the same kernels
    (:class:`CompassModule`), and which declares them (``kernels``, ``compiled_state``,
-   ``sync``);
+   ``learn_rng``, ``sync``);
 4. its options, registered as a model kind that declares ``compiled = True``
    (:class:`CompassOptions`).
 
@@ -57,7 +57,7 @@ class CompassState(NamedTuple):
 
 
 @njit
-def compass_begin(s, face, pan, tilt, learning):
+def compass_begin(s, face, face_id, pan, tilt, learning):
     """The trial starts at the face: its direction is the mean's. No evidence: 0.0."""
     s.trial[0] = math.atan2(s.mean[1], s.mean[0])
     s.trial[1], s.trial[2] = pan, tilt
@@ -77,7 +77,8 @@ def compass_command(s, pan, tilt, step_rad, rng):
 
 
 @njit
-def compass_learn(s, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face, rng):
+def compass_learn(s, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face, thetas,
+                  steps, rng):
     """The mean moves toward the unit direction, from the trial's start, of the place found."""
     d_pan, d_tilt = place[0] - s.trial[1], place[1] - s.trial[2]
     norm = math.hypot(d_pan, d_tilt)
@@ -96,10 +97,14 @@ class CompassModule:
     def __init__(self, host: BootstrapAgent, rate: float):
         self.host, self.rate = host, float(rate)
         self.mean_, self._trial, self.n_learned_ = np.zeros(2), np.zeros(3), 0
-        self._face = np.zeros(0)
 
-    def compiled_state(self) -> CompassState:
-        """Its state as its kernels take it (its own arrays)."""
+    @property
+    def learn_rng(self) -> np.random.Generator:
+        """The stream its ``learn`` kernel is handed (it draws nothing): the agent's moves."""
+        return self.host.move_rng
+
+    def compiled_state(self, n_faces: int = 0) -> CompassState:
+        """Its state as its kernels take it (its own arrays; it keeps nothing per face)."""
         return CompassState(self.rate, self.mean_, self._trial, np.array([self.n_learned_]))
 
     def sync(self, state: CompassState) -> None:
@@ -108,9 +113,8 @@ class CompassModule:
 
     def begin(self, face, theta_rad) -> None:
         """A trial starts at the caregiver's face (a flat view), at head angle ``theta_rad``."""
-        self._face = face
-        compass_begin(self.compiled_state(), face, float(theta_rad[0]), float(theta_rad[1]),
-                      self.host.learning)
+        compass_begin(self.compiled_state(), face, -1, float(theta_rad[0]),
+                      float(theta_rad[1]), self.host.learning)
 
     def observe(self, det, theta_rad) -> None:
         """Nothing: the compass makes nothing of a step's view."""
@@ -127,11 +131,9 @@ class CompassModule:
                                           float(theta_rad[1]), self.host.step_rad))
 
     def learn(self, outcome, thetas, steps) -> int:
-        """Learn the place the trial found (``host.aim_of``); returns how many places."""
-        state, theta = self.compiled_state(), np.asarray(outcome.theta_rad, dtype=float)
-        n = compass_learn(state, self.host.aim_of(outcome), np.zeros((0, 2)), -1,
-                          float(theta[0]), float(theta[1]), 0.0, 0.0, 1.0, self._face,
-                          self.host.move_rng)
+        """Learn the place the trial found (``host.trial_end``); returns how many places."""
+        state = self.compiled_state()
+        n = compass_learn(state, *self.host.trial_end(outcome), thetas, steps, self.learn_rng)
         self.sync(state)
         return n
 

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -101,16 +103,16 @@ def test_the_bootstrap_agent_is_an_agent():
 
 
 @pytest.mark.parametrize("target", ["final_direction", "object_direction", "executed_step"])
-def test_each_learning_target_teaches_its_direction(target, monkeypatch):
+def test_each_learning_target_teaches_its_direction(target):
     """A fired trial teaches the direction its learning target names.
 
     The unit direction to the final gaze, to the attended object (final gaze plus the visual
-    controller's centring command), or of the executed step.
+    controller's centring command), or of the executed step: the network learns as one
+    ``partial_fit`` toward it of a copy does (the module's compiled ``learn`` kernel).
     """
     agent = _agent(learning_target=target, gate=ConstantGate(rate=1.0))
-    taught = []
-    monkeypatch.setattr(agent.learner, "partial_fit", lambda X, Y, **_: taught.append(Y))
     agent.begin_trial(np.zeros((2, 3)), [0.5, 0.2])
+    twin = copy.deepcopy(agent.learner)
     step, _ = agent.act(_det(np.zeros((0, 2))), [0.5, 0.2])
     end = np.array([0.0, 0.3])
     agent.end_trial(Outcome(True, end, _det([[160 + 20, 120]]), 0))  # the object: 20 px right
@@ -118,7 +120,13 @@ def test_each_learning_target_teaches_its_direction(target, monkeypatch):
            "object_direction": end + [20 * agent.mechanisms.vf_gain_rad_per_px, 0]}[target]
     if target != "executed_step":
         aim = aim - [0.5, 0.2]
-    np.testing.assert_allclose(taught[0][0], aim / np.hypot(*aim))
+    face_x = agent.faces.transform(np.zeros(6))
+    scaled = (np.array([0.5, 0.2]) - agent.theta_mid_rad) / agent.theta_half_rad
+    twin.partial_fit(np.concatenate([face_x, scaled])[None], (aim / np.hypot(*aim))[None],
+                     shared_inputs=len(face_x))
+    assert agent.learner.n_updates_ == twin.n_updates_ == 1
+    for learned, expected in zip(agent.learner._params(), twin._params(), strict=True):
+        np.testing.assert_allclose(learned, expected, rtol=1e-12, atol=1e-15)
 
 
 def test_a_trial_that_did_not_fire_teaches_nothing():

@@ -167,13 +167,15 @@ def test_a_second_process_loads_the_compiled_engine_from_the_cache():
     """The engine is compiled once per machine: a new process finds it in the cache."""
     script = ("import dataclasses\n"
               "from jointattention import load_config, run_cell\n"
-              "from jointattention.experiment.compiled._loop import run_trials\n"
+              "from jointattention.experiment.compiled._loop import loop_for\n"
+              "from jointattention.models.network.module import NetworkModule\n"
               "c = load_config('quick')\n"
               "c = dataclasses.replace(c, experiment=dataclasses.replace(c.experiment, "
               "n_steps=50))\n"
               "run_cell(c, c.experiment.conditions[0], 0)\n"
-              "print(sum(run_trials.stats.cache_hits.values()), "
-              "sum(run_trials.stats.cache_misses.values()))")
+              "loop = loop_for(NetworkModule.kernels)\n"
+              "print(sum(loop.stats.cache_hits.values()), "
+              "sum(loop.stats.cache_misses.values()))")
     assert _second_run(script) == ["1", "0"]
 
 
@@ -206,7 +208,7 @@ def test_each_set_of_module_kernels_gets_a_loop_named_for_it():
 
     made = numba.njit(eval("lambda *args: 0.0"))  # no file: its code names the loop
     a, b = ModuleKernels(*[numba.njit(stub)] * 4), ModuleKernels(*[made] * 4)
-    assert loop_for(None) is run_trials and loop_for(a) is loop_for(a)
+    assert loop_for(a) is loop_for(a) and loop_for(a) is not run_trials
     names = {loop_for(k).py_func.__qualname__ for k in (a, b)}
     assert len(names) == 2 and all(n.startswith("run_trials_") for n in names)
 

@@ -196,6 +196,10 @@ def specialise(kernel, **bound):
     model gets a fresh loop too.
     """
     _load_numba()
+    # a kernel defined before numba was loaded (held in a tuple, say) is its dispatcher now:
+    # bound as one, an inline kernel is inlined
+    bound = {name: value._dispatcher if isinstance(value, _Kernel) else value
+             for name, value in bound.items()}
     function = kernel.py_func
     digest = hashlib.sha256()
     for name, value in sorted(bound.items()):

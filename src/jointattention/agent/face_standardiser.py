@@ -38,11 +38,25 @@ def standardise(x, mean, m2, n_seen: int, min_std: float, out) -> None:
 
 
 class FaceStandardiser:
-    """Per-pixel running mean and standard deviation of the faces seen (Welford)."""
+    """Per-pixel running mean and standard deviation of the faces seen (Welford).
+
+    The count of faces seen (``n_seen_``) is kept in a one-element array, :attr:`seen`: the
+    compiled engine counts in it and a learning module's kernels read it, the same array.
+    """
 
     def __init__(self, min_std: float = 8.0):
         self.min_std = min_std
-        self.n_seen_ = 0
+        self.seen = np.zeros(1, np.int64)
+        self.mean_, self.m2_ = np.zeros(0), np.zeros(0)  # sized by the first face
+
+    @property
+    def n_seen_(self) -> int:
+        """Faces seen so far."""
+        return int(self.seen[0])
+
+    @n_seen_.setter
+    def n_seen_(self, n: int) -> None:
+        self.seen[0] = n
 
     def partial_fit(self, faces: np.ndarray) -> FaceStandardiser:
         """Add the faces (n, pixels) to the running statistics."""
@@ -67,8 +81,11 @@ class FaceStandardiser:
     def statistics(self, n_pixels: int) -> tuple[np.ndarray, np.ndarray]:
         """``mean_`` and ``m2_``, which the compiled loops update in place.
 
-        Zeros of ``n_pixels`` before the first face.
+        Zeros of ``n_pixels`` before the first face: made once, so that every caller holds
+        the same arrays.
         """
         if self.n_seen_ == 0:
-            self.mean_, self.m2_ = np.zeros(n_pixels), np.zeros(n_pixels)
+            if self.mean_.shape != (n_pixels,):
+                self.mean_, self.m2_ = np.zeros(n_pixels), np.zeros(n_pixels)
+            self.mean_[:], self.m2_[:] = 0.0, 0.0
         return self.mean_, self.m2_

@@ -14,9 +14,11 @@ from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
+from .._jit import jit
 from .detections import Detections
 
-__all__ = ["LM", "RANDOM", "VF", "Agent", "Body", "ModuleKernels", "Outcome"]
+__all__ = ["LM", "RANDOM", "VF", "Agent", "AgentKernels", "Body", "ModuleKernels", "Outcome",
+           "judge_target", "no_observe", "no_passed_over", "see_as_is"]
 
 # The modules that may move the head (the second value of Agent.act).
 VF, LM, RANDOM = "vf", "lm", "random"
@@ -108,32 +110,94 @@ class Agent(Protocol):
         """The trial ended: learn from it (or not)."""
 
 
+@jit(inline=True)  # into the compiled loop: the module's arrays not counted in and out
+def no_observe(state, pan, tilt, step_rad, centre, cx, cy, gain_rad_per_px, learning) -> float:
+    """``observe`` of a module that makes nothing of a step's view and keeps no evidence: 0.0."""
+    return 0.0
+
+
+@jit(inline=True)
+def no_passed_over(state, pan, tilt, centre, cx, cy, gain_rad_per_px, learning, passed) -> bool:
+    """``passed_over`` of a module that lets visual attention take any object: False."""
+    return False
+
+
 class ModuleKernels(NamedTuple):
     """A learning module's part of a trial, as compiled kernels (``_jit.jit``) of its state.
 
-    A learning module of the bootstrap agent declares them as its ``kernels`` and its state as
-    ``compiled_state()`` (a named tuple of numbers and arrays, its own arrays, changed in
-    place), then takes back what the kernels counted with ``sync(state)``. Its step-by-step
-    methods call the same kernels; the compiled engine compiles one loop for each set of
-    kernels it is handed and calls them at their place in the trial:
+    A learning module of the bootstrap agent declares them as its ``kernels``, its state as
+    ``compiled_state(n_faces)`` (a named tuple of numbers and arrays, its own arrays, changed
+    in place; ``n_faces``: how many distinct faces the run shows, 0 if unknown) and the stream
+    its ``learn`` kernel draws from as ``learn_rng``; it takes back what the kernels counted
+    with ``sync(state)``. Its step-by-step methods call the same kernels; the compiled engine
+    compiles one loop for each set of kernels it is handed and calls them at their place in
+    the trial:
 
-    - ``begin(state, face, pan, tilt, learning) -> float``: the trial starts, the caregiver's
-      face (a flat view) in sight at head angle (``pan``, ``tilt``); ``learning`` is False for
-      a frozen agent. It returns the evidence for the face in view (the evidence gate's
-      measure; 0.0 for a module that keeps none).
+    - ``begin(state, face, face_id, pan, tilt, learning) -> float``: the trial starts, the
+      caregiver's face (a flat view) in sight at head angle (``pan``, ``tilt``); ``face_id``
+      is which of the run's ``n_faces`` faces it is (equal ids: equal faces, so a module may
+      keep what it computed of one), -1 if unknown; ``learning`` is False for a frozen
+      agent. It returns the evidence for the face in view (the evidence gate's measure; 0.0
+      for a module that keeps none).
+    - ``observe(state, pan, tilt, step_rad, centre, cx, cy, gain_rad_per_px, learning)
+      -> float``: a step's view before the gate chooses (``centre`` (m, 2): the objects
+      detected, in pixels; ``cx``, ``cy`` the image's centre; ``gain_rad_per_px`` Eq. 2's
+      gain); it returns the evidence for the face now. Default :func:`no_observe`.
+    - ``passed_over(state, pan, tilt, centre, cx, cy, gain_rad_per_px, learning, passed)
+      -> bool``: whether visual attention passes over some of the objects detected, then
+      flagged in ``passed`` (a bool per object); False: it may take any. Default
+      :func:`no_passed_over`.
     - ``command(state, pan, tilt, step_rad, rng) -> (d_pan, d_tilt)``: the module's step at
       a head angle; ``rng`` is the agent's move stream, for a module that may step at random.
     - ``direction(state, pan, tilt, step_rad) -> (d_pan, d_tilt)``: the step it would take,
       drawing nothing (the performance gate's measure).
-    - ``learn(state, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face, rng)
-      -> int``: a trial the agent learns from ended at head angle (``pan``, ``tilt``);
-      ``place`` (2,) is what it aims at (the learning target), ``centre`` (m, 2) the last
-      image's objects in pixels (``seen`` the attended one, ``cx``, ``cy`` the image's centre,
-      ``gain_rad_per_px`` Eq. 2's gain: ``agent.moves.places_into`` finds their places);
-      ``rng`` is the module's own stream. It returns how many places it learned.
+    - ``learn(state, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face, thetas,
+      steps, rng) -> int``: a trial the agent learns from ended at head angle (``pan``,
+      ``tilt``); ``place`` (2,) is what it aims at (the learning target), ``centre`` (m, 2)
+      the last image's objects in pixels (``seen`` the attended one: ``agent.moves.places_into``
+      finds their places), ``thetas`` and ``steps`` (n, 2) the trial's head angles and the
+      steps taken from them; ``rng`` is ``learn_rng``. It returns how many places or samples
+      it learned.
     """
 
     begin: Any
     command: Any
     direction: Any
     learn: Any
+    observe: Any = no_observe
+    passed_over: Any = no_passed_over
+
+
+@jit
+def see_as_is(state, face, learning_time_steps, out) -> bool:
+    """``see`` of an agent that sees the face window as it is: False (``out`` not written)."""
+    return False
+
+
+@jit
+def judge_target(state, fired, on_target, error_rad, learning) -> bool:
+    """``judge`` of a caregiver who approves her target only: the evaluator fired on it."""
+    return fired and on_target
+
+
+class AgentKernels(NamedTuple):
+    """A bootstrap agent's own part of a trial beyond its learning module, as compiled kernels.
+
+    The agent declares them as its ``kernels``, its state as ``compiled_state(n_pixels)`` (a
+    named tuple of numbers and arrays, changed in place; ``n_pixels``: a face window's) and
+    takes back what they changed with ``sync(state)``. Its step-by-step methods call the same
+    kernels:
+
+    - ``see(state, face, learning_time_steps, out) -> bool``: the face window (flat) as the
+      robot sees it at a learning time, into ``out``; False if it sees the face as it is
+      (``out`` not written). Default :func:`see_as_is`.
+    - ``judge(state, fired, on_target, error_rad, learning) -> bool``: whether the caregiver
+      approves a trial: the evaluator ``fired`` on an object, ``on_target`` if it is the one
+      she looks at, ``error_rad`` the angle between the two at the robot's head (inf where
+      unknown); a learning agent's caregiver may update what she judges by. A taught model
+      learns only from the trials she approves (``ModelOptions.taught``). Default
+      :func:`judge_target`.
+    """
+
+    see: Any = see_as_is
+    judge: Any = judge_target

@@ -20,7 +20,7 @@ from ..agent.face_standardiser import FaceStandardiser
 from ..agent.gates import GATES, Gate, SigmoidGate
 from ..agent.moves import random_step
 from ..agent.options import AgentConfig
-from ..agent.protocol import LM, RANDOM, VF, Body, Outcome
+from ..agent.protocol import LM, RANDOM, VF, AgentKernels, Body, Outcome
 from ..errors import ConfigError
 from .memory.module import MemoryModule
 from .memory.options import MemoryOptions
@@ -99,14 +99,6 @@ class BootstrapOptions(ModelOptions):
             raise ConfigError(f"gate kind '{self.gate.label}' follows the episodic memory's "
                               f"evidence; expected learner = 'memory', not '{self.learner}'")
 
-    def caregiver_inputs(self, face_size_px) -> tuple:
-        """The caregiver's part as the compiled loop takes it: she judges if she teaches.
-
-        (judges, adapts, criterion level, window, shrink, blur start, blur sharp steps, face
-        width, face height); her criterion adapts in the developmental model only.
-        """
-        return (self.taught, False, 0.0, 1.0, 1.0, 0.0, 1.0, *face_size_px)
-
     def save_refusal(self) -> str | None:
         """None: the network and the population code are saved; an episodic memory is not."""
         if self.learner == "memory":
@@ -159,6 +151,10 @@ class BootstrapAgent(NetworkState):
         learning: whether it learns (True); a frozen agent (False) acts as at its learning
             time and changes nothing it learned: it can be measured on other data sets.
     """
+
+    # its own part of a trial as compiled kernels (agent.protocol.AgentKernels): it sees the
+    # face as it is, and a caregiver who judges approves her target only
+    kernels = AgentKernels()
 
     def __init__(self, options: BootstrapOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
@@ -246,10 +242,32 @@ class BootstrapAgent(NetworkState):
             return self.place_of(outcome, outcome.seen)
         return np.asarray(outcome.theta_rad, dtype=float)
 
+    def trial_end(self, outcome: Outcome) -> tuple:
+        """A trial's end as a learning module's ``learn`` kernel takes it.
+
+        (place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face): what it aims at
+        (:meth:`aim_of`), the last image's objects (pixels) and the attended one, the final
+        head angle, the image's centre, Eq. 2's gain and the trial's face (flat)
+        (:class:`~jointattention.agent.protocol.ModuleKernels`).
+        """
+        det, theta = outcome.detections, np.asarray(outcome.theta_rad, dtype=float)
+        cx, cy = det.image_centre_px
+        return (self.aim_of(outcome), np.ascontiguousarray(det.centre_px, dtype=float),
+                int(outcome.seen), float(theta[0]), float(theta[1]), float(cx), float(cy),
+                float(self.mechanisms.vf_gain_rad_per_px), self._face)
+
+    def compiled_state(self, n_pixels: int) -> np.ndarray:
+        """The state of its own kernels (:attr:`kernels`): none, as they keep nothing."""
+        return np.zeros(0)
+
+    def sync(self, state) -> None:
+        """Take back what its own kernels changed: nothing here."""
+
     # -- a trial ---------------------------------------------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Start a trial looking at the caregiver, whose face window (its view) the robot keeps."""
         face = views("face_window", face_window, self.body)
+        self._face = np.ascontiguousarray(face, dtype=float)
         self._theta_start = angles("theta_rad", theta_rad)
         if self.learning:
             self.faces.partial_fit(face)

@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 
@@ -31,12 +31,12 @@ from .._arrays import windows
 from .._fields import param
 from .._jit import jit
 from ..agent.options import AgentConfig
-from ..agent.protocol import Body, Outcome
+from ..agent.protocol import AgentKernels, Body, Outcome
 from ..errors import ConfigError
 from .teacher import TeacherAgent, TeacherOptions
 
-__all__ = ["DevelopmentalAgent", "DevelopmentalOptions", "blur_into", "blur_px",
-           "caregiver_update"]
+__all__ = ["KERNELS", "DevelopmentArrays", "DevelopmentalAgent", "DevelopmentalOptions",
+           "blur_into", "blur_px", "caregiver_update", "development_judge", "development_see"]
 
 
 @dataclass(frozen=True)
@@ -71,11 +71,6 @@ class DevelopmentalOptions(TeacherOptions):
     blur_sharp_steps: float = param(
         150_000.0, "reading: the learning time at which the face window is sharp; the blur's "
         "s.d. falls linearly until then", lo=1, hi=1e10)
-
-    def caregiver_inputs(self, face_size_px) -> tuple:
-        """The caregiver judges by a criterion that adapts, and the face window sharpens."""
-        return (True, True, self.criterion_level, self.criterion_window_trials,
-                self.criterion_shrink, self.blur_start_px, self.blur_sharp_steps, *face_size_px)
 
     def build(self, mechanisms: AgentConfig, body: Body,
               rng: np.random.Generator) -> DevelopmentalAgent:
@@ -137,13 +132,62 @@ def caregiver_update(approved: bool, criterion_rad: float, rate: float, level: f
     return criterion_rad, rate
 
 
+class DevelopmentArrays(NamedTuple):
+    """The developments' options, her criterion and the blur's scratch, as the kernels take them."""
+
+    criterion_level: float  # caregiver_update's
+    criterion_window_trials: float
+    criterion_shrink: float
+    blur_start_px: float  # the visual development (0: none)
+    blur_sharp_steps: float
+    face_width_px: int
+    face_height_px: int
+    caregiver: np.ndarray  # (2,): her criterion (rad) and rate of approving, changed in place
+    tmp: np.ndarray  # the blur's scratch, a face window's pixels
+
+
+@jit
+def development_see(s, face, learning_time_steps, out) -> bool:
+    """The face window through the blur at a learning time, into ``out`` (as the robot sees it).
+
+    False without visual development (``blur_start_px`` 0): the face as it is.
+    """
+    if s.blur_start_px <= 0:
+        return False
+    blur_into(face, s.face_width_px, s.face_height_px,
+              blur_px(s.blur_start_px, s.blur_sharp_steps, learning_time_steps), s.tmp, out)
+    return True
+
+
+@jit
+def development_judge(s, fired, on_target, error_rad, learning) -> bool:
+    """She approves her target, or an object within her criterion of it; then she updates it.
+
+    Learning, her criterion and rate of approving move (:func:`caregiver_update`).
+    """
+    approved = fired and (on_target or error_rad <= s.caregiver[0])
+    if learning:
+        s.caregiver[0], s.caregiver[1] = caregiver_update(
+            approved, s.caregiver[0], s.caregiver[1], s.criterion_level,
+            s.criterion_window_trials, s.criterion_shrink)
+    return approved
+
+
+KERNELS = AgentKernels(development_see, development_judge)
+
+
 class DevelopmentalAgent(TeacherAgent):
     """The teacher with the caregiver's adaptive criterion and the robot's visual development.
+
+    Its developments are its own part of a trial as compiled kernels (:data:`KERNELS`, over
+    :meth:`compiled_state`), which :meth:`see` and the caregiver's judgement call too.
 
     Attributes:
         criterion_rad_: the caregiver's criterion now.
         approved_rate_: her running rate of approving the robot's trials.
     """
+
+    kernels = KERNELS
 
     def __init__(self, options: DevelopmentalOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
@@ -154,6 +198,18 @@ class DevelopmentalAgent(TeacherAgent):
         self.criterion_rad_ = math.radians(options.criterion_start_deg)
         self.approved_rate_ = 0.0
 
+    def compiled_state(self, n_pixels: int) -> DevelopmentArrays:
+        """The state of its kernels (:data:`KERNELS`): the developments' options, her criterion."""
+        o, (w, h) = self.options, self.body.face_size_px
+        return DevelopmentArrays(
+            float(o.criterion_level), float(o.criterion_window_trials),
+            float(o.criterion_shrink), float(o.blur_start_px), float(o.blur_sharp_steps), w, h,
+            np.array([self.criterion_rad_, self.approved_rate_]), np.empty(n_pixels))
+
+    def sync(self, state: DevelopmentArrays) -> None:
+        """Take back her criterion and rate of approving, which the kernels moved."""
+        self.criterion_rad_, self.approved_rate_ = (float(v) for v in state.caregiver)
+
     def blur_px(self, learning_time_steps: float | None = None) -> float:
         """The blur's s.d. (face-window pixels) at a learning time (default: now)."""
         o = self.options
@@ -163,9 +219,12 @@ class DevelopmentalAgent(TeacherAgent):
     def see(self, face_window: np.ndarray) -> np.ndarray:
         """The face window as the robot sees it now, (H, W) floats."""
         w, h = self.body.face_size_px
-        flat = windows("face_window", face_window, (w, h)).reshape(-1)
+        flat = np.ascontiguousarray(windows("face_window", face_window, (w, h)).reshape(-1),
+                                    dtype=float)
         out = np.empty_like(flat)
-        blur_into(flat, w, h, self.blur_px(), np.empty_like(flat), out)
+        if not self.kernels.see(self.compiled_state(len(flat)), flat,
+                                float(self.learning_time_steps), out):
+            out[:] = flat
         return out.reshape(h, w)
 
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
@@ -192,11 +251,8 @@ class DevelopmentalAgent(TeacherAgent):
         tells her error), then updates her criterion (:func:`caregiver_update`). The teacher's
         ``end_trial`` asks once per trial.
         """
-        error = outcome.caregiver_error_rad
-        approved = super()._judge(outcome) or (
-            outcome.fired and error is not None and error <= self.criterion_rad_)
-        o = self.options
-        self.criterion_rad_, self.approved_rate_ = caregiver_update(
-            approved, self.criterion_rad_, self.approved_rate_, o.criterion_level,
-            o.criterion_window_trials, o.criterion_shrink)
-        return approved
+        error, state = outcome.caregiver_error_rad, self.compiled_state(0)
+        approved = self.kernels.judge(state, bool(outcome.fired), super()._judge(outcome),
+                                      math.inf if error is None else float(error), True)
+        self.sync(state)
+        return bool(approved)

@@ -4,9 +4,9 @@
 :func:`~.cell.unsupported`, why a configuration cannot run compiled); :mod:`.rl_cell` packs
 the reinforcement learner's cell; :mod:`.inputs` holds the named tuples the loops take, and
 :mod:`.steps` a trial's draw and look (the oracle's loop calls them too). The loops are
-private: :mod:`._loop` (the bootstrap family's trials), :mod:`._rl_loop` (the reinforcement
-learner's) and :mod:`._agent` (the bootstrap agent's parts in the loop: the gate's rate, the
-module's command, the places kept).
+private: :mod:`._loop` (the bootstrap family's trials, which calls the learning module's
+kernels: :class:`~jointattention.agent.protocol.ModuleKernels`) and :mod:`._rl_loop` (the
+reinforcement learner's).
 
 Part of layer 6 (``experiment/``): it may import the models and their kernels, the world,
 the configuration, the robot, the plumbing, and of the runner only the trial's kernels

@@ -5,16 +5,18 @@ detector, Eq. 1-3, the gate, the learning module) as one compiled loop over tria
 :mod:`._loop`; this module packs its inputs and drives it). It calls
 the same kernels as the step-by-step path (:mod:`~jointattention.world.kinematics`,
 :mod:`~jointattention.world.fast`, :mod:`~jointattention.world.placement`,
-:mod:`~jointattention.agent.attention`, :mod:`~jointattention.models.network.learner`,
-:mod:`~jointattention.models.bootstrap`) and draws from the same random streams in the same
-order, so both give byte-identical cells (``tests/test_compiled.py``).
+:mod:`~jointattention.agent.attention`, :mod:`~jointattention.models.bootstrap`, and the
+learning module's own) and draws from the same random streams in the same order, so both give
+byte-identical cells (``tests/test_compiled.py``).
 
 It learns in place the arrays of a :class:`~jointattention.models.bootstrap.BootstrapAgent`,
 so the learned agent is the same object either way. It runs the bootstrap model (every gate,
-reading, the network, the memory, and any learning module that declares its kernels, such
-as the population code: :func:`~._loop.loop_for`), the teacher and the
-developmental model, and the reinforcement learner through :mod:`.rl_cell`
-(:func:`compiled_cell` picks the loop); anything else is refused (:func:`unsupported`).
+reading, and any learning module, which declares its kernels and state:
+:class:`~jointattention.agent.protocol.ModuleKernels`, :func:`~._loop.loop_for`), its kin
+that declare their own kernels (:class:`~jointattention.agent.protocol.AgentKernels`: the
+teacher, and the one whose sight and caregiver change with time), and the reinforcement
+learner through :mod:`.rl_cell` (:func:`compiled_cell` picks the loop); anything else is
+refused (:func:`unsupported`).
 """
 
 from __future__ import annotations
@@ -31,15 +33,7 @@ from ...world.kinematics import HeadKinematics
 from ...world.mjcf import HEAD_RADII_M
 from ...world.placement import region_of
 from ._loop import COLUMNS, loop_for
-from .inputs import (
-    LoopDevelopment,
-    LoopMemory,
-    LoopRobot,
-    LoopState,
-    LoopWorld,
-    placed,
-    trial_records,
-)
+from .inputs import LoopRobot, LoopState, LoopWorld, placed, trial_records
 from .rl_cell import RLCell
 
 __all__ = ["CompiledCell", "compiled_cell", "pack_world", "unsupported"]
@@ -75,16 +69,6 @@ def pack_world(world: WorldConfig, ds: CaregiverDatasets, target_m, face_m, n_ob
                   ds.views.reshape(len(ds), -1).astype(float), bool(shuffle_faces))
 
 
-def _loop_memory(memory, saccade_rad: float) -> LoopMemory:
-    """The episodic memory as the loop takes it, with its module's longest move."""
-    return LoopMemory(memory.projection, memory.lo_rad, float(memory.cell_rad),
-                      int(memory.options.k_nearest), float(memory.radius_rad),
-                      memory.options.keep == "in_view", *memory.kept_arrays()[:5],
-                      memory.options.leave_out_empty, *memory.left_arrays()[:2],
-                      memory.options.pass_over_left_out, memory.options.drop_left_out,
-                      memory.options.recall_again, saccade_rad)
-
-
 class CompiledCell:
     """One cell (a condition and a seed) learning in the compiled engine.
 
@@ -107,57 +91,38 @@ class CompiledCell:
         self.agent, self._world = agent, world
         self._trials, self._shuffle = trials, shuffle
         opts, shared = agent.options, agent.mechanisms
-        memory = getattr(agent.module, "memory", None)  # the episodic module's
-        caregiver = opts.caregiver_inputs(agent.body.face_size_px)
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),
             float(shared.d_th_px(world.width_px)), float(agent.step_rad), int(shared.max_steps),
             *opts.gate.compiled_inputs(), opts.gate_per == "trial",
             opts.vf_fallback == "lm", opts.vf_fallback == "sweep",
             LEARNING_TARGETS.index(opts.learning_target), opts.learn_from == "vf",
-            int(opts.n_passes),
-            agent.theta_mid_rad, agent.theta_half_rad, float(agent.faces.min_std),
-            float(opts.learning_rate), float(opts.momentum),
-            caregiver[0], bool(agent.learning))
-        self._development = LoopDevelopment(*caregiver[2:]) if caregiver[1] else None
-        learner, faces = agent.learner, agent.faces
-        self._memory = (None if memory is None
-                        else _loop_memory(memory, agent.module.saccade_rad))
-        # a learning module on the kernel protocol (agent.protocol.ModuleKernels): its state
-        self._kernels = agent.module.kernels
-        self._module = None if self._kernels is None else agent.module.compiled_state()
-        self._module_rng = getattr(agent.module, "replay_rng", agent.move_rng)  # a stand-in
-        kept = (0, 0, 0) if memory is None else (*memory.kept_arrays()[5:], memory.n_left_)
+            bool(opts.taught), bool(agent.learning))
+        faces = agent.faces
         self._state = LoopState(
-            learner.w1_, learner.b1_, learner.w2_, learner.b2_, *learner.velocity_,
-            *faces.statistics(world.faces.shape[1]),
-            np.array([agent.learning_time_steps, faces.n_seen_, learner.n_updates_, 0, *kept]),
-            np.array([agent.agreement_]),
-            np.array([getattr(agent, "criterion_rad_", 0.0),
-                      getattr(agent, "approved_rate_", 0.0)]))
+            *faces.statistics(world.faces.shape[1]), faces.seen,
+            np.array([agent.learning_time_steps, 0]), np.array([agent.agreement_]))
+        # the agent's own part beyond its module (agent.protocol.AgentKernels): its state
+        self._sight = agent.compiled_state(world.faces.shape[1])
+        # the learning module's part (agent.protocol.ModuleKernels): its kernels and its state,
+        # told how many faces the run shows (ids: the data sets' indices)
+        self._module = agent.module.compiled_state(len(world.faces))
         self._records = np.zeros((len(COLUMNS), max_trials), dtype=np.int64)
 
     def run_until(self, learning_time_steps: int) -> None:
         """Learn trial after trial until the learning time reaches ``learning_time_steps``."""
-        loop = loop_for(self._kernels)
+        agent = self.agent
+        loop = loop_for(agent.module.kernels, agent.kernels)
         placed(loop(learning_time_steps, self._records.shape[1], self._world, self._robot,
-                    self._state, self._memory, self._development, self._module, self._trials,
-                    self._shuffle, self.agent.gate_rng, self.agent.move_rng, self._module_rng,
-                    self._records), self._world)
-        c = self._state.counters
-        self.agent.learning_time_steps = int(c[0])
-        self.agent.faces.n_seen_, self.agent.learner.n_updates_ = int(c[1]), int(c[2])
-        self.agent.agreement_ = float(self._state.agreement[0])
-        if hasattr(self.agent, "criterion_rad_"):  # the caregiver's criterion adapts
-            self.agent.criterion_rad_, self.agent.approved_rate_ = map(float,
-                                                                       self._state.caregiver)
-        if self._module is not None:
-            self.agent.module.sync(self._module)
-        if hasattr(self.agent.module, "memory"):
-            memory = self.agent.module.memory
-            memory.n_stored_, memory.n_codes_, memory.n_left_ = int(c[4]), int(c[5]), int(c[6])
+                    self._state, self._sight, self._module, self._trials, self._shuffle,
+                    agent.gate_rng, agent.move_rng, agent.module.learn_rng, self._records),
+               self._world)
+        agent.learning_time_steps = int(self._state.counters[0])
+        agent.agreement_ = float(self._state.agreement[0])
+        agent.sync(self._sight)
+        agent.module.sync(self._module)
 
     def records(self) -> dict[str, np.ndarray]:
         """The trial records so far (:data:`~.trial.RECORD`)."""
-        return trial_records(self._records[:, : self._state.counters[3]])
+        return trial_records(self._records[:, : self._state.counters[1]])
 

@@ -28,8 +28,8 @@ from ..._jit import jit
 from ...agent.attention import visual_feedback_rad
 from ._recall import same_code
 
-__all__ = ["drop_left_out_from", "empty_arrival", "leave_out", "left_out_of", "near_any",
-           "passed_over_into"]
+__all__ = ["drop_left_out_from", "empty_arrival", "leave_out", "left_out_into", "left_out_of",
+           "near_any", "passed_over_into"]
 
 
 @jit
@@ -61,17 +61,19 @@ def leave_out(code, pan_rad, tilt_rad, left_codes, left_aims, n_left: int) -> in
 @jit
 def left_out_of(code, left_codes, left_aims, n_left: int) -> np.ndarray:
     """The places left out of face ``code``'s recalls, (m, 2)."""
-    n = min(n_left, len(left_aims))
-    mine = np.empty(n, np.int64)
+    out = np.empty((min(n_left, len(left_aims)), 2))
+    return out[:left_out_into(code, left_codes, left_aims, n_left, out)]
+
+
+@jit
+def left_out_into(code, left_codes, left_aims, n_left: int, out) -> int:
+    """:func:`left_out_of` into the first rows of ``out`` (as long as ``left_aims``); how many."""
     m = 0
-    for s in range(n):
+    for s in range(min(n_left, len(left_aims))):
         if same_code(left_codes[:, s], code):
-            mine[m] = s
+            out[m, 0], out[m, 1] = left_aims[s, 0], left_aims[s, 1]
             m += 1
-    out = np.empty((m, 2))
-    for i in range(m):
-        out[i, 0], out[i, 1] = left_aims[mine[i], 0], left_aims[mine[i], 1]
-    return out
+    return m
 
 
 @jit

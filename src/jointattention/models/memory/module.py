@@ -20,9 +20,9 @@ import numpy as np
 from ..._jit import jit
 from ...agent.attention import largest_feedback_rad
 from ...agent.detections import Detections
-from ...agent.moves import place_step, random_step
+from ...agent.moves import MAX_PLACES, place_step
 from ...agent.protocol import Outcome
-from ._left_out import drop_left_out_from, empty_arrival, passed_over_into
+from ._trial import EVIDENCE, KERNELS, RECALLED, SUPPORT, MemoryArrays
 from .episodic import (
     EpisodicMemory,
     code_distances_into,
@@ -90,7 +90,9 @@ class MemoryModule:
         rng: the generator left after the agent's streams: one more split, for the face
             code's projection.
 
-    It answers :class:`~..network.module.NetworkModule`'s calls.
+    It answers :class:`~..network.module.NetworkModule`'s calls, and declares its part of a
+    trial as compiled kernels (:attr:`kernels`, over :meth:`compiled_state`; see
+    :class:`~jointattention.agent.protocol.ModuleKernels`), which those of a trial call.
 
     Attributes:
         memory: the memory.
@@ -99,7 +101,7 @@ class MemoryModule:
         evidence_: that place's evidence, in trials (the evidence gate's measure).
     """
 
-    kernels = None  # not on the kernel protocol: the compiled loop runs it itself
+    kernels = KERNELS  # its part of a trial, for the compiled engine
 
     def __init__(self, host, rng: np.random.Generator):
         self.host = host
@@ -107,8 +109,25 @@ class MemoryModule:
         body = host.body
         self.memory = EpisodicMemory(body.view_size, host.options.memory,
                                      body.joint_limits_rad, code_rng)
-        self.support_, self.evidence_ = -1.0, 0.0
-        self._left_out = None  # the current face's places left out (fetched as needed)
+        self._code, self._aim = np.empty(host.options.memory.code_dims), np.empty(2)
+        self._trial = np.array([0.0, 0.0, -1.0])  # recalled, evidence, support (_trial.py)
+        self._places, self._mine = np.empty((MAX_PLACES, 2)), np.empty((0, 2))
+        self._state: MemoryArrays | None = None  # the trial's (begin makes it)
+
+    @property
+    def support_(self) -> float:
+        """The support of the place recalled for the current trial's face."""
+        return float(self._trial[SUPPORT])
+
+    @property
+    def evidence_(self) -> float:
+        """That place's evidence, in trials (the evidence gate's measure)."""
+        return float(self._trial[EVIDENCE])
+
+    @property
+    def _aim_rad(self) -> np.ndarray | None:
+        """The place recalled for the current trial's face; None without one."""
+        return self._aim.copy() if self._trial[RECALLED] else None
 
     @property
     def saccade_rad(self) -> float:
@@ -121,23 +140,44 @@ class MemoryModule:
         return largest_feedback_rad(*self.host.body.image_size_px,
                                     self.host.mechanisms.vf_gain_rad_per_px)
 
-    def _toward(self, aim_rad, theta_rad) -> np.ndarray:
-        """A move toward the recalled place; none without one."""
-        if aim_rad is None:
-            return np.zeros(2)
-        return np.array(place_step(aim_rad[0] - theta_rad[0], aim_rad[1] - theta_rad[1],
-                                   self.host.step_rad, self.saccade_rad))
+    @property
+    def learn_rng(self) -> np.random.Generator:
+        """The stream its ``learn`` kernel is handed: the agent's moves (it draws nothing)."""
+        return self.host.move_rng
+
+    def compiled_state(self, n_faces: int = 0) -> MemoryArrays:
+        """The module's state as the kernels take it: the memory's own arrays (see ``sync``).
+
+        For ``n_faces`` faces (ids), what a face's trial start computes is kept: its recall
+        while frozen, its code while learning.
+        """
+        # what the module does by the agent's options, what the memory keeps by its own
+        m, o, learning = self.memory, self.host.options.memory, self.host.learning
+        if len(self._mine) != len(m.left_aims_):  # a memory of another capacity or code
+            self._mine = np.empty((len(m.left_aims_), 2))
+        if len(self._code) != m.projection.shape[1]:
+            self._code = np.empty(m.projection.shape[1])
+        n_recalled, n_coded = (0, n_faces) if learning else (n_faces, 0)
+        return MemoryArrays(
+            m.projection, m.lo_rad, float(m.cell_rad), int(m.options.k_nearest),
+            float(m.radius_rad),
+            o.keep == "in_view", *m.kept_arrays()[:5], o.leave_out_empty, *m.left_arrays()[:2],
+            o.pass_over_left_out, o.drop_left_out, o.recall_again, float(self.saccade_rad),
+            np.array([m.n_stored_, m.n_codes_, m.n_left_, 0], np.int64), self._code, self._aim,
+            self._trial, self._mine, self._places, np.zeros(n_recalled, np.int8),
+            np.empty((n_recalled, 4)), np.zeros(n_coded, np.bool_),
+            np.empty((n_coded, len(self._code))))
+
+    def sync(self, state: MemoryArrays) -> None:
+        """Take back the counters the kernels moved (trials kept, codes, places left out)."""
+        m = self.memory
+        m.n_stored_, m.n_codes_, m.n_left_ = (int(c) for c in state.counters[:3])
 
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
         """Recall the place for the caregiver's face."""
-        self._face_code = self.memory.code(face)
-        self.begin_again()
-        self._left_out = None
-
-    def begin_again(self) -> None:
-        """Recall the place for the trial's face again (after a place was left out)."""
-        self._aim_rad, self.support_, self.evidence_ = self.memory.recall_evidence(
-            self._face_code)
+        self._state = self.compiled_state()
+        self.kernels.begin(self._state, np.ascontiguousarray(face, dtype=float), -1,
+                           float(theta_rad[0]), float(theta_rad[1]), self.host.learning)
 
     def observe(self, det: Detections, theta_rad) -> np.ndarray | None:
         """Leave the recalled place out if the head found it empty; what attention passes over.
@@ -148,39 +188,29 @@ class MemoryModule:
         ``memory.pass_over_left_out`` the answer flags the detections at the face's places left
         out (None: attention may take any).
         """
-        aim, host, options = self._aim_rad, self.host, self.host.options.memory
-        if not host.learning:
-            return None
-        cx, cy = det.image_centre_px
-        centre_px, gain = np.asarray(det.centre_px, dtype=float), host.mechanisms.vf_gain_rad_per_px
+        host, s = self.host, self._state
+        cx, cy = (float(c) for c in det.image_centre_px)
+        centre_px = np.ascontiguousarray(det.centre_px, dtype=float)
         pan, tilt = float(theta_rad[0]), float(theta_rad[1])
-        if aim is not None and options.leave_out_empty and empty_arrival(
-                aim[0], aim[1], pan, tilt, host.step_rad, centre_px, cx, cy,
-                self.memory.radius_rad / gain):
-            self.memory.leave_out(self._face_code, aim)
-            if options.recall_again:  # the next place, the one left out no longer winning
-                self.begin_again()
-            else:
-                self._aim_rad, self.support_, self.evidence_ = None, -1.0, 0.0
-            self._left_out = None
-        if not options.pass_over_left_out:
-            return None
-        if self._left_out is None:  # the face's places left out, fetched once until one more
-            self._left_out = self.memory.left_out(self._face_code)
+        gain = float(host.mechanisms.vf_gain_rad_per_px)
+        self.kernels.observe(s, pan, tilt, host.step_rad, centre_px, cx, cy, gain, host.learning)
+        self.sync(s)
         passed = np.zeros(len(centre_px), dtype=bool)
-        passed_over_into(centre_px, cx, cy, gain, pan, tilt, self._left_out,
-                         self.memory.radius_rad, passed)
+        if not self.kernels.passed_over(s, pan, tilt, centre_px, cx, cy, gain, host.learning,
+                                        passed):
+            return None
         return passed
 
     def step(self, theta_rad) -> np.ndarray:
         """A move toward the recalled place; a random step while nothing is kept."""
-        if self._aim_rad is None:
-            return np.array(random_step(self.host.move_rng, self.host.step_rad))
-        return self._toward(self._aim_rad, theta_rad)
+        return np.array(self.kernels.command(self._state, float(theta_rad[0]),
+                                             float(theta_rad[1]), self.host.step_rad,
+                                             self.host.move_rng))
 
     def direction(self, theta_rad) -> np.ndarray:
         """A move toward the recalled place; none while nothing is kept."""
-        return self._toward(self._aim_rad, theta_rad)
+        return np.array(self.kernels.direction(self._state, float(theta_rad[0]),
+                                               float(theta_rad[1]), self.host.step_rad))
 
     def learn(self, outcome: Outcome, thetas: np.ndarray, steps: np.ndarray) -> int:
         """Keep the trial's place; returns the number of places kept.
@@ -189,17 +219,10 @@ class MemoryModule:
         kept too, after the attended one's; with ``memory.drop_left_out`` none that lies at a
         place left out of the face's recalls.
         """
-        host, options = self.host, self.host.options.memory
-        places = [host.aim_of(outcome)]
-        if options.keep == "in_view":
-            places += [host.place_of(outcome, i) for i in range(len(outcome.detections))
-                       if i != outcome.seen]
-        places, n = np.array(places, dtype=float), len(places)
-        if options.drop_left_out:
-            n = drop_left_out_from(places, n, self.memory.left_out(self._face_code),
-                                   self.memory.radius_rad)
-        for place in places[:n]:
-            self.memory.store(self._face_code, place)
+        n = self.kernels.learn(self._state, *self.host.trial_end(outcome),
+                               np.ascontiguousarray(thetas, dtype=float),
+                               np.ascontiguousarray(steps, dtype=float), self.learn_rng)
+        self.sync(self._state)
         return n
 
     def command(self, face: np.ndarray, theta_rad: np.ndarray) -> np.ndarray:

@@ -2,8 +2,9 @@
 
 :mod:`.learner` (the three-layer network trained by back-propagation,
 :class:`~.learner.LearningModule`, the door to the compiled kernels of :mod:`._backprop`),
-:mod:`.command` (its command at a head angle, one face or a batch), :mod:`.module` (the
-learning module that the bootstrap agent composes, :class:`~.module.NetworkModule`) and
+:mod:`.command` (its command at a head angle, one face or a batch), :mod:`._trial` (its part
+of a trial as compiled kernels, which both engines call), :mod:`.module` (the learning module
+that the bootstrap agent composes, :class:`~.module.NetworkModule`) and
 :mod:`.state` (what a model file keeps of it). Its options are the bootstrap model's own
 fields (``[model]``: ``learning_rate``, ``n_hidden``, ...), so it has no options module.
 

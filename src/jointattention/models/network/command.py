@@ -1,7 +1,7 @@
 """The network's command: the direction of its output at a head angle, for one face or many.
 
-:func:`network_command` is compiled into the compiled loop's module step
-(:mod:`jointattention.experiment.compiled._agent`) and called by the step-by-step module
+:func:`network_command` is the module's ``command`` and ``direction`` kernels' (:mod:`._trial`,
+which both engines call, inlined into the compiled loop) and its command outside a trial
 (:mod:`.module`); :func:`lm_commands_into` computes it for a batch of faces (probes and
 held-out measures).
 """
@@ -18,7 +18,7 @@ from ._backprop import accumulate, face_part, forward
 __all__ = ["lm_commands_into", "network_command"]
 
 
-@jit(inline=True)  # into the compiled loop's lm_step: nine arrays not counted in and out
+@jit(inline=True)  # into its callers: nine arrays not counted in and out at each call
 def network_command(face_acc, pan, tilt, w1, b1, w2, b2, theta_mid_rad, theta_half_rad,
                     step_rad, acc, scaled, hidden, out) -> tuple[float, float]:
     """The network's command at head angle (``pan``, ``tilt``): its output's direction.

@@ -12,8 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...agent.moves import learning_samples, scale_angle_into
+from ...agent.face_standardiser import NO_FACE_SEEN
 from ...agent.protocol import Outcome
+from ...errors import ArgumentError
+from ._trial import KERNELS, NetworkArrays
 from .command import lm_commands_into, network_command
 from .learner import face_part
 
@@ -32,29 +34,39 @@ class NetworkModule:
     command at a head angle, with and without random draws), :meth:`learn` (a trial the
     evaluator ended), :meth:`commands` (face windows and head angles, checked) and
     :meth:`saved_arrays` / :meth:`saved_shapes` / :meth:`load_arrays` (what a model file keeps
-    beyond the agent's network and face statistics).
+    beyond the agent's network and face statistics). It declares its part of a trial as
+    compiled kernels (:attr:`kernels`, over :meth:`compiled_state`; see
+    :class:`~jointattention.agent.protocol.ModuleKernels`), which those of a trial call.
     """
 
-    kernels = None  # not on the kernel protocol: the compiled loop runs it itself
+    kernels = KERNELS  # its part of a trial, for the compiled engine
 
     def __init__(self, host):
         self.host = host
+        self._state: NetworkArrays | None = None  # the trial's (begin makes it)
 
-    def _inputs(self, face_x: np.ndarray, thetas: np.ndarray) -> np.ndarray:
+    @property
+    def learn_rng(self) -> np.random.Generator:
+        """The stream its ``learn`` kernel is handed: the agent's moves (it draws nothing)."""
+        return self.host.move_rng
+
+    def compiled_state(self, n_faces: int = 0) -> NetworkArrays:
+        """The module's state as the kernels take it: the agent's own arrays (see ``sync``)."""
         h = self.host
-        thetas = np.atleast_2d(thetas)
-        inputs = np.empty((len(thetas), len(face_x) + 2))
-        inputs[:, :len(face_x)] = face_x
-        for row, (pan, tilt) in zip(inputs, thetas, strict=True):
-            scale_angle_into(float(pan), float(tilt), h.theta_mid_rad, h.theta_half_rad,
-                             row, len(face_x))
-        return inputs
+        net, faces, o = h.learner, h.faces, h.options
+        n_hidden, n_out = net.w2_.shape
+        mean, m2 = faces.statistics(h.body.view_size)
+        return NetworkArrays(
+            np.asarray(h.theta_mid_rad, float), np.asarray(h.theta_half_rad, float),
+            float(faces.min_std), float(net.learning_rate), float(net.momentum),
+            int(o.n_passes), o.learning_target == "executed_step", *net._params(),
+            *net.velocity_, mean, m2, faces.seen, np.array([net.n_updates_], np.int64),
+            np.empty(h.body.view_size), np.empty(n_hidden), np.empty(n_hidden),
+            np.empty(n_hidden), np.empty(n_out), np.empty(2))
 
-    def _face_part(self, face_x: np.ndarray) -> np.ndarray:
-        """The face's part of the hidden units' input: fixed for a trial (it learns at the end)."""
-        acc = np.empty(len(self.host.learner.b1_))
-        face_part(np.ascontiguousarray(face_x, dtype=float), self.host.learner.w1_, acc)
-        return acc
+    def sync(self, state: NetworkArrays) -> None:
+        """Take back the updates the kernels counted."""
+        self.host.learner.n_updates_ = int(state.counters[0])
 
     def _command(self, face_acc: np.ndarray, theta_rad) -> np.ndarray:
         h, n_hidden = self.host, len(face_acc)
@@ -66,34 +78,40 @@ class NetworkModule:
 
     def begin(self, face: np.ndarray, theta_rad: np.ndarray) -> None:
         """A trial starts: the face (standardised by the agent's statistics) is fixed for it."""
-        self._face_x = self.host.faces.transform(face)
-        self._face_acc = self._face_part(self._face_x)
+        if not self.host.faces.n_seen_:
+            raise ArgumentError(NO_FACE_SEEN)
+        self._state = self.compiled_state()
+        self.kernels.begin(self._state, np.ascontiguousarray(face, dtype=float), -1,
+                           float(theta_rad[0]), float(theta_rad[1]), self.host.learning)
 
     def observe(self, det, theta_rad) -> None:
         """Nothing: the module makes nothing of a step's view, and attention may take any."""
 
     def step(self, theta_rad) -> np.ndarray:
         """The module's command at a head angle during the trial."""
-        return self._command(self._face_acc, theta_rad)
+        return np.array(self.kernels.command(self._state, float(theta_rad[0]),
+                                             float(theta_rad[1]), self.host.step_rad,
+                                             self.host.move_rng))
 
     def direction(self, theta_rad) -> np.ndarray:
         """The command without a random draw (the network draws none): the gate's measure."""
-        return self.step(theta_rad)
+        return np.array(self.kernels.direction(self._state, float(theta_rad[0]),
+                                               float(theta_rad[1]), self.host.step_rad))
 
     def learn(self, outcome: Outcome, thetas: np.ndarray, steps: np.ndarray) -> int:
         """Teach each step toward the trial's aim (or its own step); returns the samples taught."""
-        h = self.host
-        executed = h.options.learning_target == "executed_step"
-        y = np.empty_like(thetas)
-        keep = learning_samples(thetas, steps, h.aim_of(outcome), executed, y)
-        x = self._inputs(self._face_x, thetas[keep])
-        for _ in range(h.options.n_passes):  # the face is every row's: shared inputs
-            h.learner.partial_fit(x, y[keep], shared_inputs=len(self._face_x))
-        return int(keep.sum())
+        n = self.kernels.learn(self._state, *self.host.trial_end(outcome),
+                               np.ascontiguousarray(thetas, dtype=float),
+                               np.ascontiguousarray(steps, dtype=float), self.learn_rng)
+        self.sync(self._state)
+        return n
 
     def command(self, face: np.ndarray, theta_rad: np.ndarray) -> np.ndarray:
         """The command for a checked flat face window and head angle, outside a trial."""
-        return self._command(self._face_part(self.host.faces.transform(face)), theta_rad)
+        acc = np.empty(len(self.host.learner.b1_))
+        face_part(np.ascontiguousarray(self.host.faces.transform(face), dtype=float),
+                  self.host.learner.w1_, acc)
+        return self._command(acc, theta_rad)
 
     def commands(self, faces: np.ndarray, thetas: np.ndarray) -> np.ndarray:
         """:meth:`command` for K checked flat face windows (K, H * W) and head angles (K, 2)."""

@@ -271,34 +271,35 @@ def line_step(start_pan, start_tilt, psi_rad, pan, tilt, step_rad) -> tuple[floa
 
 
 @jit
-def trial_begin(a, face, pan, tilt, learning) -> float:
+def trial_begin(a, face, face_id, pan, tilt, learning) -> float:
     """The trial starts: :func:`population_begin`, its direction and start kept in ``a.trial``.
 
-    The module keeps no evidence: 0.0.
+    It keeps nothing by ``face_id``, and no evidence: 0.0.
     """
     a.trial[0] = population_begin(a, face, pan, tilt, learning)
     a.trial[1], a.trial[2] = pan, tilt
     return 0.0
 
 
-@jit
+@jit(inline=True)  # into the compiled loop: its arrays not counted in and out
 def trial_direction(a, pan, tilt, step_rad) -> tuple[float, float]:
     """The step along the line from the trial's start in the direction read out."""
     return line_step(a.trial[1], a.trial[2], a.trial[0], pan, tilt, step_rad)
 
 
-@jit
+@jit(inline=True)
 def trial_command(a, pan, tilt, step_rad, rng) -> tuple[float, float]:
     """The module's step: :func:`trial_direction` (it draws nothing from ``rng``)."""
     return trial_direction(a, pan, tilt, step_rad)
 
 
 @jit
-def trial_learn(a, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face,
-                rng) -> int:
+def trial_learn(a, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face, thetas,
+                steps, rng) -> int:
     """The trial's end: :func:`population_learn` of ``place`` (and ``in_view``, the others').
 
-    The places are :func:`~jointattention.agent.moves.places_into`'s, from the last image.
+    The places are :func:`~jointattention.agent.moves.places_into`'s, from the last image
+    (``thetas`` and ``steps``, the trial's, teach nothing).
     """
     n = places_into(place, centre, seen, a.in_view, pan, tilt, cx, cy, gain_rad_per_px,
                     a.places)

@@ -156,8 +156,11 @@ class PopulationModule:
             f.m2_ = arrays["population_feature_m2"].astype(float)
             f.n_seen_ = int(arrays["population_feature_n_seen"])
 
-    def arrays(self) -> PopulationArrays:
-        """The module's state as the kernels take it (its own arrays; see ``sync``)."""
+    def arrays(self, n_faces: int = 0) -> PopulationArrays:
+        """The module's state as the kernels take it (its own arrays; see ``sync``).
+
+        It keeps nothing by face id: ``n_faces`` is not read.
+        """
         o, p, f = self.host.options.population, self.population, self.feature_stats
         if self.host.learning and len(self.replay_counts_) < o.replay_capacity:
             self._replay_memory(o.replay_capacity)  # nothing kept yet: it was never learning
@@ -174,6 +177,11 @@ class PopulationModule:
     compiled_state = arrays  # the state its kernels take
 
     @property
+    def learn_rng(self) -> np.random.Generator:
+        """The stream its ``learn`` kernel draws the replayed trials from."""
+        return self.replay_rng
+
+    @property
     def direction_rad_(self) -> float:
         """The direction read out for the current trial's face."""
         return float(self._trial[0])
@@ -187,7 +195,7 @@ class PopulationModule:
         """Read out the direction for the caregiver's face (a checked flat window)."""
         self._face = face
         a = self.arrays()
-        trial_begin(a, face, float(theta_rad[0]), float(theta_rad[1]), self.host.learning)
+        trial_begin(a, face, -1, float(theta_rad[0]), float(theta_rad[1]), self.host.learning)
         self.sync(a)
 
     def observe(self, det, theta_rad) -> None:
@@ -206,14 +214,15 @@ class PopulationModule:
     def learn(self, outcome: Outcome, thetas: np.ndarray, steps: np.ndarray) -> int:
         """Teach the directions of the places found; returns how many.
 
-        Then keep the trial in the replay memory and teach ``replay`` trials drawn from it.
+        Then keep the trial in the replay memory and teach ``replay`` trials drawn from it
+        (the kernel the compiled engine calls, :func:`~._trial.trial_learn`).
         """
-        host = self.host
-        places = [host.aim_of(outcome)]
-        if host.options.population.keep == "in_view":
-            places += [host.place_of(outcome, i) for i in range(len(outcome.detections))
-                       if i != outcome.seen]
-        return self.learn_places(np.array(places[: self.MAX_PLACES], dtype=float))
+        a = self.arrays()
+        n = self.kernels.learn(a, *self.host.trial_end(outcome),
+                               np.ascontiguousarray(thetas, dtype=float),
+                               np.ascontiguousarray(steps, dtype=float), self.learn_rng)
+        self.sync(a)
+        return n
 
     def learn_places(self, places_rad: np.ndarray) -> int:
         """:meth:`learn` of the places found (n, 2), for the trial :meth:`begin` started."""
