@@ -181,6 +181,16 @@ def test_caregivers_table_reads_a_run_s_held_out_measures(short_run, tmp_path):
     assert len(rows) == 2 and all("nan" not in r for r in rows)
 
 
+def test_summarise_writes_a_row_per_point_and_condition(short_run, tmp_path):
+    """learn-fast/summarise.py on a short run as a one-point sweep: speed and held-out columns."""
+    out = tmp_path / "ablation.md"
+    _run("learn-fast/summarise.py", short_run.parent, "--out", out, cwd=tmp_path)
+    rows = _rows(out, "| models | ")
+    assert [r.split("|")[2].strip() for r in rows] == ["paper-n5", "developmental-n5"]
+    # the novelty (last column) is NaN here: the models preset learns from the shipped sets
+    assert all("nan" not in r.rsplit("|", 2)[0] and "(" in r.split("|")[7] for r in rows)
+
+
 def test_fresh_measures_a_saved_model_on_fresh_caregivers(tmp_path, needs_gl):
     """generalise/fresh.py --quick on the shipped model: a row per set and a summary."""
     models = tmp_path / "models"
