@@ -82,9 +82,17 @@ class FastSteps:
 
         ``rngs``: the generators in numba's list.
         """
-        failed = start_all(rngs, starts, self.targets_m, self.faces_m, HEAD_RADII_M[2],
-                           *self.region, self.theta_face_rad, self.cam, episodes.pos,
-                           episodes.radius, episodes.edge, episodes.state, episodes.theta)
+        self.check_started(start_all(rngs, starts, *self.start_args(), self.cam, episodes.pos,
+                                     episodes.radius, episodes.edge, episodes.state,
+                                     episodes.theta))
+
+    def start_args(self) -> tuple:
+        """:func:`~._vector_kernels.start_all`'s arguments from ``targets_m`` to the camera."""
+        return (self.targets_m, self.faces_m, HEAD_RADII_M[2], *self.region,
+                self.theta_face_rad)
+
+    def check_started(self, failed: int) -> None:
+        """One error if a start could not place its objects (``failed`` >= 0: which one)."""
         if failed >= 0:
             raise ConfigError(
                 f"objects: could not place {self.n} objects apart within the object region; "

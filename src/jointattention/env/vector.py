@@ -4,8 +4,8 @@
 "vector_entry_point")`` gives :class:`JointAttentionVectorEnv`. Its sub-environments are those
 of :class:`~.joint_attention.JointAttentionEnv` (the same episodes, steps and rewards as a
 ``SyncVectorEnv`` of them with the same seeds, tested); it moves every head, projects every
-scene and evaluates every image in one compiled call per step, and starts the episodes that
-start in one more (:mod:`._vector_kernels`): each drawn from its sub-environment's own
+scene and evaluates every image in one compiled call per step, which first starts the episodes
+that start (:mod:`._vector_kernels`): each drawn from its sub-environment's own
 generator by the kernel that draws the single environment's and the runner's scenes
 (:func:`~jointattention.world.fast.draw_objects`).
 """
@@ -25,10 +25,13 @@ from ..errors import ConfigError
 from ._args import check_action, refuse_options, vector_seeds
 from ._fast_trial import Episodes
 from ._observation import DETECTION_INFO, STEP_INFO, info_dict
-from ._vector_kernels import HOLD, STATE, STEP, clip_moves, step_all
+from ._vector_kernels import HOLD, STATE, STEP, clip_moves, start_step_all, step_all
 from .joint_attention import JointAttentionEnv
 
-_N_MASKS = len(DETECTION_INFO) + 1 + len(STEP_INFO)  # a "_key" mask per info key
+# Gymnasium's "_key" mask of each info key: the detections' own, then the step's
+_DETECTION_MASKS = tuple(f"_{key}" for key in DETECTION_INFO)
+_STEP_MASKS = tuple(f"_{key}" for key in ("detections", *STEP_INFO))
+_N_MASKS = len(_DETECTION_MASKS) + len(_STEP_MASKS)
 
 __all__ = ["MAX_ENVS", "JointAttentionVectorEnv"]
 
@@ -95,7 +98,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._needs_reset = np.ones(self.num_envs, bool)
         self._no_moves = np.zeros((self.num_envs, 2))
         self._reward_key = f"{one.reward}_reward"
-        self._fixed = None
+        self._fixed = self._start_fixed = None
         self._same_step = self.autoreset_mode == AutoresetMode.SAME_STEP
         self._started = False
         self.render_mode = one.render_mode
@@ -112,23 +115,35 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
                 if seed is not None or self._rngs[i] is None:
                     self._rngs[i], _ = seeding.np_random(seed)
                     self._rng_list = None
-        if self._rng_list is None:  # numba's list of the same generators (their states shared)
+        self._steps.start(self._episodes, self._generators(), starts)
+
+    def _generators(self):
+        """The sub-environments' generators in numba's list (their states shared)."""
+        if self._rng_list is None:
             from numba.typed import List
 
             self._rng_list = List(self._rngs)
-        self._steps.start(self._episodes, self._rng_list, starts)
+        return self._rng_list
 
-    def _look(self, starts: np.ndarray, then: int = HOLD,
-              dtheta: np.ndarray | None = None) -> tuple[dict, dict]:
+    def _look(self, starts: np.ndarray, then: int = HOLD, dtheta: np.ndarray | None = None,
+              start: bool = False) -> tuple[dict, dict]:
         """Look once at the episodes that ``starts``, step or hold the others (``then``).
 
         One compiled call (:func:`~._vector_kernels.step_all`) into new arrays; what the
-        sub-environments show. ``self._ends``: terminated, truncated, and the two together.
+        sub-environments show. With ``start``, the episodes of ``starts`` start in the same
+        call (:func:`~._vector_kernels.start_step_all`), from their generators as they stand.
+        ``self._ends``: terminated, truncated, and the two together.
         """
-        if self._fixed is None:  # the kernel's arguments that no step changes
+        if self._fixed is None:  # the kernels' arguments that no step changes
             self._fixed = self._steps.kernel_args(self._episodes)
+            self._start_fixed = self._steps.start_args()
         out = self._steps.outputs(self.num_envs, masks=_N_MASKS)
-        step_all(starts, then, self._no_moves if dtheta is None else dtheta, *self._fixed, *out)
+        moves = self._no_moves if dtheta is None else dtheta
+        if start:
+            self._steps.check_started(start_step_all(self._generators(), *self._start_fixed,
+                                                     starts, then, moves, *self._fixed, *out))
+        else:
+            step_all(starts, then, moves, *self._fixed, *out)
         head, face, rows, centre, (area, edge, motion), ints, flags, floats = out
         obs = {"head_angle": head, "face": face}
         if self.obs_mode == "detections":
@@ -140,9 +155,9 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._ends = terminated, truncated, ended
         info = info_dict((centre, area, edge, motion), (n_det, fired, seen, attended, target,
                                                          limit_hit, intrinsic, external, error))
-        masks = iter(masks)
-        info["detections"].update((f"_{key}", next(masks)) for key in DETECTION_INFO)
-        info.update((f"_{key}", next(masks)) for key in ("detections", *STEP_INFO))
+        n = len(_DETECTION_MASKS)
+        info["detections"].update(zip(_DETECTION_MASKS, masks[:n], strict=True))
+        info.update(zip(_STEP_MASKS, masks[n:], strict=True))
         return obs, info
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
@@ -166,10 +181,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
             raise gym.error.ResetNeeded("no episodes are running; expected reset() before "
                                         "step()")
         dtheta = self._dtheta_rad(actions)  # checked before any work
-        restart = self._needs_reset
-        self._start(restart)
-        # those that ended start with a look, and are not stepped this time
-        obs, infos = self._look(restart, STEP, dtheta)
+        # those that ended start (in the same call) with a look, and are not stepped this time
+        obs, infos = self._look(self._needs_reset, STEP, dtheta, start=True)
         terminated, truncated, self._needs_reset = self._ends
         rewards = infos[self._reward_key]  # the episodes just started: 0
         if self._same_step and self._needs_reset.any():
@@ -217,7 +230,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         first start. The kernels' view of the world is its one environment's, not copied twice.
         """
         return {**self.__dict__, "_rng_list": None, "_steps": None, "_ends": None,
-                "_fixed": None}
+                "_fixed": None, "_start_fixed": None}
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
