@@ -16,6 +16,7 @@ _moved.install()  # the module paths of version 0.3 keep working, with a warning
 
 _EXPORTS = {
     "Agent": "jointattention.agent.protocol:Agent",
+    "AgentKernels": "jointattention.agent.protocol:AgentKernels",
     "Body": "jointattention.agent.protocol:Body",
     "BootstrapAgent": "jointattention.models.bootstrap:BootstrapAgent",
     "BootstrapOptions": "jointattention.models.bootstrap:BootstrapOptions",
@@ -63,6 +64,7 @@ __all__ = [
     "GATES",
     "MODELS",
     "Agent",
+    "AgentKernels",
     "Body",
     "BootstrapAgent",
     "BootstrapOptions",

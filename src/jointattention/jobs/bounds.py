@@ -27,6 +27,7 @@ from ..agent.vision import ImageDetector
 from ..config import WorldConfig
 from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
 from ..models.memory.episodic import face_code_into, left_out_of, memory_recall, memory_store
+from ..models.memory.module import MemoryModule
 from ..models.population._trial import population_begin, population_learn
 from ..models.rl import RLAgent
 
@@ -207,7 +208,7 @@ def learner_cell_rows(config, condition, n_steps: int | None = None
     if isinstance(agent, RLAgent):  # it learns at every trial's end, fired or not
         start_us, end_us = _rl_us(agent, faces, places, config.world.camera.width_px)
         start, end, n_learned = "values of the face", "face statistics, updates", n_trials
-    elif hasattr(agent.module, "memory"):
+    elif isinstance(agent.module, MemoryModule):
         memory = agent.module.memory
         start_us, keep_us = _memory_us(agent.module, faces)
         end_us = keep_us * memory.n_stored_ / max(n_learned, 1)  # its places, each kept
