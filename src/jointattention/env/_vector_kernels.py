@@ -196,8 +196,8 @@ def start_step_all(rngs, targets_m, faces_m, face_radius_m, region, offset_m, li
                    centre_out, det_out, ints_out, flags_out, floats_out) -> int:
     """:func:`start_all`, then (if every start placed its objects) :func:`step_all`: one call.
 
-    The native vector environment's step, in one compiled call instead of two (a call's
-    arguments cost more than most steps' work). Returns :func:`start_all`'s value.
+    The native vector environment's step, in one compiled call instead of two (each call's
+    thirty-odd arguments are typed and unboxed anew). Returns :func:`start_all`'s value.
     """
     failed = start_all(rngs, starts, targets_m, faces_m, face_radius_m, region, offset_m,
                        limits_rad, theta_face_rad, cam, pos, radius, edge, state, theta)
