@@ -23,7 +23,10 @@ measured by the runner's held-out measure, their own way of acting.
     python examples/rl_baselines.py --algos dqn --steps 100000 --out runs/dqn
 
 writes ``baselines.md`` (the table), and ``baselines_runs.json``, every finished run (a
-re-run with the same arguments resumes from it). ``--quick`` runs a few hundred steps of
+re-run with the same arguments resumes from it). An off-policy run (SAC, TD3: about 30 steps
+a second on one core, two hours a seed) also saves its model and replay buffer in
+``checkpoints/`` every ``--checkpoint-every`` steps; stopped, the same command continues it
+from there, and a finished run deletes them. ``--quick`` runs a few hundred steps of
 each, one seed, 10 episodes per measure (the test suite runs it; its numbers mean nothing).
 """
 
@@ -32,6 +35,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import shutil
 import time
 from pathlib import Path
 
@@ -54,6 +58,7 @@ TUNED = {"a2c-lr-2e-4": ("a2c", {"learning_rate": 2e-4}),
 LEARNERS = ("own-rl", "bootstrap")  # the runner's: the project's RL model, the paper's model
 SPLITS = ("training", "new-poses", "unseen")
 _KINDS = {"training": "training", "new-poses": "new poses", "unseen": "unseen caregivers"}
+OFF_POLICY = ("sac", "td3", "dqn")  # one gradient step per 1 (4) steps: hours on a CPU
 ON_POLICY_ENVS, QUICK = 8, {"steps": 600, "episodes": 10}
 
 
@@ -63,26 +68,84 @@ def env_id(algo: str, n_objects: int) -> str:
     return f"JointAttentionFace-N{n_objects}-{'Discrete-' if dqn else ''}v2"
 
 
-def train(algo: str, n_objects: int, steps: int, seed: int, quick: bool):
-    """SB3's ``algo`` with its defaults (or a :data:`TUNED` setting): (model, ends, success)."""
+def train(algo: str, n_objects: int, steps: int, seed: int, quick: bool,
+          checkpoint: Path | None = None, every: int = 0):
+    """SB3's ``algo`` with its defaults (or a :data:`TUNED` setting).
+
+    Returns the model, the steps at which episodes ended, whether each succeeded, and the
+    seconds spent learning (over every process that continued the run).
+
+    With a ``checkpoint`` folder, the model, its replay buffer and the episodes so far are saved
+    there every ``every`` steps, and a run that finds them continues from the last: SAC and TD3
+    take hours per seed on a CPU. A continued run's environments start new episodes from a seed
+    of their own, so it is not bitwise the run that would not have stopped; its policy, replay
+    buffer, optimiser state and step count are.
+    """
     import stable_baselines3 as sb3
+    from stable_baselines3.common.callbacks import BaseCallback
     from stable_baselines3.common.env_util import make_vec_env
 
     from jointattention.env.sb3 import EpisodeLog
 
     algo, tuned = TUNED.get(algo, (algo, {}))
     n_envs = ON_POLICY_ENVS if algo in ("ppo", "a2c") else 1
-    envs = make_vec_env(env_id(algo, n_objects), n_envs, seed=seed)
-    # --quick: PPO's default rollout (2,048 x 8 steps) would be longer than the whole run, and
-    # the off-policy ones learn from the last 100 steps only (seconds, not a minute)
-    short = ({} if not quick else {"n_steps": 64} if algo == "ppo" else {} if algo == "a2c"
-             else {"learning_starts": steps - 100})
-    model = getattr(sb3, algo.upper())("MultiInputPolicy", envs, seed=seed, device="cpu",
-                                       verbose=0, **tuned, **short)
-    log = EpisodeLog()
-    model.learn(steps, callback=log)
+    kind = getattr(sb3, algo.upper())
+    log, start = EpisodeLog(), time.perf_counter()
+    saved = checkpoint is not None and (checkpoint / "log.json").exists()
+    state = json.loads((checkpoint / "log.json").read_text()) if saved else {}
+    done_steps, before_s = state.get("steps", 0), state.get("seconds", 0.0)
+    # a continued run's environments must not replay the first episodes: a seed per restart
+    envs = make_vec_env(env_id(algo, n_objects), n_envs,
+                        seed=seed + 1_000_003 * (done_steps // max(every, 1)))
+    if saved:
+        model = kind.load(checkpoint / "model.zip", env=envs, device="cpu")
+        if hasattr(model, "replay_buffer"):
+            _load_buffer(model.replay_buffer, checkpoint / "replay.npz")
+        log.ends, log.wins = state["ends"], state["wins"]
+        print(f"  continuing from {done_steps:,} steps ({checkpoint})", flush=True)
+    else:
+        # --quick: PPO's default rollout (2,048 x 8 steps) would be longer than the whole run,
+        # and the off-policy ones learn from the last 100 steps only (seconds, not a minute)
+        short = ({} if not quick else {"n_steps": 64} if algo == "ppo" else {} if algo == "a2c"
+                 else {"learning_starts": steps - 100})
+        model = kind("MultiInputPolicy", envs, seed=seed, device="cpu", verbose=0, **tuned,
+                     **short)
+
+    class Saver(BaseCallback):
+        """Save a checkpoint every ``every`` steps but the last."""
+
+        def _on_step(self) -> bool:
+            return True
+
+        def _on_rollout_end(self) -> None:
+            # here, not in _on_step: there the step's transition is not yet in the buffer
+            nonlocal done_steps
+            n = self.model.num_timesteps
+            if n // every > done_steps // every and n < steps:
+                _save(self.model, log, checkpoint, before_s + time.perf_counter() - start)
+                done_steps = n
+                print(f"  {n:,} of {steps:,} steps, saved", flush=True)
+
+    callbacks = [log] if checkpoint is None else [log, Saver()]
+    model.learn(steps - model.num_timesteps, callback=callbacks, reset_num_timesteps=not saved)
     envs.close()
-    return model, np.array(log.ends), np.array(log.wins, float)
+    return model, np.array(log.ends), np.array(log.wins, float), \
+        before_s + time.perf_counter() - start
+
+
+def _save(model, log, checkpoint: Path, seconds: float) -> None:
+    """Write the model, its replay buffer and the episodes so far; the log last, as the mark."""
+    checkpoint.mkdir(parents=True, exist_ok=True)
+    # a replay buffer is a gigabyte: never offered to git, wherever the output folder is
+    (checkpoint.parent / ".gitignore").write_text("*\n")
+    model.save(checkpoint / "model.zip")
+    if hasattr(model, "replay_buffer"):
+        _save_buffer(model.replay_buffer, checkpoint / "replay.npz")
+    tmp = checkpoint / "log.tmp"
+    tmp.write_text(json.dumps({"steps": model.num_timesteps, "seconds": seconds,
+                               "ends": log.ends,
+                               "wins": [bool(w) for w in log.wins]}))
+    tmp.replace(checkpoint / "log.json")
 
 
 def frozen(model, env: str, episodes: int, seed: int) -> dict[str, dict[str, float]]:
@@ -95,6 +158,33 @@ def frozen(model, env: str, episodes: int, seed: int) -> dict[str, dict[str, flo
             for mode in ("sampled", "deterministic")}
 
 
+def _buffer_arrays(buffer) -> dict[str, np.ndarray]:
+    """The replay buffer's per-transition arrays by name (dict observations flattened)."""
+    arrays = {}
+    for name, value in vars(buffer).items():
+        for key, array in (value.items() if isinstance(value, dict) else [("", value)]):
+            if isinstance(array, np.ndarray) and array.shape[:1] == (buffer.buffer_size,):
+                arrays[f"{name}.{key}" if key else name] = array
+    return arrays
+
+
+def _save_buffer(buffer, path: Path) -> None:
+    """Only the filled rows: SB3's own pickle writes all 10^6 rows (6 GB for this env)."""
+    n = buffer.buffer_size if buffer.full else buffer.pos
+    tmp = path.with_suffix(".tmp.npz")
+    np.savez(tmp, pos=buffer.pos, full=buffer.full,
+             **{name: array[:n] for name, array in _buffer_arrays(buffer).items()})
+    tmp.replace(path)
+
+
+def _load_buffer(buffer, path: Path) -> None:
+    """Fill a fresh buffer's rows from :func:`_save_buffer`'s file."""
+    with np.load(path) as saved:
+        buffer.pos, buffer.full = int(saved["pos"]), bool(saved["full"])
+        for name, array in _buffer_arrays(buffer).items():
+            array[:len(saved[name])] = saved[name]
+
+
 def final(times: np.ndarray, success: np.ndarray, steps: int) -> float:
     """Success of the episodes that ended in the last tenth of learning (NaN if none)."""
     last = success[times > 0.9 * steps]
@@ -102,13 +192,13 @@ def final(times: np.ndarray, success: np.ndarray, steps: int) -> float:
 
 
 def sb3_record(algo: str, n_objects: int, steps: int, seed: int, episodes: int,
-               quick: bool) -> dict:
+               quick: bool, checkpoint: Path | None = None, every: int = 0) -> dict:
     """One SB3 run: learning's final success, the frozen measures, wall minutes."""
+    model, ends, wins, seconds = train(algo, n_objects, steps, seed, quick, checkpoint, every)
     t = time.perf_counter()
-    model, ends, wins = train(algo, n_objects, steps, seed, quick)
-    return {"final": final(ends, wins, steps),
-            "frozen": frozen(model, env_id(algo, n_objects), episodes, 10_000 + seed),
-            "minutes": (time.perf_counter() - t) / 60}
+    measured = frozen(model, env_id(algo, n_objects), episodes, 10_000 + seed)
+    return {"final": final(ends, wins, steps), "frozen": measured,
+            "minutes": (seconds + time.perf_counter() - t) / 60}
 
 
 def runner_record(learner: str, n_objects: int, steps: int, seed: int, episodes: int) -> dict:
@@ -155,6 +245,9 @@ def main() -> None:
     parser.add_argument("--episodes", type=int, default=1000,
                         help="episodes per frozen measure (default 1000)")
     parser.add_argument("--out", default="runs/baselines", help="output folder")
+    parser.add_argument("--checkpoint-every", type=float, default=25_000,
+                        help="save an off-policy run (SAC, TD3, DQN) every this many steps, "
+                             "to continue it if stopped (default 2.5e4; 0: never)")
     parser.add_argument("--quick", action="store_true",
                         help=f"{QUICK['steps']} steps, the first seed, {QUICK['episodes']} "
                              "episodes per measure (a smoke test)")
@@ -172,12 +265,18 @@ def main() -> None:
         for seed in seeds:
             key = f"{algo} | N{args.n_objects} | {steps} | seed {seed} | {episodes}"
             if key not in done:
+                every = int(args.checkpoint_every)
+                checkpoint = (out / "checkpoints" / key.replace(" | ", "_").replace(" ", "")
+                              if every and TUNED.get(algo, (algo,))[0] in OFF_POLICY else None)
                 done[key] = (runner_record(algo, args.n_objects, steps, seed, episodes)
                              if algo in LEARNERS else
-                             sb3_record(algo, args.n_objects, steps, seed, episodes, args.quick))
+                             sb3_record(algo, args.n_objects, steps, seed, episodes, args.quick,
+                                        checkpoint, every))
                 tmp = done_path.with_suffix(".tmp")
                 tmp.write_text(json.dumps(done, indent=1))
                 tmp.replace(done_path)
+                if checkpoint is not None:
+                    shutil.rmtree(checkpoint, ignore_errors=True)
             records.append(done[key])
             print(algo, f"seed {seed}", f"final {done[key]['final']:.3f}", flush=True)
         rows.append((algo, records))

@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 pytestmark = pytest.mark.rl
@@ -39,3 +40,32 @@ def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path
                            capture_output=True, text=True, timeout=900)
     assert again.returncode == 0 and "td3 seed 0" in again.stdout  # resumed: no retraining
     assert json.loads((tmp_path / "baselines_runs.json").read_text()) == runs
+
+
+def _baselines_module():
+    """examples/rl_baselines.py as a module."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("rl_baselines",
+                                                  ROOT / "examples" / "rl_baselines.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_an_off_policy_run_continues_from_its_checkpoint(tmp_path):
+    """A stopped SAC run continues from its saved step count, episodes and replay buffer."""
+    pytest.importorskip("stable_baselines3", reason="needs the rl extra: make test-rl")
+    baselines = _baselines_module()
+    checkpoint = tmp_path / "sac"
+    model, ends, _, _ = baselines.train("sac", 1, 300, 0, True, checkpoint, every=100)
+    saved = json.loads((checkpoint / "log.json").read_text())
+    assert saved["steps"] == 200 and model.num_timesteps == 300  # none saved at the end
+    assert saved["ends"] == [e for e in ends.tolist() if e <= 200]
+    rows = model.replay_buffer.pos
+    again, ends_again, _, seconds = baselines.train("sac", 1, 300, 0, True, checkpoint, 100)
+    assert again.num_timesteps == 300 and seconds >= saved["seconds"]
+    assert ends_again.tolist()[:len(saved["ends"])] == saved["ends"]
+    assert again.replay_buffer.pos == rows  # 200 restored, 100 new
+    stored = np.load(checkpoint / "replay.npz")
+    np.testing.assert_array_equal(again.replay_buffer.actions[:200], stored["actions"])
