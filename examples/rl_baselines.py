@@ -98,9 +98,10 @@ def train(algo: str, n_objects: int, steps: int, seed: int, quick: bool,
     envs = make_vec_env(env_id(algo, n_objects), n_envs,
                         seed=seed + 1_000_003 * (done_steps // max(every, 1)))
     if saved:
-        model = kind.load(checkpoint / "model.zip", env=envs, device="cpu")
+        folder = checkpoint / state.get("folder", ".")
+        model = kind.load(folder / "model.zip", env=envs, device="cpu")
         if hasattr(model, "replay_buffer"):
-            _load_buffer(model.replay_buffer, checkpoint / "replay.npz")
+            _load_buffer(model.replay_buffer, folder / "replay.npz")
         log.ends, log.wins = state["ends"], state["wins"]
         print(f"  continuing from {done_steps:,} steps ({checkpoint})", flush=True)
     else:
@@ -134,18 +135,26 @@ def train(algo: str, n_objects: int, steps: int, seed: int, quick: bool,
 
 
 def _save(model, log, checkpoint: Path, seconds: float) -> None:
-    """Write the model, its replay buffer and the episodes so far; the log last, as the mark."""
-    checkpoint.mkdir(parents=True, exist_ok=True)
+    """Write the model, its replay buffer and the episodes so far.
+
+    The model and buffer go to a folder of their own, and ``log.json`` names it last: a run
+    stopped while saving continues from the checkpoint before, whole.
+    """
+    folder = checkpoint / f"at-{model.num_timesteps}"
+    folder.mkdir(parents=True, exist_ok=True)
     # a replay buffer is a gigabyte: never offered to git, wherever the output folder is
     (checkpoint.parent / ".gitignore").write_text("*\n")
-    model.save(checkpoint / "model.zip")
+    model.save(folder / "model.zip")
     if hasattr(model, "replay_buffer"):
-        _save_buffer(model.replay_buffer, checkpoint / "replay.npz")
+        _save_buffer(model.replay_buffer, folder / "replay.npz")
     tmp = checkpoint / "log.tmp"
     tmp.write_text(json.dumps({"steps": model.num_timesteps, "seconds": seconds,
-                               "ends": log.ends,
+                               "folder": folder.name, "ends": log.ends,
                                "wins": [bool(w) for w in log.wins]}))
     tmp.replace(checkpoint / "log.json")
+    for old in checkpoint.glob("at-*"):
+        if old != folder:
+            shutil.rmtree(old, ignore_errors=True)
 
 
 def frozen(model, env: str, episodes: int, seed: int) -> dict[str, dict[str, float]]:

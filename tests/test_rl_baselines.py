@@ -61,11 +61,12 @@ def test_an_off_policy_run_continues_from_its_checkpoint(tmp_path):
     model, ends, _, _ = baselines.train("sac", 1, 300, 0, True, checkpoint, every=100)
     saved = json.loads((checkpoint / "log.json").read_text())
     assert saved["steps"] == 200 and model.num_timesteps == 300  # none saved at the end
+    assert [f.name for f in checkpoint.glob("at-*")] == ["at-200"]  # the one before: gone
     assert saved["ends"] == [e for e in ends.tolist() if e <= 200]
     rows = model.replay_buffer.pos
     again, ends_again, _, seconds = baselines.train("sac", 1, 300, 0, True, checkpoint, 100)
     assert again.num_timesteps == 300 and seconds >= saved["seconds"]
     assert ends_again.tolist()[:len(saved["ends"])] == saved["ends"]
     assert again.replay_buffer.pos == rows  # 200 restored, 100 new
-    stored = np.load(checkpoint / "replay.npz")
+    stored = np.load(checkpoint / "at-200" / "replay.npz")
     np.testing.assert_array_equal(again.replay_buffer.actions[:200], stored["actions"])
