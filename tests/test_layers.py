@@ -206,30 +206,34 @@ def test_learner_folders_and_the_engine_keep_to_themselves():
     assert foreign_imports(module_graph(ROOT)) == []
 
 
-# What the compiled engine's bootstrap loop may not name: the learners' options (the memory's
-# and the population code's sections, the network's fields of [model]), the developmental
-# model's own, and the words for their parts. Their kernels carry them
-# (agent.protocol.ModuleKernels, AgentKernels). The reinforcement learner's loop (_rl_loop,
-# rl_cell) is its own model's engine, and is not scanned.
+# What the compiled engine may not name: the learners' options (the memory's and the
+# population code's sections, the network's fields of [model]), the developmental model's own,
+# the reinforcement learner's, and the words for their parts. Their kernels carry them
+# (agent.protocol.ModuleKernels, AgentKernels, TrialKernels).
 LEARNER_WORDS = ("memory", "population", "network", "backprop", "saccade", "recall",
                  "left_out", "pass_over", "hidden", "cell_rad", "radius", "radius_rad",
                  "n_passes", "momentum", "learning_rate", "init_scale", "replay", "blur",
                  "criterion", "developmental")
+RL_WORDS = ("min_std", "steps_rad", "lo_rad", "q_stay", "habituation", "reward", "stay",
+            "shift", "choice_rng")
+# The reinforcement learner's modules, which the engine may not import either.
+RL_MODULES = ("models.rl", "models._rl_kernels", "models._rl_trial")
 
 
 def learner_option_words() -> set[str]:
-    """The learners' option names, the developmental model's own, :data:`LEARNER_WORDS`."""
+    """The learners' and the RL model's option names, the developmental model's own, the words."""
     from dataclasses import fields
 
     from jointattention.models.bootstrap import BootstrapOptions
     from jointattention.models.developmental import DevelopmentalOptions
     from jointattention.models.memory.options import MemoryOptions
     from jointattention.models.population.options import PopulationOptions
+    from jointattention.models.rl import RLOptions
 
     own = {f.name for f in fields(DevelopmentalOptions)} - {
         f.name for f in fields(BootstrapOptions)}
-    return {f.name for cls in (MemoryOptions, PopulationOptions) for f in fields(cls)} | set(
-        LEARNER_WORDS) | own
+    return {f.name for cls in (MemoryOptions, PopulationOptions, RLOptions)
+            for f in fields(cls)} | set(LEARNER_WORDS) | set(RL_WORDS) | own
 
 
 def words_named(source: str, words: set[str]) -> list[str]:
@@ -239,25 +243,27 @@ def words_named(source: str, words: set[str]) -> list[str]:
 
 
 def test_the_compiled_engine_names_no_learner_and_none_of_its_options():
-    """The engine's bootstrap loop imports no learner and names no learner's or model's option."""
+    """No module of the engine imports a learner or the RL model, or names a model's option."""
     engine = ROOT.joinpath(*ENGINE.split("."))
     words = learner_option_words()
     for path in sorted(engine.glob("*.py")):
-        if path.stem in ("_rl_loop", "rl_cell"):
-            continue
         assert words_named(path.read_text(encoding="utf-8"), words) == [], path.name
     graph = module_graph(ROOT)
     reached = {other for module, imported in graph.items() if module.startswith(f"{ENGINE}.")
                for other in imported}
     assert not [m for m in reached for folder in LEARNERS if m.startswith(f"{folder}.")]
+    assert not reached & set(RL_MODULES)
 
 
 def test_the_option_scan_sees_a_learner_option_in_the_engine():
-    """A loop naming the memory's ``saccade`` or its ``cell_rad`` is caught; other words are not."""
+    """A loop naming the memory's ``saccade``, a ``cell_rad`` or an RL option is caught."""
     words = learner_option_words()
     assert words_named("d = place_step(a, b, memory.saccade_rad, s.cell_rad)", words) == [
         "memory", "cell_rad"]
+    assert words_named("rl_choice_odds(q, state.q_stay, robot.temperature, cdf)", words) == [
+        "q_stay", "temperature"]
     assert words_named("evidence = module_observe(module, pan, tilt)", words) == []
+    assert words_named("d_pan, d_tilt, lm = agent_act(agent, pan, tilt, act_rng)", words) == []
 
 
 def test_the_folder_check_sees_a_learner_reaching_out():

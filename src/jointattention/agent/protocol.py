@@ -18,7 +18,7 @@ from .._jit import jit
 from .detections import Detections
 
 __all__ = ["LM", "RANDOM", "VF", "Agent", "AgentKernels", "Body", "ModuleKernels", "Outcome",
-           "judge_target", "no_observe", "no_passed_over", "see_as_is"]
+           "TrialKernels", "judge_target", "no_observe", "no_passed_over", "see_as_is"]
 
 # The modules that may move the head (the second value of Agent.act).
 VF, LM, RANDOM = "vf", "lm", "random"
@@ -201,3 +201,31 @@ class AgentKernels(NamedTuple):
 
     see: Any = see_as_is
     judge: Any = judge_target
+
+
+class TrialKernels(NamedTuple):
+    """An agent's whole part of a trial, as compiled kernels of its state: no gate, no module.
+
+    An agent whose every step is its own choice (the reinforcement learner,
+    :mod:`jointattention.models.rl`) declares them as its ``kernels``, its state as
+    ``compiled_state(n_pixels)`` (a named tuple of its options and its own arrays, changed in
+    place; ``n_pixels``: a face window's) and the stream ``act`` draws from as ``act_rng``.
+    Its ``begin_trial``, ``act`` and ``end_trial`` call the same kernels; the compiled engine
+    compiles one loop for each set (``experiment/compiled/_rl_loop.loop_for``) and keeps the
+    learning time itself:
+
+    - ``begin(state, face, learning) -> bool``: the trial starts, the caregiver's face (a
+      flat view) in sight; ``learning`` is False for a frozen agent. False if it cannot act
+      on the face: a frozen agent that has seen no face to standardise it by
+      (:data:`~jointattention.agent.face_standardiser.NO_FACE_SEEN`).
+    - ``act(state, pan, tilt, rng) -> (d_pan, d_tilt, lm)``: one step at head angle (``pan``,
+      ``tilt``): the head angle's change, and whether it is a step of the agent's learned
+      command (module :data:`LM` in the trial records; any other step is the agent's own,
+      neither :data:`LM` nor :data:`RANDOM`); ``rng`` is ``act_rng``.
+    - ``learn(state, fired, pan, tilt)``: a learning agent's trial ended at head angle
+      (``pan``, ``tilt``), the evaluator ``fired`` on an object or not.
+    """
+
+    begin: Any
+    act: Any
+    learn: Any

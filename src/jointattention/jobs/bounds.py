@@ -129,52 +129,49 @@ def _population_us(module, faces, thetas, places) -> tuple[float, float]:
 
 
 @jit
-def _rl_starts(faces, robot, state, choice_rng, xs, qs, shifts) -> None:
-    """A trial's start for each face (RLAgent.begin_trial); its input, values and shift kept."""
-    n_dir = len(robot.steps_rad)
-    cdf, p_stay = np.empty(n_dir), np.empty(len(state.q_stay))
+def _rl_starts(faces, s, choice_rng, xs, qs, shifts) -> None:
+    """A trial's start for each face (``rl_begin``, frozen); its input, values and shift kept.
+
+    ``s``: the agent's state (``RLAgent.compiled_state``).
+    """
     for i in range(len(faces)):
-        standardise(faces[i], state.mean, state.m2, state.counters[1], robot.min_std, xs[i])
-        rl_values_into(xs[i], state.w, state.b, qs[i])
-        rl_choice_odds(qs[i], state.q_stay, robot.temperature, cdf, p_stay)
-        shifts[i] = max(rl_choose(choice_rng.random(), p_stay[0], cdf), 0)
+        standardise(faces[i], s.mean, s.m2, s.faces_seen[0], s.min_std, xs[i])
+        rl_values_into(xs[i], s.w, s.b, qs[i])
+        rl_choice_odds(qs[i], s.q_stay, s.temperature, s.cdf, s.p_stay)
+        shifts[i] = max(rl_choose(choice_rng.random(), s.p_stay[0], s.cdf), 0)
 
 
 @jit
-def _rl_ends(faces, xs, qs, shifts, places, robot, state) -> None:
+def _rl_ends(faces, xs, qs, shifts, places, s) -> None:
     """A learning trial's end for each face: the face's statistics and the updates.
 
     The evaluator fired at the face's target after one shift of 3 steps.
     """
-    c = state.counters
     for i in range(len(faces)):
-        c[1] += 1
-        welford_update(faces[i], state.mean, state.m2, c[1])
-        rl_learn(True, places[i, 0], places[i, 1], 0, shifts[i], 3, xs[i], qs[i], state.w,
-                 state.b, state.q_stay, state.habituation, robot.lo_rad, robot.cell_rad,
-                 robot.face_reward, robot.face_habituation, robot.object_reward,
-                 robot.place_habituation, robot.place_recovery, robot.gamma,
-                 robot.learning_rate_shift, robot.learning_rate_stay)
+        s.faces_seen[0] += 1
+        welford_update(faces[i], s.mean, s.m2, s.faces_seen[0])
+        rl_learn(True, places[i, 0], places[i, 1], 0, shifts[i], 3, xs[i], qs[i], s.w, s.b,
+                 s.q_stay, s.habituation, s.lo_rad, s.cell_rad, s.face_reward,
+                 s.face_habituation, s.object_reward, s.place_habituation, s.place_recovery,
+                 s.gamma, s.learning_rate_shift, s.learning_rate_stay)
 
 
-def _rl_us(agent, faces, places, width_px: int) -> tuple[float, float]:
+def _rl_us(agent, faces, places) -> tuple[float, float]:
     """Microseconds of a trial's start and of its end, each timed alone on copies of ``agent``.
 
     Each is its own loop (not the difference of two timings, which noise can make negative):
     the ends learn from the inputs, values and shifts the starts computed.
     """
-    from ..experiment.compiled.rl_cell import loop_robot, loop_state
-
-    robot, n_dir = loop_robot(agent, width_px), len(agent.steps_rad)
+    n_dir = len(agent.steps_rad)
     xs, qs = np.empty_like(faces), np.empty((len(faces), n_dir))
     shifts = np.empty(len(faces), dtype=np.int64)
 
     def starts(a):
-        _rl_starts(faces, robot, loop_state(a, faces.shape[1]), np.random.default_rng(0), xs,
-                   qs, shifts)
+        _rl_starts(faces, a.compiled_state(faces.shape[1]), np.random.default_rng(0), xs, qs,
+                   shifts)
 
     def ends(a):
-        _rl_ends(faces, xs, qs, shifts, places, robot, loop_state(a, faces.shape[1]))
+        _rl_ends(faces, xs, qs, shifts, places, a.compiled_state(faces.shape[1]))
 
     starts(copy.deepcopy(agent))  # compiled (or loaded) outside the timing; fills the inputs
     ends(copy.deepcopy(agent))
@@ -206,7 +203,7 @@ def learner_cell_rows(config, condition, n_steps: int | None = None
     places = np.ascontiguousarray(thetas + ds.command_rad)
     n_trials, n_learned = len(records["end"]), int((records["end"] == 0).sum())
     if isinstance(agent, RLAgent):  # it learns at every trial's end, fired or not
-        start_us, end_us = _rl_us(agent, faces, places, config.world.camera.width_px)
+        start_us, end_us = _rl_us(agent, faces, places)
         start, end, n_learned = "values of the face", "face statistics, updates", n_trials
     elif isinstance(agent.module, MemoryModule):
         memory = agent.module.memory

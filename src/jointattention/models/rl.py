@@ -34,8 +34,9 @@ marked *reading* are ours):
 
 There is no gate and no visual controller: steps spent looking at her are module ``"stay"``
 (neither :data:`~.protocol.LM` nor random in the trial records). Its arithmetic is compiled
-(:mod:`._rl_kernels`), and the compiled engine runs it too
-(:mod:`jointattention.experiment.compiled.rl_cell`).
+(:mod:`._rl_kernels`), and so is its whole part of a trial (:mod:`._rl_trial`, a
+:class:`~jointattention.agent.protocol.TrialKernels`): the agent's methods call those kernels,
+and the compiled engine runs them too (:mod:`jointattention.experiment.compiled.rl_cell`).
 """
 
 from __future__ import annotations
@@ -49,11 +50,12 @@ import numpy as np
 from .._arrays import angles, windows
 from .._fields import param
 from ..agent.detections import Detections
-from ..agent.face_standardiser import FaceStandardiser
+from ..agent.face_standardiser import NO_FACE_SEEN, FaceStandardiser
 from ..agent.options import AgentConfig
 from ..agent.protocol import LM, Body, Outcome
-from ..errors import ConfigError
-from . import _rl_kernels as kernels
+from ..errors import ArgumentError, ConfigError
+from . import _rl_kernels as equations
+from ._rl_trial import KERNELS, SHIFT, RLArrays
 from .registry import ModelOptions
 
 __all__ = ["STAY", "RLAgent", "RLOptions"]
@@ -121,7 +123,13 @@ class RLAgent:
     ``q_stay_`` (max_steps + 1,), the stay values; ``place_habituation_`` (pan cells, tilt
     cells). ``learning``: whether it learns (True); frozen (False), it acts on what it
     learned and changes none of it (nor its learning time).
+
+    Its trial is compiled kernels (:attr:`kernels`, over :meth:`compiled_state`; see
+    :class:`~jointattention.agent.protocol.TrialKernels`), which its methods call; ``act``
+    draws from :attr:`act_rng`.
     """
+
+    kernels = KERNELS  # its part of a trial, for the compiled engine
 
     def __init__(self, options: RLOptions, mechanisms: AgentConfig, body: Body,
                  rng: np.random.Generator):
@@ -146,9 +154,32 @@ class RLAgent:
         self.steps_rad = _readonly(math.radians(mechanisms.lm_step_deg)
                                    * np.column_stack([np.cos(angles), np.sin(angles)]))
         self._zero = _readonly(np.zeros(2))
-        self._x = np.zeros(n_pix)
-        self._q, self._k, self._dir, self._n_moves = self.b_.copy(), 0, -1, 0
+        # a trial's scratch (RLArrays): the face standardised, its values, the choice odds,
+        # and the decisions so far (stays, the shift's direction, its moves)
+        self._x, self._q = np.zeros(n_pix), self.b_.copy()
         self._cdf, self._p_stay = np.empty(options.n_directions), np.empty(len(self.q_stay_))
+        self._trial = np.array([0, -1, 0], dtype=np.int64)
+        self._state: RLArrays | None = None  # the trial's (begin_trial makes it)
+
+    @property
+    def act_rng(self) -> np.random.Generator:
+        """The stream :meth:`act` draws its choices from."""
+        return self.choice_rng
+
+    def compiled_state(self, n_pixels: int) -> RLArrays:
+        """Its options and its own arrays (changed in place) as the kernels take them.
+
+        ``n_pixels``: a face window's (the face statistics are sized by it before any face).
+        """
+        o = self.options
+        return RLArrays(
+            self.steps_rad, float(self.faces.min_std), float(o.temperature),
+            float(o.face_reward), float(o.face_habituation), float(o.object_reward),
+            float(o.place_habituation), float(o.place_recovery), float(o.gamma),
+            float(o.learning_rate_shift), float(o.learning_rate_stay), self.lo_rad,
+            float(self.cell_rad), self.W_, self.b_, self.q_stay_, self.place_habituation_,
+            *self.faces.statistics(n_pixels), self.faces.seen, self._x, self._q, self._cdf,
+            self._p_stay, self._trial)
 
     # -- values ----------------------------------------------------------------------------
     def _standardised(self, faces: np.ndarray) -> np.ndarray:
@@ -176,64 +207,50 @@ class RLAgent:
     def place_of(self, theta_rad) -> tuple[int, ...]:
         """The habituation grid's cell of a head angle (clipped to the grid)."""
         theta = angles("theta_rad", theta_rad)
-        return kernels.rl_cell(float(theta[0]), float(theta[1]), self.lo_rad, self.cell_rad,
-                               self.place_habituation_.shape)
+        return equations.rl_cell(float(theta[0]), float(theta[1]), self.lo_rad, self.cell_rad,
+                                 self.place_habituation_.shape)
 
     # -- rewards (the basic set's preference for interesting things, habituated) ------------
     def stay_reward(self, k: int) -> float:
         """What looking at the caregiver pays after ``k`` steps of looking in the trial."""
         o = self.options
-        return kernels.stay_reward(float(o.face_reward), float(o.face_habituation), int(k))
+        return equations.stay_reward(float(o.face_reward), float(o.face_habituation), int(k))
 
     def object_reward_at(self, theta_rad) -> float:
         """What finding an object pays with the head at ``theta_rad``, habituated to its place."""
-        return kernels.object_reward(float(self.options.object_reward),
-                                     float(self.place_habituation_[self.place_of(theta_rad)]))
+        return equations.object_reward(float(self.options.object_reward),
+                                       float(self.place_habituation_[self.place_of(theta_rad)]))
 
-    # -- a trial ---------------------------------------------------------------------------
+    # -- a trial: the kernels of models/_rl_trial.py ---------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Start a trial looking at the caregiver: her face's shift values and the choice odds.
 
-        Per step, staying has probability ``p_stay[k]``; a shift's direction is drawn from the
-        softmax over the shift values alone (``cdf``): together, the softmax over all actions
-        (:func:`~._rl_kernels.rl_choice_odds`).
+        Learning, the face statistics take in her face first (:func:`~._rl_trial.rl_begin`).
         """
         face = windows("face_window", face_window, self.body.face_size_px).ravel()
-        if self.learning:
-            self.faces.partial_fit(face)
-        self._x = self.faces.transform(face)
-        kernels.rl_values_into(self._x, self.W_, self.b_, self._q)
-        kernels.rl_choice_odds(self._q, self.q_stay_, float(self.options.temperature),
-                               self._cdf, self._p_stay)
-        self._k, self._dir, self._n_moves = 0, -1, 0
+        self._state = self.compiled_state(len(face))
+        if not self.kernels.begin(self._state, np.ascontiguousarray(face, dtype=float),
+                                  self.learning):
+            raise ArgumentError(NO_FACE_SEEN)
 
     def act(self, detections: Detections, theta_rad) -> tuple[np.ndarray, str]:
         """One step: stay, shift (a softmax draw) or keep moving along the shift."""
         if self.learning:
             self.learning_time_steps += 1
-        if self._dir >= 0:
-            self._n_moves += 1
-            return self.steps_rad[self._dir], LM
-        d = kernels.rl_choose(self.choice_rng.random(),
-                              float(self._p_stay[min(self._k, len(self._p_stay) - 1)]), self._cdf)
-        if d < 0:
-            self._k += 1
+        theta = np.asarray(theta_rad, dtype=float)
+        *_, moves = self.kernels.act(self._state, float(theta[0]), float(theta[1]),
+                                     self.act_rng)
+        if not moves:
             return self._zero, STAY
-        self._dir, self._n_moves = d, 1
-        return self.steps_rad[self._dir], LM
+        return self.steps_rad[self._trial[SHIFT]], LM
 
     def end_trial(self, outcome: Outcome) -> None:
         """Reward, habituate, and learn by SARSA from the trial's decisions.
 
-        Reads only ``fired`` and the head angle at the end, never the caregiver's judgement.
+        Reads only ``fired`` and the head angle at the end, never the caregiver's judgement
+        (:func:`~._rl_trial.rl_end`).
         """
         if not self.learning:
             return
-        o = self.options
         theta = angles("theta_rad", outcome.theta_rad)
-        kernels.rl_learn(bool(outcome.fired), float(theta[0]), float(theta[1]), self._k,
-                         self._dir, self._n_moves, self._x, self._q, self.W_, self.b_,
-                         self.q_stay_, self.place_habituation_, self.lo_rad, self.cell_rad,
-                         float(o.face_reward), float(o.face_habituation), float(o.object_reward),
-                         float(o.place_habituation), float(o.place_recovery), float(o.gamma),
-                         float(o.learning_rate_shift), float(o.learning_rate_stay))
+        self.kernels.learn(self._state, bool(outcome.fired), float(theta[0]), float(theta[1]))

@@ -24,7 +24,7 @@ robot (``robot.learning`` False) learns nothing and its learning time stands sti
 ``max_trials`` trials. Each trial is :func:`~.cells.random_scene`, a
 :class:`~.trial.SceneTrial` and :func:`~.trial.run_trial` of a bootstrap agent, in that order
 of random draws. Its parts that run once a trial (the face statistics, the trial's record)
-are the private kernels below it.
+are kernels of their own (below it, and :func:`~.steps.record_trial`).
 """
 
 from __future__ import annotations
@@ -50,7 +50,7 @@ from ...agent.protocol import AgentKernels
 from ...models.bootstrap import LEARNING_TARGETS
 from ...world.kinematics import separation_rad
 from ..trial import END_FIRED, RUNNING, move_head
-from .steps import draw_trial, look, look_arrays, look_camera
+from .steps import draw_trial, look, look_arrays, look_camera, record_trial
 
 __all__ = ["COLUMNS", "gate_rate", "loop_for", "run_trials"]
 
@@ -175,7 +175,7 @@ def run_trials(until_steps, max_trials, world, robot, state, sight, module, tria
             module_learn(module, place, centre[:m], seen, pan, tilt, cx, cy,
                          robot.gain_rad_per_px, face, thetas[:n_steps], steps[:n_steps],
                          module_rng)
-        _record(records, c, start, n_steps, n_lm, n_random, attended, target, end)
+        record_trial(records, c, start, n_steps, n_lm, n_random, attended, target, end)
     return 0
 
 
@@ -215,15 +215,6 @@ def _aim(robot, centre_seen, cx, cy, pan, tilt, place) -> tuple[float, float]:
     if robot.learning_target == _OBJECT_DIRECTION:
         place[0], place[1] = pan + v_pan, tilt + v_tilt
     return v_pan, v_tilt
-
-
-@jit(inline=True)
-def _record(records, c, start, n_steps, n_lm, n_random, attended, target, end) -> None:
-    """A trial's row of :data:`COLUMNS`; one more trial counted."""
-    r = c[1]
-    records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random
-    records[4, r], records[5, r], records[6, r] = attended, target, end
-    c[1] += 1
 
 
 @jit(inline=True)

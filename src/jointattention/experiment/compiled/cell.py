@@ -14,8 +14,10 @@ so the learned agent is the same object either way. It runs the bootstrap model 
 reading, and any learning module, which declares its kernels and state:
 :class:`~jointattention.agent.protocol.ModuleKernels`, :func:`~._loop.loop_for`), its kin
 that declare their own kernels (:class:`~jointattention.agent.protocol.AgentKernels`: the
-teacher, and the one whose sight and caregiver change with time), and the reinforcement
-learner through :mod:`.rl_cell` (:func:`compiled_cell` picks the loop); anything else is
+teacher, and the one whose sight and caregiver change with time), and through :mod:`.rl_cell`
+an agent whose whole trial is its own kernels
+(:class:`~jointattention.agent.protocol.TrialKernels`: the reinforcement learner);
+:func:`compiled_cell` picks the loop by the kernels the agent declares. Anything else is
 refused (:func:`unsupported`).
 """
 
@@ -23,12 +25,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...agent.protocol import TrialKernels
 from ...config import WorldConfig
 from ...datasets import CaregiverDatasets
 from ...errors import ConfigError
 from ...models.bootstrap import LEARNING_TARGETS, BootstrapAgent
 from ...models.registry import ModelOptions
-from ...models.rl import RLAgent
 from ...world.kinematics import HeadKinematics
 from ...world.mjcf import HEAD_RADII_M
 from ...world.placement import region_of
@@ -49,8 +51,11 @@ def unsupported(options: ModelOptions) -> str | None:
 
 def compiled_cell(agent, world: LoopWorld, trials: np.random.Generator,
                   shuffle: np.random.Generator, max_trials: int) -> CompiledCell | RLCell:
-    """The compiled cell of ``agent``'s model (the arguments are :class:`CompiledCell`'s)."""
-    if isinstance(agent, RLAgent):
+    """The compiled cell of ``agent``'s model (the arguments are :class:`CompiledCell`'s).
+
+    An agent whose kernels are a ``TrialKernels`` runs in an :class:`~.rl_cell.RLCell`.
+    """
+    if isinstance(getattr(agent, "kernels", None), TrialKernels):
         return RLCell(agent, world, trials, shuffle, max_trials)
     return CompiledCell(agent, world, trials, shuffle, max_trials)
 

@@ -16,7 +16,7 @@ from ...errors import ConfigError
 from ..trial import END_FIRED, RECORD
 from ._loop import COLUMNS
 
-__all__ = ["LoopRobot", "LoopState", "LoopWorld", "placed", "trial_records"]
+__all__ = ["LoopMechanisms", "LoopRobot", "LoopState", "LoopWorld", "placed", "trial_records"]
 
 
 class LoopWorld(NamedTuple):
@@ -59,6 +59,17 @@ class LoopRobot(NamedTuple):
     learning_target: int  # its index in LEARNING_TARGETS
     learn_from_vf: bool  # learn only from trials whose last move the visual controller made
     caregiver_judges: bool  # a taught model: learn only when the caregiver approves
+    learning: bool  # False: frozen, nothing learned and the learning time stands still
+
+
+class LoopMechanisms(NamedTuple):
+    """The robot's mechanisms as the loop of an agent's own trial kernels takes them.
+
+    (:mod:`._rl_loop`; the agent's options are in its own state, ``compiled_state``.)
+    """
+
+    d_th_px: float  # Eq. 3's distance from the image centre, in pixels
+    max_steps: int
     learning: bool  # False: frozen, nothing learned and the learning time stands still
 
 

@@ -1,8 +1,8 @@
-"""The parts of a trial that both compiled loops share: drawing the trial, and one look.
+"""The parts of a trial that both compiled loops share: drawing it, one look, its record.
 
-:mod:`._loop` (the bootstrap family) and :mod:`._rl_loop` (the reinforcement
-learner) call them in the order of the step-by-step path's draws (:func:`~.cells.random_scene`,
-then :class:`~.trial.SceneTrial`'s looks).
+:mod:`._loop` (the bootstrap family) and :mod:`._rl_loop` (an agent whose whole trial is its
+own kernels: the reinforcement learner) call them in the order of the step-by-step path's draws
+(:func:`~.cells.random_scene`, then :class:`~.trial.SceneTrial`'s looks).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from ...world.fast import detect_into, draw_index, draw_objects
 from ...world.kinematics import rotation_into
 from ..trial import END_FIRED, end_after_look
 
-__all__ = ["draw_trial", "look", "look_arrays", "look_camera"]
+__all__ = ["draw_trial", "look", "look_arrays", "look_camera", "record_trial"]
 
 
 @jit
@@ -71,3 +71,12 @@ def look(obj_pos, obj_rad, edge, pan, tilt, camera, limit_hit, n_steps, max_step
     seen = attended_index(centre[:m], (width_px - 1) / 2, (height_px - 1) / 2, d_th_px)
     end = end_after_look(seen, limit_hit, n_steps, max_steps)
     return m, seen, end, ids[seen] if end == END_FIRED else -1
+
+
+@jit(inline=True)
+def record_trial(records, c, start, n_steps, n_lm, n_random, attended, target, end) -> None:
+    """A trial's row of :data:`~._loop.COLUMNS` (``c[1]``: the rows so far); one more counted."""
+    r = c[1]
+    records[0, r], records[1, r], records[2, r], records[3, r] = start, n_steps, n_lm, n_random
+    records[4, r], records[5, r], records[6, r] = attended, target, end
+    c[1] += 1
