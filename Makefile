@@ -55,7 +55,8 @@ lint: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/jointattention bench
 
-# The manual (mkdocs.yml): docs/*.md, the tables the runs wrote and the docstrings, into site/.
+# The manual (mkdocs.yml): docs/*.md, the tables the runs wrote (docs/results/) and the
+# docstrings, into site/.
 # --strict: a broken link, a missing included table or a docstring griffe cannot read fails.
 $(DOCS_STAMP): $(BASE)
 	$(BIN)/python -m pip install --quiet -e ".[docs]"

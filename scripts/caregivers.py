@@ -2,7 +2,7 @@
 
 Usage::
 
-    python scripts/caregivers.py [--out docs/caregivers] [--ks "1 2 4 8 16"] [--held-out 4]
+    python scripts/caregivers.py [--out docs/results/caregivers] [--ks "1 2 4 8 16"] [--held-out 4]
         [--poses 125] [--seed 0] [--held-out-seed 1] [--seeds 3] [--n-steps 300000]
         [--setup NAME[:KEY=VALUE,...]]... [--cache DIR] [--quick]
 
@@ -266,7 +266,7 @@ def main(argv: list[str] | None = None) -> int:
     """Record, learn, measure and write; 0 when done, 2 on a refused input."""
     argv = sys.argv[1:] if argv is None else argv
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=Path, help="output folder (default: docs/caregivers; "
+    ap.add_argument("--out", type=Path, help="output folder (default: docs/results/caregivers; "
                                              "runs/caregivers-quick with --quick)")
     ap.add_argument("--cache", type=Path, default=Path("runs/caregivers/cache"),
                     help="folder of the recorded data sets (default: runs/caregivers/cache)")
@@ -288,7 +288,7 @@ def main(argv: list[str] | None = None) -> int:
     for key, value in defaults.items():
         if getattr(args, key) is None:
             setattr(args, key, QUICK[key] if args.quick else value)
-    out = args.out or Path("runs/caregivers-quick" if args.quick else "docs/caregivers")
+    out = args.out or Path("runs/caregivers-quick" if args.quick else "docs/results/caregivers")
     try:
         ks = sorted({int(k) for k in args.ks.split()})
     except ValueError:

@@ -11,7 +11,7 @@ sets its own environment, in a fresh temporary directory as its working director
 time, killed after ``--timeout`` seconds. It prints one line per case, then how many cases
 ended in each outcome, overall and per fault class (see the outcomes in
 ``tests/hostile/cases.py``); with ``--json`` it writes every case's outcome to a file, and
-with ``--markdown`` the table it prints (the manual includes docs/bad-input/corpus.md).
+with ``--markdown`` the table it prints (the manual includes docs/results/bad-input/corpus.md).
 
 This process imports nothing of ``jointattention``, so it can measure any source tree.
 """

@@ -9,7 +9,7 @@ where the head stopped: how far from the target in degrees, along the line from 
 the target (short of it or past it) and across it. It also records the policy's own spread,
 the Gaussian's standard deviation, in degrees of head turn.
 
-    .venv-rl/bin/python scripts/mean_action.py --out docs/rl
+    .venv-rl/bin/python scripts/mean_action.py --out docs/results/rl
 
 writes ``mean_action.md`` (the table docs/reinforcement-learning.md includes) and
 ``mean_action.json``; ``--quick`` trains 2,048 steps and runs 20 episodes (the tests run it).

@@ -60,7 +60,7 @@ def test_a_config_argument_that_is_not_a_config_is_refused_by_name(name, value):
         CONFIG_ARGUMENTS[name](value)
 
 
-MODEL = Path(__file__).parents[1] / "docs" / "robot" / "paper_n5_seed0.npz"  # shipped
+MODEL = Path(__file__).parents[1] / "docs" / "results" / "robot" / "paper_n5_seed0.npz"  # shipped
 OTHER_ARGUMENTS = {  # (call, the name its error must say); each a wrong kind, never run
     "reproduce(workers='2')": (lambda: ja.reproduce(CONFIG, "/nonexistent/x", workers="2"),
                                "workers"),

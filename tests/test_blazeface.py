@@ -100,6 +100,7 @@ def test_the_refinement_brings_held_out_heads_closer(needs_gl):
 def test_calibration_round_trips_through_a_file(tmp_path):
     """The shipped calibration saves and loads with its maps and how it was fitted."""
     shipped = Calibration.load()
+    # the command as it was when the file was fitted: the script is now under docs/results/
     assert shipped.meta["command"] == "python docs/faces/calibrate.py"
     assert len(shipped.stages) >= 1
     shipped.save(tmp_path / "c.npz")

@@ -177,13 +177,13 @@ def test_claims_are_the_papers_the_neighbours_or_the_projects_own():
 
 
 def test_the_docs_claims_are_what_the_code_writes_from_their_csv():
-    """Each docs/<run>/claims.md is what :func:`claims_markdown` writes from its claims.csv."""
+    """Each docs/results/<run>/claims.md is what :func:`claims_markdown` writes from its CSV."""
     from pathlib import Path
 
     from jointattention.analysis.tables import read_csv
 
-    docs = Path(__file__).resolve().parent.parent / "docs"
-    files = sorted(docs.glob("*/claims.md"))
+    results = Path(__file__).resolve().parent.parent / "docs" / "results"
+    files = sorted(results.glob("*/claims.md"))
     assert files
     for md in files:
         claims = claims_of(read_csv(md.with_suffix(".csv")))

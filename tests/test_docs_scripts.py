@@ -23,12 +23,12 @@ DOCS = ROOT / "docs"
 
 # Scripts under docs/ that another test file runs, and that file.
 RUN_ELSEWHERE = {
-    "people/head_pose_bound.py": "test_people_docs.py",
-    "people/novelty.py": "test_people_docs.py",
-    "people/record.py": "test_people_docs.py",
-    "people/robustness.py": "test_people_docs.py",
-    "people/taught_bound.py": "test_people_docs.py",
-    "robot/camera_view.py": "test_saved_models.py",
+    "results/people/head_pose_bound.py": "test_people_docs.py",
+    "results/people/novelty.py": "test_people_docs.py",
+    "results/people/record.py": "test_people_docs.py",
+    "results/people/robustness.py": "test_people_docs.py",
+    "results/people/taught_bound.py": "test_people_docs.py",
+    "results/robot/camera_view.py": "test_saved_models.py",
 }
 # Scripts under docs/ that no test runs, and why.
 NOT_RUN = {
@@ -88,7 +88,7 @@ def short_run(tmp_path_factory, worker_id) -> Path:
 def test_evidence_writes_a_row_per_cell_and_checkpoint(tmp_path):
     """beyond/evidence.py --quick: 4 cells x 2 checkpoints, each with a share of faces right."""
     out = tmp_path / "evidence.md"
-    _run("beyond/evidence.py", "--quick", "--out", out, cwd=tmp_path)
+    _run("results/beyond/evidence.py", "--quick", "--out", out, cwd=tmp_path)
     rows = _rows(out, "| memory")
     assert len(rows) == 8
     assert all(0 <= float(r.split("|")[4]) <= 1 for r in rows)
@@ -97,7 +97,7 @@ def test_evidence_writes_a_row_per_cell_and_checkpoint(tmp_path):
 def test_mean_vs_mode_writes_its_table_and_figure(tmp_path):
     """beyond/mean_vs_mode.py --quick: a row per object count, and the figure beside it."""
     out = tmp_path / "mean_vs_mode.md"
-    _run("beyond/mean_vs_mode.py", "--quick", "--out", out, cwd=tmp_path)
+    _run("results/beyond/mean_vs_mode.py", "--quick", "--out", out, cwd=tmp_path)
     assert [r.split("|")[1].strip() for r in _rows(out, "| ")[1:]] == ["3", "5", "10"]
     assert out.with_suffix(".png").read_bytes()[:4] == b"\x89PNG"
 
@@ -105,7 +105,7 @@ def test_mean_vs_mode_writes_its_table_and_figure(tmp_path):
 def test_module_alone_writes_a_row_per_module(tmp_path):
     """beyond/module_alone.py --quick: the four modules, two checkpoints each."""
     out = tmp_path / "module_alone.md"
-    _run("beyond/module_alone.py", "--quick", "--out", out, cwd=tmp_path)
+    _run("results/beyond/module_alone.py", "--quick", "--out", out, cwd=tmp_path)
     rows = _rows(out, "| ")[1:]
     assert [r.split("|")[1].strip() for r in rows] == [
         "paper", "memory", "memory, 32 neighbours", "population"]
@@ -115,7 +115,7 @@ def test_module_alone_writes_a_row_per_module(tmp_path):
 def test_saccade_ceiling_prints_both_ceilings(tmp_path):
     """beyond/saccade_ceiling.py --quick: the oracle stepping and moving far, at 5 and 10."""
     out = tmp_path / "ceiling.md"
-    printed = _run("beyond/saccade_ceiling.py", "--quick", "--out", out, cwd=tmp_path)
+    printed = _run("results/beyond/saccade_ceiling.py", "--quick", "--out", out, cwd=tmp_path)
     rows = _rows(out, "| 5 |") + _rows(out, "| 10 |")
     assert len(rows) == 2 and rows[0] in printed
     assert all(0 < float(c) <= 1 for r in rows for c in r.split("|")[2:4])
@@ -123,7 +123,7 @@ def test_saccade_ceiling_prints_both_ceilings(tmp_path):
 
 def test_saccade_trials_reads_a_run_s_trials(short_run, tmp_path):
     """beyond/saccade_trials.py on a short run's trials.csv: a row per condition."""
-    printed = _run("beyond/saccade_trials.py", short_run / "trials.csv", cwd=tmp_path)
+    printed = _run("results/beyond/saccade_trials.py", short_run / "trials.csv", cwd=tmp_path)
     assert {r.split("|")[1].strip() for r in printed.splitlines()
             if r.startswith("| ") and "-n5" in r} == {"paper-n5", "developmental-n5"}
 
@@ -131,7 +131,7 @@ def test_saccade_trials_reads_a_run_s_trials(short_run, tmp_path):
 def test_stuck_faces_writes_a_row_per_face_or_none(tmp_path):
     """beyond/stuck_faces.py --quick for one seed: rows of both conditions."""
     out = tmp_path / "stuck_faces.md"
-    _run("beyond/stuck_faces.py", "7", "--quick", "--out", out, cwd=tmp_path)
+    _run("results/beyond/stuck_faces.py", "7", "--quick", "--out", out, cwd=tmp_path)
     assert {r.split("|")[1].strip() for r in _rows(out, "| memory")} == {
         "memory-evidence-quick-leave-n10", "memory-evidence-quick-pass-n10"}
 
@@ -139,7 +139,7 @@ def test_stuck_faces_writes_a_row_per_face_or_none(tmp_path):
 def test_wrong_recalls_writes_both_tables(tmp_path):
     """beyond/wrong_recalls.py --quick for one seed: three evidence bands, one wrong row."""
     out = tmp_path / "wrong_recalls.md"
-    _run("beyond/wrong_recalls.py", "2", "--quick", "--out", out, cwd=tmp_path)
+    _run("results/beyond/wrong_recalls.py", "2", "--quick", "--out", out, cwd=tmp_path)
     rows = _rows(out, "| 2 |")
     assert len(rows) == 4
     assert [r.split("|")[2].strip() for r in rows[:3]] == ["0-1.5", "1.5-3", "3-inf"]
@@ -149,7 +149,7 @@ def test_compare_engines_finds_the_engines_byte_identical(short_run, tmp_path):
     """engines/compare_engines.py on short runs of both engines: every cell byte-identical."""
     python = _short_run(tmp_path / "models-python", engine="python")
     out = tmp_path / "engines.md"
-    _run("engines/compare_engines.py", short_run, python, "--out", out, cwd=tmp_path)
+    _run("results/engines/compare_engines.py", short_run, python, "--out", out, cwd=tmp_path)
     assert "4 of 4 cells are byte-identical" in out.read_text()
     assert len(_rows(out, "| paper-n5 |")) == 1
 
@@ -159,14 +159,14 @@ def test_calibrate_fits_a_calibration(tmp_path, needs_gl):
     from jointattention.agent.face_calibration import Calibration
 
     out = tmp_path / "calibration.npz"
-    _run("faces/calibrate.py", out, "--quick", cwd=tmp_path)
+    _run("results/faces/calibrate.py", out, "--quick", cwd=tmp_path)
     assert Calibration.load(out).meta["views"] == 640
 
 
 def test_photos_draws_the_five_photographs(tmp_path):
     """faces/photos.py: the follower's looks at five photographs, four with a face."""
     out = tmp_path / "photos.png"
-    printed = _run("faces/photos.py", "--out", out, cwd=tmp_path)
+    printed = _run("results/faces/photos.py", "--out", out, cwd=tmp_path)
     lines = printed.splitlines()
     assert sum(r.startswith("face") for r in lines) == 4 and lines.count("no face None") == 1
     assert out.read_bytes()[:4] == b"\x89PNG"
@@ -175,7 +175,7 @@ def test_photos_draws_the_five_photographs(tmp_path):
 def test_caregivers_table_reads_a_run_s_held_out_measures(short_run, tmp_path):
     """generalise/caregivers.py on a short run: a row per condition, fractions of ceilings."""
     out = tmp_path / "caregivers.md"
-    _run("generalise/caregivers.py", "--sweep", tmp_path, "--run", short_run, "--out", out,
+    _run("results/generalise/caregivers.py", "--sweep", tmp_path, "--run", short_run, "--out", out,
          cwd=tmp_path)
     rows = _rows(out, "| paper-n5 |") + _rows(out, "| developmental-n5 |")
     assert len(rows) == 2 and all("nan" not in r for r in rows)
@@ -184,7 +184,7 @@ def test_caregivers_table_reads_a_run_s_held_out_measures(short_run, tmp_path):
 def test_summarise_writes_a_row_per_point_and_condition(short_run, tmp_path):
     """learn-fast/summarise.py on a short run as a one-point sweep: speed and held-out columns."""
     out = tmp_path / "ablation.md"
-    _run("learn-fast/summarise.py", short_run.parent, "--out", out, cwd=tmp_path)
+    _run("results/learn-fast/summarise.py", short_run.parent, "--out", out, cwd=tmp_path)
     rows = _rows(out, "| models | ")
     assert [r.split("|")[2].strip() for r in rows] == ["paper-n5", "developmental-n5"]
     # the novelty (last column) is NaN here: the models preset learns from the shipped sets
@@ -195,9 +195,10 @@ def test_fresh_measures_a_saved_model_on_fresh_caregivers(tmp_path, needs_gl):
     """generalise/fresh.py --quick on the shipped model: a row per set and a summary."""
     models = tmp_path / "models"
     models.mkdir()
-    (models / "population-n10-s0.npz").symlink_to(DOCS / "generalise" / "population_n10.npz")
+    shipped = DOCS / "results" / "generalise" / "population_n10.npz"
+    (models / "population-n10-s0.npz").symlink_to(shipped)
     out = tmp_path / "fresh.md"
-    _run("generalise/fresh.py", "--quick", "--models", models, "--objects", "10",
+    _run("results/generalise/fresh.py", "--quick", "--models", models, "--objects", "10",
          "--training-seeds", "1", "--out", out, cwd=tmp_path,
          env={"JOINTATTENTION_CACHE": str(tmp_path / "cache")})
     rows = _rows(out, "| population-n10 |")
@@ -207,7 +208,7 @@ def test_fresh_measures_a_saved_model_on_fresh_caregivers(tmp_path, needs_gl):
 def test_lookup_writes_a_row_per_kind_of_face(tmp_path):
     """generalise/lookup.py --quick: training, new poses and unseen caregivers' rows."""
     out = tmp_path / "lookup.md"
-    _run("generalise/lookup.py", "--quick", "--out", out, cwd=tmp_path)
+    _run("results/generalise/lookup.py", "--quick", "--out", out, cwd=tmp_path)
     assert [r.split("|")[1].strip() for r in _rows(out, "| ")[1:]] == [
         "training", "new poses", "unseen caregivers"]
 
@@ -215,8 +216,8 @@ def test_lookup_writes_a_row_per_kind_of_face(tmp_path):
 def test_eye_placement_writes_a_row_per_placement(tmp_path):
     """people/eye_placement.py --quick: each placement error and BlazeFace's, for one model."""
     out = tmp_path / "eye_placement.md"
-    _run("people/eye_placement.py", "--quick", "--out", out, "--models", tmp_path / "models",
-         cwd=tmp_path)
+    _run("results/people/eye_placement.py", "--quick", "--out", out, "--models",
+         tmp_path / "models", cwd=tmp_path)
     placed = [r.split("|")[2].strip() for r in _rows(out, "| ")[1:]]
     assert placed == [f"{sd:g} eye distances" for sd in (0, 0.01, 0.02, 0.03, 0.05, 0.08)] + [
         "BlazeFace's eye landmarks, 4x view"]
@@ -226,7 +227,7 @@ def test_eye_placement_writes_a_row_per_placement(tmp_path):
 def test_axes_writes_a_row_per_condition_and_the_figure(tmp_path):
     """models/axes.py --quick: six conditions, both axes' errors, and axes.png beside."""
     out = tmp_path / "axes.md"
-    _run("models/axes.py", "--quick", "--out", out, cwd=tmp_path)
+    _run("results/models/axes.py", "--quick", "--out", out, cwd=tmp_path)
     assert len(_rows(out, "| ")[1:]) == 6
     assert out.with_suffix(".png").read_bytes()[:4] == b"\x89PNG"
 
@@ -234,7 +235,8 @@ def test_axes_writes_a_row_per_condition_and_the_figure(tmp_path):
 def test_errors_reads_a_run_s_diagnostics(short_run, tmp_path):
     """models/errors.py on a short run, at its own bins: a row per condition, no NaN."""
     out = tmp_path / "errors.md"
-    _run("models/errors.py", short_run, "--times", "1000", "2000", "--out", out, cwd=tmp_path)
+    _run("results/models/errors.py", short_run, "--times", "1000", "2000", "--out", out,
+         cwd=tmp_path)
     rows = _rows(out, "| paper-n5 |") + _rows(out, "| developmental-n5 |")
     assert len(rows) == 2 and all("nan" not in r for r in rows)
 
@@ -252,7 +254,7 @@ def test_compare_modes_checks_a_rendered_run_against_the_fast_mode(tmp_path, nee
     run = tmp_path / "rendered"
     reproduce(dataclasses.replace(rendered, experiment=experiment), run)
     out = tmp_path / "modes.md"
-    _run("rendered/compare_modes.py", run, "--fast-seeds", "2", "--out", out, cwd=tmp_path)
+    _run("results/rendered/compare_modes.py", run, "--fast-seeds", "2", "--out", out, cwd=tmp_path)
     assert len(_rows(out, f"| {experiment.conditions[0].name} | ")) == 1
     assert out.with_suffix(".png").read_bytes()[:4] == b"\x89PNG"
 
@@ -261,7 +263,7 @@ def test_compare_modes_checks_a_rendered_run_against_the_fast_mode(tmp_path, nee
 def test_ppo_defaults_writes_its_table_curves_and_figure(tmp_path):
     """rl/ppo_defaults.py --quick: a row per learner and environment, the CSV and the figure."""
     pytest.importorskip("stable_baselines3", reason="needs the rl extra: make test-rl")
-    _run("rl/ppo_defaults.py", "--quick", "--out", tmp_path, cwd=tmp_path)
+    _run("results/rl/ppo_defaults.py", "--quick", "--out", tmp_path, cwd=tmp_path)
     assert len(_rows(tmp_path / "ppo_defaults.md", "| PPO")) == 5
     assert len(_rows(tmp_path / "ppo_defaults.md", "| own RL")) == 2
     assert (tmp_path / "ppo_defaults.csv").read_text().startswith("learner,environment")

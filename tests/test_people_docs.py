@@ -1,4 +1,4 @@
-"""The people world's scripts under docs/people run, small, and write their tables."""
+"""The people world's scripts under docs/results/people run, small, and write their tables."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ from pathlib import Path
 from jointattention.config import load_config
 from jointattention.experiment.training import train
 
-DOCS = Path(__file__).resolve().parents[1] / "docs" / "people"
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "results" / "people"
 
 
 def _run(script: str, *args: str) -> str:

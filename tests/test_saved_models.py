@@ -401,9 +401,9 @@ def test_a_model_s_recorded_data_sets_are_recorded_again_with_progress(tmp_path,
 
 def test_the_readme_follow_command_finds_the_face_in_the_shipped_frame(tmp_path, capsys,
                                                                        needs_gl):
-    """The README's follow command, on docs/robot/camera_view.png, finds a face and a command.
+    """The README's follow command, on the shipped camera_view.png, finds a face and a command.
 
-    The frame is what docs/robot/camera_view.py draws (the same bytes where the renderer is
+    The frame is what docs/results/robot/camera_view.py draws (the same bytes where the renderer is
     this machine's; compared as an image elsewhere, to a few grey levels).
     """
     import subprocess
@@ -412,20 +412,21 @@ def test_the_readme_follow_command_finds_the_face_in_the_shipped_frame(tmp_path,
     import cv2
 
     root = Path(__file__).resolve().parent.parent
-    frame = root / "docs" / "robot" / "camera_view.png"
+    frame = root / "docs" / "results" / "robot" / "camera_view.png"
     drawn = tmp_path / "view.png"
-    subprocess.run([sys.executable, str(root / "docs" / "robot" / "camera_view.py"),
+    subprocess.run([sys.executable, str(root / "docs" / "results" / "robot" / "camera_view.py"),
                     str(drawn)], check=True, capture_output=True, timeout=300)
     diff = np.abs(cv2.imread(str(drawn)).astype(int) - cv2.imread(str(frame)).astype(int))
     assert np.mean(diff) < 2.0
-    assert main(["follow", str(root / "docs" / "generalise" / "population_n10.npz"),
+    assert main(["follow", str(root / "docs" / "results" / "generalise" / "population_n10.npz"),
                  str(frame), "--out", str(tmp_path / "follow")]) == 0
     record = json.loads(capsys.readouterr().out.strip())
     assert record["face"]["score"] > 0.5 and record["command_deg"] is not None
     assert (tmp_path / "follow" / "camera_view_follow.png").is_file()
 
 
-SHIPPED_MODEL = Path(__file__).resolve().parents[1] / "docs" / "generalise" / "population_n10.npz"
+SHIPPED_MODEL = (Path(__file__).resolve().parents[1] / "docs" / "results" / "generalise"
+                 / "population_n10.npz")
 RECORD_SCENES = """
 import json, sys
 import numpy as np

@@ -1695,7 +1695,7 @@ for _tag, _src, _name in (
     ("import-recording-min-score-string", _IMPORT + "min_score='x')", "min_score"),
     ("import-recording-template-string", _IMPORT + "template='x')", "template"),
     ("load-model-robot-string",
-     f"ja.load_model({str(REPO / 'docs/robot/paper_n5_seed0.npz')!r}, robot='x')", "robot"),
+     f"ja.load_model({str(REPO / 'docs/results/robot/paper_n5_seed0.npz')!r}, robot='x')", "robot"),
     ("save-model-agent-string", "ja.save_model('x', 'm.npz', config=c, condition='n1')",
      "agent"),
     ("run-cell-condition-string", "ja.run_cell(c, 'x', 0)", "condition"),
@@ -1707,7 +1707,8 @@ for _tag, _src, _name in (
 # Issue 61: the output place first, the shipped files, memory in range, contradictions, quiet
 # refusals -----------------------------------------------------------------------------------
 
-SHIPPED_MODEL = REPO / "docs" / "generalise" / "population_n10.npz"  # a model of 30x25 faces
+# a model of 30x25 faces
+SHIPPED_MODEL = REPO / "docs" / "results" / "generalise" / "population_n10.npz"
 
 
 def _model_files(tmp: Path) -> None:

@@ -3,7 +3,7 @@
 The network's box is the face's (brows to chin); the data sets cut their windows around the
 head's centre, ``margin`` times the head's height tall. :class:`Calibration` places the head in
 two steps, each a least-squares map fitted once on rendered views whose truth is known
-(``python docs/faces/calibrate.py``; shipped as ``data/blazeface_calibration.npz``):
+(``python docs/results/faces/calibrate.py``; shipped as ``data/blazeface_calibration.npz``):
 
 1. the landmarks' offsets in the box, in box heights -> the head's centre and height;
 2. ``n`` refinements, each a ridge map of the grey levels of a square around the current head

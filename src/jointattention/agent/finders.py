@@ -2,7 +2,7 @@
 
 BlazeFace (:mod:`~jointattention.agent.blazeface`, the default), the template (the paper's
 robot's way) and OpenCV's Haar cascade (:mod:`~jointattention.agent.faces`); docs/real-head.md
-and docs/faces/detectors.md compare them.
+and docs/results/faces/detectors.md compare them.
 """
 
 from __future__ import annotations
@@ -48,7 +48,7 @@ class BlazeFaceFinder:
 
     Args:
         min_score: least face probability. 0.4 finds 99.75% of 400 held-out rendered faces
-            (0.5: 98.5%; the misses are dark skin in dim light); docs/faces/detectors.md.
+            (0.5: 98.5%; the misses are dark skin in dim light); docs/results/faces/detectors.md.
         margin: the window's height as a multiple of the head's (the data sets' 1.15).
         refine: whether the calibration's pixel maps refine the landmarks' placement. They
             learned the simulated heads (2.0 px of median error there, against 3.2 px with

@@ -175,7 +175,7 @@ def add_import(dsub) -> None:
     add_config(q)
     q.add_argument("--face", choices=FACE_METHODS, default=DEFAULT_FACE,
                    help="face finder: BlazeFace (default: the shipped neural detector, "
-                        "docs/faces/detectors.md), a template (the shipped data sets' mean "
+                        "docs/results/faces/detectors.md), a template (the shipped data sets' mean "
                         "face) or OpenCV's Haar cascade")
     q.add_argument("--template", metavar="DATASETS.npz",
                    help="with --face template: the mean face of these data sets as the template")
@@ -212,7 +212,7 @@ def add_commands(sub) -> None:
                                             "(default: 0,0)")
     p.add_argument("--face", choices=FACE_METHODS, default=DEFAULT_FACE,
                    help="face finder: BlazeFace (default: the shipped neural detector, "
-                        "docs/faces/detectors.md), the model's mean face (template) or "
+                        "docs/results/faces/detectors.md), the model's mean face (template) or "
                         "OpenCV's Haar cascade")
     p.add_argument("--min-score", type=float, metavar="S",
                    help="least score of a face (default: the finder's own; BlazeFace's 0.4 "

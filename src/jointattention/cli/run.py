@@ -192,7 +192,7 @@ def add_commands(sub) -> None:
     p.add_argument("--out", metavar="FOLDER",
                    help="also write the figures into FOLDER: bench.csv (every row) and "
                         "environments.md (the environments' table, with CartPole-v1's in the "
-                        "same run; docs/speed/ holds the one the manual includes)")
+                        "same run; docs/results/speed/ holds the one the manual includes)")
     p.set_defaults(func=_cmd_bench, out_kind="folder")
 
     p = sub.add_parser("config", help="print a configuration as TOML",

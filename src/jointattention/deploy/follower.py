@@ -52,8 +52,8 @@ class GazeFollower:
     Args:
         model: the learned model (:func:`~jointattention.deploy.saved.load_model`).
         face: ``"blazeface"`` (the shipped neural face detector, calibrated to cut the
-            windows the data sets cut: docs/faces/detectors.md), ``"template"`` (the mean face
-            window the model learned from) or ``"haar"`` (OpenCV's frontal-face cascade).
+            windows the data sets cut: docs/results/faces/detectors.md), ``"template"`` (the
+            mean face window the model learned from) or ``"haar"`` (OpenCV's frontal-face cascade).
         min_score: least score of a face (None: the finder's own; BlazeFace's probability
             from 0 to 1, the template's normalised correlation from -1 to 1); a run-time
             choice, not part of what was learned.
@@ -66,7 +66,7 @@ class GazeFollower:
         check_finder(face, min_score)
         if model.robot.eye_size_px is not None:
             raise ConfigError("the model reads an eye window, which the follower cannot "
-                              "place in a camera image precisely enough yet (docs/people/"
+                              "place in a camera image precisely enough yet (docs/results/people/"
                               "eye_placement.md); expected a "
                               "model of a world without [world.eye_window]")
         self.model, self.face = model, face

@@ -188,7 +188,7 @@ def success_rate(model, env: gym.Env, episodes: int, seed: int | None = None,
     curve shows. True takes the Gaussian's mean (or DQN's greedy move), another policy, which
     no training step ran: on the continuous ids PPO's mean stops short of the object in many
     more episodes than its samples fail; on the discrete ids, whose moves do not shrink, its
-    most likely move stops far less often (``docs/rl/mean_action.md``, written by ``python
+    most likely move stops far less often (``docs/results/rl/mean_action.md``, written by ``python
     scripts/mean_action.py``). Pass True for a policy meant to be run greedily, such as
     DQN's.
     """

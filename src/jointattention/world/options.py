@@ -174,7 +174,7 @@ class EyeWindowConfig(Section):
     """A window on the caregiver's eyes, seen through a fovea finer than the camera.
 
     Off by default (the paper's robot keeps the face window only). Where head turns differ
-    among people, where the head points is not where the eyes look (docs/people/
+    among people, where the head points is not where the eyes look (docs/results/people/
     head_pose_bound.md): reading the eyes takes seeing the irises move, which at the camera's
     own resolution is under a pixel. The eye window is cut around both eyes from a sensor
     ``zoom`` times finer than the camera's (as a 1280 x 960 camera is to a 320 x 240 one at 4);
@@ -189,7 +189,7 @@ class EyeWindowConfig(Section):
     placement_sd: float = param(
         0.0, "s.d. of the robot's error in placing the window, in eye distances, on each axis "
         "and (as a log factor) in its width: 0, at the eyeballs' centres, which only the "
-        "experimenter knows; an eye finder errs (docs/people/eye_placement.md)", lo=0, hi=1)
+        "experimenter knows; an eye finder errs (docs/results/people/eye_placement.md)", lo=0, hi=1)
 
     def __post_init__(self) -> None:
         super().__post_init__()
