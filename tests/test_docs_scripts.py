@@ -128,6 +128,20 @@ def test_saccade_trials_reads_a_run_s_trials(short_run, tmp_path):
             if r.startswith("| ") and "-n5" in r} == {"paper-n5", "developmental-n5"}
 
 
+def test_speed_summary_writes_a_row_per_condition_of_each_group(tmp_path):
+    """beyond/speed_summary.py on the shipped learning_speed.csv: each group's rows, in order."""
+    out = tmp_path / "speed_summary.md"
+    _run("results/beyond/speed_summary.py", "--out", out, cwd=tmp_path)
+    sys.path.insert(0, str(DOCS / "results" / "beyond"))
+    try:
+        from speed_summary import GROUPS
+    finally:
+        sys.path.pop(0)
+    rows = [r.split("|")[1].strip() for r in _rows(out, "| memory")]
+    assert rows == [name for conditions in GROUPS.values() for name in conditions]
+    assert out.read_text() == (DOCS / "results" / "beyond" / "speed_summary.md").read_text()
+
+
 def test_stuck_faces_writes_a_row_per_face_or_none(tmp_path):
     """beyond/stuck_faces.py --quick for one seed: rows of both conditions."""
     out = tmp_path / "stuck_faces.md"
