@@ -248,6 +248,14 @@ def test_the_native_vector_env_refuses_images_and_bad_actions():
     for bad in (np.zeros((3, 2)), np.full((2, 2), np.nan), "x"):
         with pytest.raises(ArgumentError, match="actions"):
             envs.step(bad)
+    # a refused step changed nothing: the next steps are those of an env that never saw it
+    twin = gym.make_vec("JointAttentionFace-v1", num_envs=2,
+                        vectorization_mode="vector_entry_point")
+    twin.reset(seed=0)
+    for _ in range(30):
+        move = np.full((2, 2), 0.01)
+        (a, *_), (b, *_) = envs.step(move), twin.step(move)
+        assert all(np.array_equal(a[key], b[key]) for key in a)
 
 
 def test_the_native_vector_env_checks_seeds_and_refuses_boolean_actions():

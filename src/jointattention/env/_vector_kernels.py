@@ -24,8 +24,8 @@ from ..world.fast import detect_into, draw_index, draw_objects
 from ..world.kinematics import rotation_into, separation_rad
 from ._observation import _rows_into, _scale_rows_into
 
-__all__ = ["CAM", "FLAGS", "HOLD", "STATE", "STEP", "clip_moves", "start_all", "start_step_all",
-           "step_all"]
+__all__ = ["CAM", "FLAGS", "HOLD", "NOT_FINITE", "STATE", "STEP", "clip_moves", "start_all",
+           "start_step_all", "step_all"]
 
 # The columns of a sub-environment's row of ``state`` (int64).
 STATE = ("n_steps", "end", "limit_hit", "attended", "seen", "n_detections", "target", "face_k")
@@ -41,6 +41,7 @@ HOLD, STEP = 0, 2
 # The rows of step_all's ``flags_out`` (bool) before Gymnasium's masks, which it sets True:
 # terminated or truncated is the vector environment's next restart.
 FLAGS = ("fired", "limit_hit", "terminated", "truncated", "ended")
+NOT_FINITE = -2  # start_step_all's answer when an action is not finite (nothing is done)
 
 
 @jit
@@ -191,14 +192,19 @@ def step_all(starts, then, dtheta, cam, max_steps, pos, radius, edge, state, the
 
 @jit
 def start_step_all(rngs, targets_m, faces_m, face_radius_m, region, offset_m, limits_rad,
-                   theta_face_rad, starts, then, dtheta, cam, max_steps, pos, radius, edge, state,
-                   theta, looks, faces, bounds, scaled, with_rows, head_out, face_out, rows_out,
-                   centre_out, det_out, ints_out, flags_out, floats_out) -> int:
-    """:func:`start_all`, then (if every start placed its objects) :func:`step_all`: one call.
+                   theta_face_rad, starts, then, actions, clip, dtheta, cam, max_steps, pos,
+                   radius, edge, state, theta, looks, faces, bounds, scaled, with_rows, head_out,
+                   face_out, rows_out, centre_out, det_out, ints_out, flags_out,
+                   floats_out) -> int:
+    """The native vector environment's step: the moves, :func:`start_all`, :func:`step_all`.
 
-    The native vector environment's step, in one compiled call instead of two (each call's
-    thirty-odd arguments are typed and unboxed anew). Returns :func:`start_all`'s value.
+    One compiled call instead of three: each call's thirty-odd arguments are typed and unboxed
+    anew. ``actions`` are clipped to ``clip``'s first two rows and scaled by its third into
+    ``dtheta`` (:func:`clip_moves`); :data:`NOT_FINITE` if one is not, and nothing is done.
+    Else :func:`start_all`'s value, and the step if every start placed its objects.
     """
+    if not clip_moves(actions, clip[0], clip[1], clip[2], dtheta):
+        return NOT_FINITE
     failed = start_all(rngs, starts, targets_m, faces_m, face_radius_m, region, offset_m,
                        limits_rad, theta_face_rad, cam, pos, radius, edge, state, theta)
     if failed < 0:

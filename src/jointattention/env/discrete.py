@@ -127,7 +127,8 @@ class DiscreteJointAttentionVectorEnv(JointAttentionVectorEnv):
         super().__init__(num_envs, max_episode_steps, autoreset_mode, **kwargs)
         self.single_action_space = spaces.Discrete(N_MOVES)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
+        self._clip = np.array([[-np.inf] * 2, [np.inf] * 2, [1.0] * 2])  # the moves as they are
 
-    def _dtheta_rad(self, actions) -> np.ndarray:
+    def _checked(self, actions) -> np.ndarray:
         """Every sub-environment's move in radians, (num_envs, 2)."""
         return _MOVES_RAD[check_moves(actions, self.num_envs)]

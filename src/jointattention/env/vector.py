@@ -25,7 +25,7 @@ from ..errors import ConfigError
 from ._args import check_action, refuse_options, vector_seeds
 from ._fast_trial import Episodes
 from ._observation import DETECTION_INFO, STEP_INFO
-from ._vector_kernels import FLAGS, HOLD, STATE, STEP, clip_moves, start_step_all, step_all
+from ._vector_kernels import FLAGS, HOLD, NOT_FINITE, STATE, STEP, step_all
 from .joint_attention import JointAttentionEnv
 
 # Gymnasium's "_key" mask of each info key: the detections' own, then the step's
@@ -101,8 +101,10 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         self._needs_reset = np.ones(self.num_envs, bool)
         self._no_moves = np.zeros((self.num_envs, 2))
         self._moves = np.empty((self.num_envs, 2))  # a step's moves: the kernels' alone
+        space = self.single_action_space  # the moves: actions clipped to it, then scaled
+        self._clip = np.array([space.low, space.high, self._scale], float)
         self._reward_key = f"{one.reward}_reward"
-        self._fixed = self._start_fixed = None
+        self._fixed = self._start_fixed = self._packed = None
         self._same_step = self.autoreset_mode == AutoresetMode.SAME_STEP
         self._started = False
         self.render_mode = one.render_mode
@@ -118,7 +120,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
                 seed = None if seeds is None else seeds[i]
                 if seed is not None or self._rngs[i] is None:
                     self._rngs[i], _ = seeding.np_random(seed)
-                    self._rng_list = None
+                    self._rng_list = self._packed = None  # packed with the list: anew
         self._steps.start(self._episodes, self._generators(), starts)
 
     def _generators(self):
@@ -129,25 +131,35 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
             self._rng_list = List(self._rngs)
         return self._rng_list
 
-    def _look(self, starts: np.ndarray, then: int = HOLD, dtheta: np.ndarray | None = None,
-              start: bool = False) -> tuple[dict, dict]:
+    def _look(self, starts: np.ndarray, then: int = HOLD, actions: np.ndarray | None = None
+              ) -> tuple[dict, dict]:
         """Look once at the episodes that ``starts``, step or hold the others (``then``).
 
         One compiled call (:func:`~._vector_kernels.step_all`) into new arrays; what the
-        sub-environments show. With ``start``, the episodes of ``starts`` start in the same
-        call (:func:`~._vector_kernels.start_step_all`), from their generators as they stand.
-        ``self._ends``: terminated, truncated, and the two together.
+        sub-environments show. With ``actions`` (a step's, checked but for being finite), the
+        episodes of ``starts`` start in the same call, from their generators as they stand, and
+        the others move (:func:`~._vector_kernels.start_step_all`). ``self._ends``:
+        terminated, truncated, and the two together.
         """
         if self._fixed is None:  # the kernels' arguments that no step changes
             self._fixed = self._steps.kernel_args(self._episodes)
             self._start_fixed = self._steps.start_args()
         out = self._steps.outputs(self.num_envs, masks=_N_MASKS)
-        moves = self._no_moves if dtheta is None else dtheta
-        if start:
-            self._steps.check_started(start_step_all(self._generators(), *self._start_fixed,
-                                                     starts, then, moves, *self._fixed, *out))
+        if actions is None:
+            step_all(starts, then, self._no_moves, *self._fixed, *out)
         else:
-            step_all(starts, then, moves, *self._fixed, *out)
+            if self._packed is None:  # one argument for the step's fixed ones (it imports numba)
+                from ._vector_args import pack, step_packed
+
+                gens, (targets, faces, radius, *region), (cam, *rest) = (
+                    self._generators(), self._start_fixed, self._fixed)
+                self._packed = (step_packed, pack(gens, targets, faces, radius, *region,
+                                                  self._clip, self._moves, cam, *rest))
+            step, packed = self._packed
+            code = step(packed, starts, then, actions, *out)
+            if code == NOT_FINITE:
+                check_action(actions, self._moves.shape, "actions")  # one error naming them
+            self._steps.check_started(code)
         head, face, rows, centre, det, ints, flags, floats = out
         obs = {"head_angle": head, "face": face}
         if self.obs_mode == "detections":
@@ -186,25 +198,25 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         if not self._started:
             raise gym.error.ResetNeeded("no episodes are running; expected reset() before "
                                         "step()")
-        dtheta = self._dtheta_rad(actions)  # checked before any work
+        actions = self._checked(actions)  # before any work (finite: in the kernel, first)
         # those that ended start (in the same call) with a look, and are not stepped this time
-        obs, infos = self._look(self._needs_reset, STEP, dtheta, start=True)
+        obs, infos = self._look(self._needs_reset, STEP, actions)
         terminated, truncated, self._needs_reset = self._ends
         rewards = infos[self._reward_key]  # the episodes just started: 0
         if self._same_step and self._needs_reset.any():
             obs, infos = self._restart_now(obs, infos)
         return obs, rewards, terminated, truncated, infos
 
-    def _dtheta_rad(self, actions) -> np.ndarray:
-        """Every head's move (pan, tilt) in radians for ``actions``: checked, clipped, scaled."""
-        dtheta = self._moves
-        if not (type(actions) is np.ndarray and actions.shape == dtheta.shape
+    def _checked(self, actions) -> np.ndarray:
+        """``actions`` as floats of shape (num_envs, 2), or one error naming what is wrong.
+
+        Whether each is finite is checked by the step's kernel, before it changes anything.
+        """
+        shape = self._moves.shape
+        if not (type(actions) is np.ndarray and actions.shape == shape
                 and actions.dtype.char in "fd"):
-            actions = check_action(actions, dtheta.shape, "actions")
-        space = self.single_action_space
-        if not clip_moves(actions, space.low, space.high, self._scale, dtheta):
-            check_action(actions, dtheta.shape, "actions")  # not finite: one error naming them
-        return dtheta
+            actions = check_action(actions, shape, "actions")
+        return actions
 
     def _restart_now(self, obs: dict, infos: dict) -> tuple[dict, dict]:
         """Same-step autoreset: start the episodes that just ended, keeping their last look."""
@@ -236,7 +248,7 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         first start. The kernels' view of the world is its one environment's, not copied twice.
         """
         return {**self.__dict__, "_rng_list": None, "_steps": None, "_ends": None,
-                "_fixed": None, "_start_fixed": None}
+                "_fixed": None, "_start_fixed": None, "_packed": None}
 
     def __setstate__(self, state: dict) -> None:
         self.__dict__.update(state)
