@@ -76,6 +76,7 @@ class FastSteps:
             else ds.face)
         self.no_faces = np.zeros((0, *ds.face.shape[1:]), self.faces.dtype)
         self.no_rows = np.zeros((0, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
+        self._shapes: dict[tuple[int, int], tuple] = {}  # outputs' shapes by (k, masks)
 
     def start(self, episodes: Episodes, rngs, starts: np.ndarray) -> None:
         """Start the episodes where ``starts`` (bool) is true, each from its own generator.
@@ -116,13 +117,16 @@ class FastSteps:
         ints, flags, floats. ``masks``: rows after the flags, which the step sets True:
         Gymnasium's ``_key`` masks.
         """
-        return (np.empty((k, 2), np.float32), np.empty((k, *self.faces.shape[1:]),
-                                                       self.faces.dtype),
-                (np.empty((k, MAX_DETECTIONS, len(DETECTION_COLUMNS)), np.float32)
-                 if self.with_rows else self.no_rows),
-                np.empty((k, MAX_DETECTIONS, 2)), np.empty((3, k, MAX_DETECTIONS)),
-                np.empty((4, k), np.int64), np.empty((len(FLAGS) + masks, k), bool),
-                np.empty((3, k)))
+        shapes = self._shapes.get((k, masks))
+        if shapes is None:  # worked out once: a step of 64 sub-environments is short
+            shapes = self._shapes[k, masks] = (
+                (k, 2), (k, *self.faces.shape[1:]), (k, MAX_DETECTIONS, len(DETECTION_COLUMNS)),
+                (k, MAX_DETECTIONS, 2), (3, k, MAX_DETECTIONS), (4, k), (len(FLAGS) + masks, k),
+                (3, k))
+        (h, f, r, c, d, i, g, x), empty = shapes, np.empty
+        return (empty(h, np.float32), empty(f, self.faces.dtype),
+                empty(r, np.float32) if self.with_rows else self.no_rows, empty(c), empty(d),
+                empty(i, np.int64), empty(g, bool), empty(x))
 
 
 class FastTrial:
