@@ -217,7 +217,7 @@ LEARNER_WORDS = ("memory", "population", "network", "backprop", "saccade", "reca
 RL_WORDS = ("min_std", "steps_rad", "lo_rad", "q_stay", "habituation", "reward", "stay",
             "shift", "choice_rng")
 # The reinforcement learner's modules, which the engine may not import either.
-RL_MODULES = ("models.rl", "models._rl_kernels", "models._rl_trial")
+RL_MODULES = ("models.rl", "models.rl.agent", "models.rl._kernels", "models.rl._trial")
 
 
 def learner_option_words() -> set[str]:

@@ -25,11 +25,11 @@ from .._jit import jit
 from ..agent.face_standardiser import standardise, welford_update
 from ..agent.vision import ImageDetector
 from ..config import WorldConfig
-from ..models._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
 from ..models.memory.episodic import face_code_into, left_out_of, memory_recall, memory_store
 from ..models.memory.module import MemoryModule
 from ..models.population._trial import population_begin, population_learn
 from ..models.rl import RLAgent
+from ..models.rl._kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
 
 __all__ = ["RENDERED_ROW", "cell_rate", "learner_cell_rows", "rendered_rows"]
 

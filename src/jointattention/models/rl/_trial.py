@@ -1,10 +1,10 @@
-"""The reinforcement learner's part of a trial (:mod:`.rl`), as compiled kernels of its state.
+"""The reinforcement learner's part of a trial (:mod:`.agent`), as compiled kernels of its state.
 
-:class:`~.rl.RLAgent` (step by step) and the compiled engine's loop
+:class:`~.agent.RLAgent` (step by step) and the compiled engine's loop
 (:mod:`jointattention.experiment.compiled._rl_loop`) call the same kernels on the same arrays
 (:class:`RLArrays`), so both give the same cells. :data:`KERNELS` are its whole trial
 (:class:`~jointattention.agent.protocol.TrialKernels`): the compiled loop is handed them and
-names none of the model's options. The equations are :mod:`._rl_kernels`'.
+names none of the model's options. The equations are :mod:`._kernels`'.
 """
 
 from __future__ import annotations
@@ -13,10 +13,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._jit import jit
-from ..agent.face_standardiser import standardise, welford_update
-from ..agent.protocol import TrialKernels
-from ._rl_kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
+from ..._jit import jit
+from ...agent.face_standardiser import standardise, welford_update
+from ...agent.protocol import TrialKernels
+from ._kernels import rl_choice_odds, rl_choose, rl_learn, rl_values_into
 
 __all__ = ["KERNELS", "MOVES", "SHIFT", "STAYS", "RLArrays", "rl_act", "rl_begin", "rl_end"]
 
@@ -28,7 +28,7 @@ class RLArrays(NamedTuple):
 
     The arrays are the agent's own (changed in place): its values, its habituation, its face
     statistics (:class:`~jointattention.agent.face_standardiser.FaceStandardiser`'s) and the
-    trial's scratch (see :meth:`~.rl.RLAgent.compiled_state`).
+    trial's scratch (see :meth:`~.agent.RLAgent.compiled_state`).
     """
 
     steps_rad: np.ndarray  # (n_directions, 2): one step along each shift direction
@@ -64,7 +64,7 @@ def rl_begin(s, face, learning) -> bool:
 
     Learning, the face statistics take in the face first. Per step, staying has probability
     ``p_stay[k]``; a shift's direction is drawn from the softmax over the shift values alone
-    (``cdf``): together, the softmax over all actions (:func:`~._rl_kernels.rl_choice_odds`).
+    (``cdf``): together, the softmax over all actions (:func:`~._kernels.rl_choice_odds`).
     False if no face was ever seen (a frozen agent has nothing to standardise by).
     """
     if learning:
@@ -103,7 +103,7 @@ def rl_end(s, fired, pan, tilt) -> None:
     """A learning trial's end at head angle (``pan``, ``tilt``): reward, habituate, SARSA.
 
     Reads only whether the evaluator ``fired``, never the caregiver's judgement
-    (:func:`~._rl_kernels.rl_learn`).
+    (:func:`~._kernels.rl_learn`).
     """
     t = s.trial
     rl_learn(fired, pan, tilt, t[STAYS], t[SHIFT], t[MOVES], s.x, s.q, s.w, s.b, s.q_stay,

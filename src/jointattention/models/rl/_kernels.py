@@ -1,6 +1,6 @@
-"""The reinforcement learner's arithmetic (:mod:`.rl`), compiled.
+"""The reinforcement learner's arithmetic (:mod:`.agent`), compiled.
 
-One implementation of each of its equations, called by :class:`~.rl.RLAgent` step by step and
+One implementation of each of its equations, called by :class:`~.agent.RLAgent` step by step and
 by the compiled engine's loop (:mod:`jointattention.experiment.compiled._rl_loop`), so that
 both give the same cells.
 """
@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 
-from .._jit import jit
+from ..._jit import jit
 
 __all__ = ["object_reward", "rl_cell", "rl_choice_odds", "rl_choose", "rl_learn",
            "rl_values_into", "stay_reward"]

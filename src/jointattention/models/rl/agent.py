@@ -34,7 +34,7 @@ marked *reading* are ours):
 
 There is no gate and no visual controller: steps spent looking at her are module ``"stay"``
 (neither :data:`~.protocol.LM` nor random in the trial records). Its arithmetic is compiled
-(:mod:`._rl_kernels`), and so is its whole part of a trial (:mod:`._rl_trial`, a
+(:mod:`._kernels`), and so is its whole part of a trial (:mod:`._trial`, a
 :class:`~jointattention.agent.protocol.TrialKernels`): the agent's methods call those kernels,
 and the compiled engine runs them too (:mod:`jointattention.experiment.compiled.rl_cell`).
 """
@@ -47,16 +47,16 @@ from typing import ClassVar
 
 import numpy as np
 
-from .._arrays import angles, windows
-from .._fields import param
-from ..agent.detections import Detections
-from ..agent.face_standardiser import NO_FACE_SEEN, FaceStandardiser
-from ..agent.options import AgentConfig
-from ..agent.protocol import LM, Body, Outcome
-from ..errors import ArgumentError, ConfigError
-from . import _rl_kernels as equations
-from ._rl_trial import KERNELS, SHIFT, RLArrays
-from .registry import ModelOptions
+from ..._arrays import angles, windows
+from ..._fields import param
+from ...agent.detections import Detections
+from ...agent.face_standardiser import NO_FACE_SEEN, FaceStandardiser
+from ...agent.options import AgentConfig
+from ...agent.protocol import LM, Body, Outcome
+from ...errors import ArgumentError, ConfigError
+from ..registry import ModelOptions
+from . import _kernels as equations
+from ._trial import KERNELS, SHIFT, RLArrays
 
 __all__ = ["STAY", "RLAgent", "RLOptions"]
 
@@ -221,11 +221,11 @@ class RLAgent:
         return equations.object_reward(float(self.options.object_reward),
                                        float(self.place_habituation_[self.place_of(theta_rad)]))
 
-    # -- a trial: the kernels of models/_rl_trial.py ---------------------------------------
+    # -- a trial: the kernels of models/rl/_trial.py ---------------------------------------
     def begin_trial(self, face_window: np.ndarray, theta_rad) -> None:
         """Start a trial looking at the caregiver: her face's shift values and the choice odds.
 
-        Learning, the face statistics take in her face first (:func:`~._rl_trial.rl_begin`).
+        Learning, the face statistics take in her face first (:func:`~._trial.rl_begin`).
         """
         face = windows("face_window", face_window, self.body.face_size_px).ravel()
         self._state = self.compiled_state(len(face))
@@ -248,7 +248,7 @@ class RLAgent:
         """Reward, habituate, and learn by SARSA from the trial's decisions.
 
         Reads only ``fired`` and the head angle at the end, never the caregiver's judgement
-        (:func:`~._rl_trial.rl_end`).
+        (:func:`~._trial.rl_end`).
         """
         if not self.learning:
             return
