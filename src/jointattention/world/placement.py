@@ -98,7 +98,7 @@ def region_of(world: WorldConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``place_into``'s region, camera offset and joint limits for ``world``.
 
     The region's last entry is 1.0 if every point of it is reachable (:func:`all_reachable`),
-    and ``place_into`` then skips the check: a third of a scene draw's time.
+    and ``place_into`` then skips the check: about a tenth of a scene draw's time.
     """
     o = world.objects
     offset = np.asarray(world.camera.offset_m, dtype=float)
