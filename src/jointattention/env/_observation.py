@@ -15,9 +15,9 @@ from .._jit import jit
 from ..agent.detections import Detections
 from ..experiment.trial import SceneTrial
 
-__all__ = ["DETECTION_COLUMNS", "DETECTION_INFO", "MAX_DETECTIONS", "OBS_MODES", "STEP_INFO",
-           "detection_rows", "detections_of", "info_dict", "info_of", "observation_space",
-           "scaled"]
+__all__ = ["DETECTION_COLUMNS", "DETECTION_INFO", "DETECTION_MASKS", "MAX_DETECTIONS",
+           "OBS_MODES", "STEP_INFO", "STEP_MASKS", "detection_rows", "detections_of", "info_dict",
+           "info_of", "observation_space", "scaled"]
 
 OBS_MODES = ("image", "face", "detections")
 MAX_DETECTIONS = 20  # a scene has at most 20 objects (n_objects)
@@ -140,10 +140,27 @@ STEP_INFO = ("n_detections", "fired", "seen", "attended", "target", "limit_hit",
              "intrinsic_reward", "external_reward", "caregiver_error_rad")
 
 
-def info_dict(detections, values) -> dict:
-    """A step's ``info`` from the values of :data:`DETECTION_INFO` and :data:`STEP_INFO`."""
-    return {"detections": dict(zip(DETECTION_INFO, detections, strict=True)),
-            **dict(zip(STEP_INFO, values, strict=True))}
+# Gymnasium's "_key" mask of each info key in a vector environment: the detections' own, then
+# the step's
+DETECTION_MASKS = tuple(f"_{key}" for key in DETECTION_INFO)
+STEP_MASKS = tuple(f"_{key}" for key in ("detections", *STEP_INFO))
+_KEYS = {False: (DETECTION_INFO, ("detections", *STEP_INFO)),
+         True: ((*DETECTION_INFO, *DETECTION_MASKS), ("detections", *STEP_INFO, *STEP_MASKS))}
+
+
+def info_dict(detections, values, masks=()) -> dict:
+    """A step's ``info`` from the values of :data:`DETECTION_INFO` and :data:`STEP_INFO`.
+
+    ``masks``: a vector environment's, one for each of :data:`DETECTION_MASKS` then
+    :data:`STEP_MASKS`, each after its dictionary's values (one zip per dictionary: a step of
+    64 sub-environments is short).
+    """
+    detection_keys, step_keys = _KEYS[len(masks) > 0]
+    if len(masks):
+        n = len(DETECTION_MASKS)
+        detections, values = (*detections, *masks[:n]), (*values, *masks[n:])
+    return dict(zip(step_keys, (dict(zip(detection_keys, detections, strict=True)), *values),
+                    strict=True))
 
 
 def info_of(trial: SceneTrial) -> dict:

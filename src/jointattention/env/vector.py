@@ -24,17 +24,11 @@ from .._checks import check_int
 from ..errors import ConfigError
 from ._args import check_action, refuse_options, vector_seeds
 from ._fast_trial import Episodes
-from ._observation import DETECTION_INFO, STEP_INFO
+from ._observation import DETECTION_MASKS, STEP_MASKS, info_dict
 from ._vector_kernels import FLAGS, HOLD, NOT_FINITE, STATE, STEP, step_all
 from .joint_attention import JointAttentionEnv
 
-# Gymnasium's "_key" mask of each info key: the detections' own, then the step's
-_DETECTION_MASKS = tuple(f"_{key}" for key in DETECTION_INFO)
-_STEP_MASKS = tuple(f"_{key}" for key in ("detections", *STEP_INFO))
-_N_MASKS = len(_DETECTION_MASKS) + len(_STEP_MASKS)
-# a step's info keys in info_dict's order, then their masks
-_DETECTION_KEYS = (*DETECTION_INFO, *_DETECTION_MASKS)
-_INFO_KEYS = ("detections", *STEP_INFO, *_STEP_MASKS)
+_N_MASKS = len(DETECTION_MASKS) + len(STEP_MASKS)  # Gymnasium's "_key" masks of info
 
 __all__ = ["MAX_ENVS", "JointAttentionVectorEnv"]
 
@@ -170,13 +164,8 @@ class JointAttentionVectorEnv(gym.vector.VectorEnv):
         # the flags (FLAGS), then Gymnasium's "_key" masks: every sub-environment has every key
         fired, limit_hit, masks = f[0], f[1], f[len(FLAGS):]
         self._ends = f[2], f[3], f[4]  # terminated, truncated, either
-        n = len(_DETECTION_MASKS)
-        detections = dict(zip(_DETECTION_KEYS, (centre, area, edge, motion, *masks[:n]),
-                              strict=True))
-        info = dict(zip(_INFO_KEYS, (detections, n_det, fired, seen, attended, target,
-                                     limit_hit, intrinsic, external, error, *masks[n:]),
-                        strict=True))
-        return obs, info
+        return obs, info_dict((centre, area, edge, motion), (
+            n_det, fired, seen, attended, target, limit_hit, intrinsic, external, error), masks)
 
     def reset(self, *, seed: int | list | None = None, options: dict | None = None):
         """Start an episode in every sub-environment (``seed + i`` for sub-environment i).
