@@ -99,7 +99,7 @@ class Robot:
                    tuple(map(float, w.head.tilt_limits_deg)),
                    (w.face_window.width_px, w.face_window.height_px),
                    float(config.agent.lm_step_deg),
-                   (w.eye_window.width_px, w.eye_window.height_px) if w.eye_window.enabled
+                   w.eye_window.kept_size_px if w.eye_window.enabled
                    else None)
 
     @property

@@ -76,7 +76,7 @@ def check_memory(config: Config, conditions: list[str] | None = None) -> None:
     if free is None:
         return
     fw, ew = config.world.face_window, config.world.eye_window
-    windows = [(fw.width_px, fw.height_px)] + [(ew.width_px, ew.height_px)] * ew.enabled
+    windows = [(fw.width_px, fw.height_px)] + [ew.kept_size_px] * ew.enabled
     for name in conditions or [c.name for c in config.experiment.conditions]:
         options = model_options(config, condition_named(config, name))
         need, option = learning_bytes(options, *windows)

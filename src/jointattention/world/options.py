@@ -190,6 +190,10 @@ class EyeWindowConfig(Section):
         0.0, "s.d. of the robot's error in placing the window, in eye distances, on each axis "
         "and (as a log factor) in its width: 0, at the eyeballs' centres, which only the "
         "experimenter knows; an eye finder errs (docs/results/people/eye_placement.md)", lo=0, hi=1)
+    socket_patch_px: int = param(
+        0, "the side of the patch the robot cuts around each eye's socket, found in the window "
+        "(jointattention.agent.eye_sockets), kept in place of the window: the two patches side "
+        "by side; 0: the window as cut", lo=0, hi=128)
 
     def __post_init__(self) -> None:
         super().__post_init__()
@@ -202,6 +206,13 @@ class EyeWindowConfig(Section):
     def enabled(self) -> bool:
         """Whether the robot keeps an eye window."""
         return self.width_px > 0
+
+    @property
+    def kept_size_px(self) -> tuple[int, int]:
+        """The (width, height) of what the robot keeps of the window: the socket patches, or it."""
+        if self.socket_patch_px:
+            return 2 * self.socket_patch_px, self.socket_patch_px
+        return self.width_px, self.height_px
 
 
 @dataclass(frozen=True)

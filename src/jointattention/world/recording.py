@@ -16,6 +16,7 @@ import numpy as np
 
 from .. import rng as rngs
 from .._version import __version__
+from ..agent.eye_sockets import eye_patches
 from ..agent.faces import face_window, window_of
 from ..agent.finders import DEFAULT_FACE, finder_for
 from ..datasets import CaregiverDatasets, load
@@ -23,11 +24,11 @@ from ..errors import DatasetError
 from .face import BODIES as EYE_BODIES
 from .identity import Caregiver, caregiver_from_dict, sample_caregiver
 from .mjcf import FOVEA_SUPERSAMPLE
-from .options import WorldConfig
+from .options import EyeWindowConfig, WorldConfig
 from .simulator import World
 
 __all__ = ["CUTS", "HELD_OUT", "capture_eye_window", "capture_face_window", "caregivers_of",
-           "eye_box", "eye_window_at", "face_box", "head_box", "make_datasets",
+           "eye_box", "eye_window_at", "eye_window_kept", "face_box", "head_box", "make_datasets",
            "split_evenly"]
 
 HELD_OUT = "held-out"  # the stream of held-out recordings; no training world draws from it
@@ -73,10 +74,22 @@ def capture_eye_window(world: World) -> np.ndarray:
 
     A field ``span`` eye distances wide around the eyes' midpoint (:func:`eye_box`), seen
     through the fovea (:func:`eye_window_at`). With ``placement_sd`` the field is placed and
-    sized with the error an eye finder would make, drawn once per scene.
+    sized with the error an eye finder would make, drawn once per scene; with
+    ``socket_patch_px``, what the robot keeps of it (:func:`eye_window_kept`).
     """
     sd = world.config.eye_window.placement_sd
-    return eye_window_at(world, *eye_box(world), _placement_error(world, sd) if sd > 0 else None)
+    window = eye_window_at(world, *eye_box(world), _placement_error(world, sd) if sd > 0 else None)
+    return eye_window_kept(world.config.eye_window, window)
+
+
+def eye_window_kept(eye_window: EyeWindowConfig, window: np.ndarray) -> np.ndarray:
+    """What the robot keeps of an eye ``window``: its socket patches (``socket_patch_px``), or it.
+
+    The patches are the robot's own (:func:`~jointattention.agent.eye_sockets.eye_patches`).
+    """
+    if not eye_window.socket_patch_px:
+        return window
+    return eye_patches(window, eye_window.span, eye_window.socket_patch_px)
 
 
 def _placement_error(world: World, sd: float) -> np.ndarray:
@@ -195,7 +208,7 @@ def make_datasets(
                          "caregiver's eyes as the box is; expected cut = 'box'")
     fw, ew = config.face_window, config.eye_window
     faces = np.empty((n, fw.height_px, fw.width_px), np.uint8)
-    eyes = np.empty((n, ew.height_px, ew.width_px), np.uint8) if ew.enabled else None
+    eyes = np.empty((n, *ew.kept_size_px[::-1]), np.uint8) if ew.enabled else None
     theta_face = np.empty((n, 2))
     command = np.empty((n, 2))
     target = np.empty((n, 3))
