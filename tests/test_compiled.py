@@ -74,6 +74,8 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
         "learner": "population", "population": {
             "n_hidden": 8, "keep": "attended", "standardise": True, "replay": 3,
             "replay_capacity": 30, "readout": "ratio", "features": "hog"}}),
+    ConditionConfig(name="population-belief", n_objects=10, model={
+        "learner": "population", "population": {"n_hidden": 16, "belief": 1.0}}),
     ConditionConfig(name="population-performance", n_objects=3, shuffle_faces=True, model={
         "learner": "population", "gate_per": "trial", "learning_target": "final_direction",
         "population": {"n_hidden": 8, "average_rate": 0.0, "readout": "mode",

@@ -12,10 +12,10 @@ import math
 import numpy as np
 
 from ..._jit import jit
-from ._forward import population_activate, population_forward
+from ._forward import average_face_into, population_activate, population_forward
 
-__all__ = ["average_into", "population_teach", "population_teach_rows", "population_update",
-           "von_mises_into"]
+__all__ = ["average_into", "belief_weights_into", "population_teach", "population_teach_rows",
+           "population_update", "von_mises_into"]
 
 
 @jit
@@ -100,31 +100,60 @@ def population_update(x, taught, n_taught: float, w1, b1, w2, b2, learning_rate:
 
 
 @jit
+def belief_weights_into(directions_rad, count: int, kappa: float, p, z, belief: float,
+                        weights) -> None:
+    """Each place's weight in an update: ``(1 - belief) + belief * count * r / sum(r)``.
+
+    ``r`` is the place's excess ratio, p(direction | face) / p(direction | the average face),
+    each spread by the place's von Mises bump (``p``, ``z``: both softmaxes over the units).
+    The weights sum to ``count``, so an update's size is that of equal weights.
+    """
+    n = len(p)
+    total = 0.0
+    for d in range(count):
+        num = den = 0.0
+        for b in range(n):
+            bump = math.exp(kappa * (math.cos(2 * math.pi * b / n - directions_rad[d]) - 1.0))
+            num += bump * p[b]
+            den += bump * z[b]
+        weights[d] = num / den
+        total += weights[d]
+    for d in range(count):
+        weights[d] = (1.0 - belief) + belief * count * weights[d] / total
+
+
+@jit
 def population_teach_rows(X, directions_rad, counts, kappa: float, w1, b1, w2, b2,
                           learning_rate: float, hidden_mean, hidden_rate: float, h, p, grad_h,
-                          taught, averaged_w1, average_rate: float) -> int:
+                          taught, belief: float, z, averaged_w1, average_rate: float) -> int:
     """One update per row of ``X`` toward its places, in order; returns the places taught.
 
     Row r's places are ``directions_rad[r, :counts[r]]``, each spread by a von Mises bump of
-    concentration ``kappa`` (a row without places is skipped); the running mean of the hidden
-    units moves toward each input's at ``hidden_rate``. Each update's pass over ``w1`` also
-    sums the next row's hidden units (:func:`_w1_step`): one pass per update, not two, with
-    the bits of one row at a time. With ``averaged_w1`` (else None), the last update's pass
-    also moves that running average of ``w1`` once, at ``average_rate``.
+    concentration ``kappa`` (a row without places is skipped), each weighted by the network's
+    belief in it (:func:`belief_weights_into`; ``z`` its scratch) when ``belief`` > 0; the
+    running mean of the hidden units moves toward each input's at ``hidden_rate``. Each
+    update's pass over ``w1`` also sums the next row's hidden units (:func:`_w1_step`): one
+    pass per update, not two, with the bits of one row at a time. With ``averaged_w1`` (else
+    None), the last update's pass also moves that running average of ``w1`` once, at
+    ``average_rate``.
     """
     rows = np.flatnonzero(counts > 0)
     if len(rows) == 0:
         if averaged_w1 is not None:
             average_into(averaged_w1.reshape(-1), w1.reshape(-1), average_rate)
         return 0
-    h_next = np.empty(len(h))
+    h_next, weights = np.empty(len(h)), np.empty(directions_rad.shape[1])
     population_forward(X[rows[0]], w1, b1, w2, b2, h, p)
     n_taught = 0
     for k in range(len(rows)):
         r = rows[k]
         taught[:] = 0.0
+        if belief > 0.0:  # the place's weight, by the network at this row's input
+            average_face_into(hidden_mean, w2, b2, z)
+            belief_weights_into(directions_rad[r], counts[r], kappa, p, z, belief, weights)
         for d in range(counts[r]):
-            von_mises_into(directions_rad[r, d], kappa, 1.0, taught)
+            von_mises_into(directions_rad[r, d], kappa, weights[d] if belief > 0.0 else 1.0,
+                           taught)
         n_taught += counts[r]
         _backward_into(taught, float(counts[r]), b1, w2, b2, learning_rate, h, p, grad_h)
         for j in range(len(h)):
@@ -143,7 +172,8 @@ def population_teach_rows(X, directions_rad, counts, kappa: float, w1, b1, w2, b
 
 @jit
 def population_teach(x, directions_rad, kappa: float, w1, b1, w2, b2, learning_rate: float,
-                     hidden_mean, hidden_rate: float, h, p, grad_h, taught) -> None:
+                     hidden_mean, hidden_rate: float, h, p, grad_h, taught, belief: float,
+                     z) -> None:
     """One update toward the places found in ``directions_rad`` for input ``x``.
 
     :func:`population_teach_rows` of one row.
@@ -151,7 +181,7 @@ def population_teach(x, directions_rad, kappa: float, w1, b1, w2, b2, learning_r
     population_teach_rows(x.reshape(1, -1), directions_rad.reshape(1, -1),
                           np.array([len(directions_rad)]), kappa, w1, b1, w2, b2,
                           learning_rate, hidden_mean, hidden_rate, h, p, grad_h, taught,
-                          None, 0.0)
+                          belief, z, None, 0.0)
 
 
 @jit

@@ -163,6 +163,7 @@ class PopulationArrays(NamedTuple):
     standardise: bool
     in_view: bool  # keep every object in view, not only the attended one
     replay: int
+    belief: float  # how far each place taught is weighted by the network's belief in it
     w1: np.ndarray
     b1: np.ndarray
     w2: np.ndarray
@@ -250,8 +251,8 @@ def population_learn(a, places, face, start_pan, start_tilt, replay_rng) -> int:
                      taught_rad[1:], n_taught[1:])
     a.counters[1] += population_teach_rows(
         X, taught_rad, n_taught, a.kappa, a.w1, a.b1, a.w2, a.b2, a.learning_rate,
-        a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught, a.averaged_w1,
-        a.average_rate)  # the last update's pass moves averaged_w1
+        a.hidden_mean, a.hidden_rate, a.h, a.p, a.grad_h, a.taught, a.belief, a.z,
+        a.averaged_w1, a.average_rate)  # the last update's pass moves averaged_w1
     average_into(a.averaged_b1, a.b1, a.average_rate)
     average_into(a.averaged_w2.reshape(-1), a.w2.reshape(-1), a.average_rate)
     average_into(a.averaged_b2, a.b2, a.average_rate)

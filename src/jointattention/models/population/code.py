@@ -139,7 +139,7 @@ class PopulationCode:
         o = self.options
         return (self.w1_, self.b1_, self.w2_, self.b2_, float(o.learning_rate),
                 self.hidden_mean_, float(o.hidden_rate), self._h, self._p, self._grad_h,
-                self._taught)
+                self._taught, float(o.belief), self._z)
 
     def partial_fit(self, X: np.ndarray, Y: np.ndarray) -> PopulationCode:
         """One update per row: inputs ``X`` (n, n_in), one direction (rad) each ``Y`` (n,).

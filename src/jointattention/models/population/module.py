@@ -167,8 +167,8 @@ class PopulationModule:
         return PopulationArrays(
             self.spec, p.kappa, float(o.learning_rate), float(o.hidden_rate),
             float(o.average_rate), p.readout_code, bool(o.standardise),
-            o.keep == "in_view", int(o.replay), p.w1_, p.b1_, p.w2_, p.b2_, *p.averaged_,
-            *p._readout_weights(), p.hidden_mean_, f.mean_, f.m2_,
+            o.keep == "in_view", int(o.replay), float(o.belief), p.w1_, p.b1_, p.w2_, p.b2_,
+            *p.averaged_, *p._readout_weights(), p.hidden_mean_, f.mean_, f.m2_,
             self.replay_features_, self.replay_thetas_, self.replay_directions_,
             self.replay_counts_, self._x, self._features, p._h, p._p, p._grad_h, p._taught, p._z,
             self._score, np.array([self.n_kept_, p.n_taught_, f.n_seen_], np.int64),

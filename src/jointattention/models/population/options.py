@@ -49,6 +49,12 @@ class PopulationOptions(Section):
         choices=("attended", "in_view"))
     replay: int = param(8, "updates on trials drawn from the replay memory after each trial "
                         "taught (0: none)", lo=0, hi=100)
+    belief: float = param(
+        0.0, "how far each place taught is weighted by the network's own belief in it, each "
+        "time it is taught: 0, every place alike; 1, in proportion to p(direction | face) / "
+        "p(direction | the average face) there (self-training: a distractor lies anywhere for "
+        "any face, the target where she looks, so the network's belief picks it out as it "
+        "learns)", lo=0, hi=1)
     replay_capacity: int = param(20_000, "trials the replay memory keeps (the oldest is "
                                  "forgotten); each keeps its face's features, 8.9 kB with "
                                  "the default features (178 MB when full)", lo=1,
