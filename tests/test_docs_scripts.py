@@ -232,9 +232,9 @@ def test_eye_placement_writes_a_row_per_placement(tmp_path):
     out = tmp_path / "eye_placement.md"
     _run("results/people/eye_placement.py", "--quick", "--out", out, "--models",
          tmp_path / "models", cwd=tmp_path)
-    placed = [r.split("|")[2].strip() for r in _rows(out, "| ")[1:]]
-    assert placed == [f"{sd:g} eye distances" for sd in (0, 0.01, 0.02, 0.03, 0.05, 0.08)] + [
-        "BlazeFace's eye landmarks, 4x view"]
+    placed = [r.split("|")[3].strip() for r in _rows(out, "| ")[1:]]
+    assert placed == [f"{sd:g} eye distances" for sd in (0, 0.01, 0.02, 0.03, 0.05, 0.08, 0.1)
+                      ] + ["BlazeFace's eye landmarks, 4x view"]
     assert (tmp_path / "models" / "placement_sd_0_quick.npz").exists()
 
 
