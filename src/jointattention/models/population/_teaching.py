@@ -19,13 +19,19 @@ __all__ = ["average_into", "belief_weights_into", "population_teach", "populatio
 
 
 @jit
+def _bump(b: int, n: int, psi_rad: float, kappa: float) -> float:
+    """Unit ``b`` of ``n``'s share of a von Mises bump at ``psi_rad``, not normalised."""
+    return math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0))
+
+
+@jit
 def von_mises_into(psi_rad: float, kappa: float, weight: float, out) -> None:
     """Add ``weight`` times a von Mises bump at ``psi_rad`` (summing to 1 over the units)."""
     n = len(out)
     bump = np.empty(n)  # each unit's exp once (the sum needs them all before the first share)
     total = 0.0
     for b in range(n):
-        bump[b] = math.exp(kappa * (math.cos(2 * math.pi * b / n - psi_rad) - 1.0))
+        bump[b] = _bump(b, n, psi_rad, kappa)
         total += bump[b]
     for b in range(n):
         out[b] += weight * bump[b] / total
@@ -113,7 +119,7 @@ def belief_weights_into(directions_rad, count: int, kappa: float, p, z, belief: 
     for d in range(count):
         num = den = 0.0
         for b in range(n):
-            bump = math.exp(kappa * (math.cos(2 * math.pi * b / n - directions_rad[d]) - 1.0))
+            bump = _bump(b, n, directions_rad[d], kappa)
             num += bump * p[b]
             den += bump * z[b]
         weights[d] = num / den
