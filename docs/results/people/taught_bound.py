@@ -17,7 +17,9 @@ preset's (256 caregivers), the people world with the 60x50 face window of
 (``[world.eye_window]`` of 96 x 24 pixels from a fovea 4 times finer than the camera:
 docs/world.md), placed exactly and with an eye finder's error, whose features
 (:mod:`jointattention.models.population.features`, as the face window's) are added to the
-input. Writes the median and 90th-percentile angle errors.
+input; last, the socket patches of ``docs/results/people/sockets.toml`` (a wider window placed
+with an error of 0.1 eye distances, and a patch cut around each socket the robot finds).
+Writes the median and 90th-percentile angle errors.
 """
 
 from __future__ import annotations
@@ -40,6 +42,8 @@ from jointattention.world.options import EyeWindowConfig
 
 SEED, N_CAREGIVERS, N_POSES = 5151, 32, 25
 EYES = {"width_px": 96, "height_px": 24, "zoom": 4.0}  # the eye window of the last rows
+SOCKETS = {"width_px": 128, "height_px": 48, "zoom": 4.0, "span": 2.67, "placement_sd": 0.1,
+           "socket_patch_px": 24}  # docs/results/people/sockets.toml's
 WIDE = str(Path(__file__).parents[1] / "generalise" / "wide.toml")
 CONFIGS = {  # name: (configuration, its eye window or None)
     "default world (generalise preset)": ("generalise", None),
@@ -49,6 +53,8 @@ CONFIGS = {  # name: (configuration, its eye window or None)
     "people world, eye window 96x24 (4x fovea)": ("people", EYES),
     "people world, eye window placed with an error of 0.03 eye distances": (
         "people", {**EYES, "placement_sd": 0.03}),
+    "people world, socket patches of a window placed with an error of 0.1": (
+        "people", SOCKETS),
 }
 
 
