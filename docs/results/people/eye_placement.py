@@ -44,10 +44,10 @@ from jointattention.world.simulator import World
 
 HERE = Path(__file__).parent
 SEED, N_CAREGIVERS, N_POSES = 6161, 32, 25
-MODELS = {  # file stem: (what the robot keeps, its configuration, the placement s.d. it learns at)
-    "placement_sd_0": ("eye window 96x24", HERE / "eyes.toml", 0.0),
-    "placement_sd_0.03": ("eye window 96x24", HERE / "eyes.toml", 0.03),
-    "sockets_0.1": ("socket patches 2 x 24x24", HERE / "sockets.toml", 0.1),
+MODELS = {  # file stem: (its configuration, the placement s.d. it learns at)
+    "placement_sd_0": (HERE / "eyes.toml", 0.0),
+    "placement_sd_0.03": (HERE / "eyes.toml", 0.03),
+    "sockets_0.1": (HERE / "sockets.toml", 0.1),
 }
 TESTED_SD = (0.0, 0.01, 0.02, 0.03, 0.05, 0.08, 0.1)  # the placement errors measured at
 CONDITION = "population-n5"
@@ -66,6 +66,13 @@ def config_with(source: Path, sd: float, quick: bool):
             experiment=dataclasses.replace(config.experiment, n_steps=2000, bin_steps=1000,
                                            n_ceiling_trials=20))
     return config
+
+
+def kept_name(eyes) -> str:
+    """What the robot keeps of an eye window ``eyes``, as the table names it."""
+    if eyes.socket_patch_px:
+        return f"socket patches 2 x {eyes.socket_patch_px}x{eyes.socket_patch_px}"
+    return f"eye window {eyes.width_px}x{eyes.height_px}"
 
 
 def first_errors(model, world_config, n_caregivers: int, n_poses: int, zoom: int
@@ -118,8 +125,9 @@ def main() -> None:
     args = parser.parse_args()
     n_caregivers, n_poses = (2, 2) if args.quick else (N_CAREGIVERS, N_POSES)
     rows = []
-    for stem, (kept, source, trained_sd) in list(MODELS.items())[:1 if args.quick else None]:
+    for stem, (source, trained_sd) in list(MODELS.items())[:1 if args.quick else None]:
         config = config_with(source, trained_sd, args.quick)
+        kept = kept_name(config.world.eye_window)
         path = Path(args.models) / f"{stem}{'_quick' * args.quick}.npz"
         if not path.exists():
             print(f"training {CONDITION} of {source.name} with placement_sd = {trained_sd:g} "

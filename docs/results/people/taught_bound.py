@@ -42,8 +42,8 @@ from jointattention.world.options import EyeWindowConfig
 
 SEED, N_CAREGIVERS, N_POSES = 5151, 32, 25
 EYES = {"width_px": 96, "height_px": 24, "zoom": 4.0}  # the eye window of the last rows
-SOCKETS = {"width_px": 128, "height_px": 48, "zoom": 4.0, "span": 2.67, "placement_sd": 0.1,
-           "socket_patch_px": 24}  # docs/results/people/sockets.toml's
+SOCKETS = dataclasses.asdict(  # the eye window of the last row, as that run keeps it
+    load_config(str(Path(__file__).parent / "sockets.toml")).world.eye_window)
 WIDE = str(Path(__file__).parents[1] / "generalise" / "wide.toml")
 CONFIGS = {  # name: (configuration, its eye window or None)
     "default world (generalise preset)": ("generalise", None),
