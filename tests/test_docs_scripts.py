@@ -228,13 +228,16 @@ def test_lookup_writes_a_row_per_kind_of_face(tmp_path):
 
 
 def test_eye_placement_writes_a_row_per_placement(tmp_path):
-    """people/eye_placement.py --quick: each placement error and BlazeFace's, for one model."""
+    """people/eye_placement.py --quick: each placement error, BlazeFace's and the follower's."""
     out = tmp_path / "eye_placement.md"
     _run("results/people/eye_placement.py", "--quick", "--out", out, "--models",
          tmp_path / "models", cwd=tmp_path)
     placed = [r.split("|")[3].strip() for r in _rows(out, "| ")[1:]]
     assert placed == [f"{sd:g} eye distances" for sd in (0, 0.01, 0.02, 0.03, 0.05, 0.08, 0.1)
-                      ] + ["BlazeFace's eye landmarks, 4x view"]
+                      ] + ["BlazeFace's eye landmarks, 4x view",
+                           "BlazeFace's eye landmarks, a second look at the face",
+                           "the gaze follower on the 4x view (face found and cut by BlazeFace "
+                           "too)"]
     assert (tmp_path / "models" / "placement_sd_0_quick.npz").exists()
 
 

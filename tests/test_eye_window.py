@@ -193,7 +193,7 @@ def test_models_that_read_the_face_window_only_refuse_an_eye_window(kind):
 
 
 def test_a_model_with_an_eye_window_is_saved_loaded_and_evaluated(tmp_path):
-    """Saved and loaded, the model keeps its eye window; evaluate reads it; follow refuses it."""
+    """Saved and loaded, the model keeps its eye window; evaluate reads it; follow checks frames."""
     model = train(RUN, "population")
     back = load_model(model.save(tmp_path / "m.npz"))
     assert back.robot.eye_size_px == (24, 8)
@@ -205,5 +205,9 @@ def test_a_model_with_an_eye_window_is_saved_loaded_and_evaluated(tmp_path):
     no_eyes = dataclasses.replace(ds, eyes=None)
     with pytest.raises(ConfigError, match="eye windows none"):
         evaluate(back, no_eyes, n_objects=3, n_trials=20)
-    with pytest.raises(ConfigError, match="eye window"):
-        GazeFollower(back)
+    follower = GazeFollower(back)
+    assert follower.frame_size_px == (1280, 960)
+    with pytest.raises(ArgumentError, match="expected RGB uint8 frames 1280 wide and 960 high"):
+        follower.look(np.zeros((240, 320, 3), np.uint8), ds.theta_face_rad[0])
+    with pytest.raises(ConfigError, match="expected face = 'blazeface'"):
+        GazeFollower(back, face="template")

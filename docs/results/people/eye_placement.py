@@ -13,8 +13,11 @@ finder errs); and that of ``docs/results/people/sockets.toml``, whose robot keep
 around the sockets it finds in a wider window (``socket_patch_px``), learned with the window
 misplaced by 0.1. Each frozen model's first command is then measured (its angle to the command
 that centres the target) on 32 unseen caregivers x 25 poses (world seed 6161 of the held-out
-stream, which nothing else uses), with the window placed with an error of each s.d., and
-around BlazeFace's two eye landmarks found in the whole view rendered 4 times finer. The
+stream, which nothing else uses), with the window placed with an error of each s.d.; around
+BlazeFace's two eye landmarks, found in the whole view rendered 4 times finer, then in a second
+look at the face (:func:`~jointattention.agent.eye_windows.eye_landmarks`); and as the gaze
+follower runs it on that view (:class:`~jointattention.GazeFollower`: BlazeFace also finds the
+face and cuts its window, in the view shrunk to the camera's size). The
 models are kept in ``runs/people/eye_placement/`` (a re-run measures them again). About
 35 minutes on 2 cores. ``--quick``: one tiny model, 4 poses (the tests' run; its numbers mean
 nothing).
@@ -28,10 +31,12 @@ from pathlib import Path
 
 import numpy as np
 
-from jointattention import load_model, train
+from jointattention import GazeFollower, load_model, train
 from jointattention._files import write_text
 from jointattention.agent.blazeface import BlazeFace
+from jointattention.agent.eye_windows import eye_landmarks
 from jointattention.config import load_config
+from jointattention.deploy.follower import EYE_MIN_SCORE
 from jointattention.experiment.probes import angle_deg
 from jointattention.world.recording import (
     HELD_OUT,
@@ -51,6 +56,11 @@ MODELS = {  # file stem: (its configuration, the placement s.d. it learns at)
 }
 TESTED_SD = (0.0, 0.01, 0.02, 0.03, 0.05, 0.08, 0.1)  # the placement errors measured at
 CONDITION = "population-n5"
+PLACES = {  # the robot's own placements, as the table names them
+    "whole view": "BlazeFace's eye landmarks, 4x view",
+    "second look": "BlazeFace's eye landmarks, a second look at the face",
+    "follower": "the gaze follower on the 4x view (face found and cut by BlazeFace too)",
+}
 
 
 def config_with(source: Path, sd: float, quick: bool):
@@ -82,9 +92,10 @@ def first_errors(model, world_config, n_caregivers: int, n_poses: int, zoom: int
     Each window is cut as ``world_config`` cuts it, then kept as its robot keeps it.
     """
     kept = world_config.eye_window
-    errors = {**{sd: [] for sd in TESTED_SD}, "blazeface": [], "landmarks": []}
+    errors = {**{sd: [] for sd in TESTED_SD}, "whole view": [], "second look": [],
+              "follower": [], "landmarks": []}
     place = np.random.default_rng(SEED)
-    net = BlazeFace(0.4)
+    net, follower = BlazeFace(EYE_MIN_SCORE), GazeFollower(model)
     with World(world_config, seed=SEED, stream=HELD_OUT) as world:
         kin = world.kinematics
         fine_size = (zoom * kin.width_px, zoom * kin.height_px)
@@ -101,15 +112,24 @@ def first_errors(model, world_config, n_caregivers: int, n_poses: int, zoom: int
                                                            place.normal(0.0, sd, 3)))
                 errors[sd].append(angle_deg(model.lm_command(np.r_[face, eyes.ravel()], theta),
                                             command))
-            found = net.detect(world.render_fovea(kin.centre_px, kin.width_px, fine_size))
+            fine = world.render_fovea(kin.centre_px, kin.width_px, fine_size)
+            found = net.detect(fine)
             if found:  # the eyes where BlazeFace puts them, back in camera pixels
                 marks = (found[0].landmarks_px[:2] - fine_centre) / zoom + kin.centre_px
-                apart = float(np.linalg.norm(marks[0] - marks[1]))
-                eyes = eye_window_kept(kept, eye_window_at(world, marks.mean(axis=0), apart))
+                errors["whole view"].append(angle_deg(model.lm_command(np.r_[face, eye_window_kept(
+                    kept, eye_window_at(world, marks.mean(axis=0), float(
+                        np.linalg.norm(marks[0] - marks[1])))).ravel()], theta), command))
+            close = eye_landmarks(net, fine)
+            if close is not None:
+                mid, apart = (close[0] - fine_centre) / zoom + kin.centre_px, close[1] / zoom
+                eyes = eye_window_kept(kept, eye_window_at(world, mid, apart))
                 errors["landmarks"].append(
-                    (np.linalg.norm(marks.mean(axis=0) - centre) / distance, apart / distance))
-                errors["blazeface"].append(angle_deg(
+                    (np.linalg.norm(mid - centre) / distance, apart / distance))
+                errors["second look"].append(angle_deg(
                     model.lm_command(np.r_[face, eyes.ravel()], theta), command))
+            look = follower.look(fine, theta)
+            if look is not None:
+                errors["follower"].append(angle_deg(look.command_rad, command))
     return {k: np.array(v, float).reshape(len(v), -1).squeeze(1) if k != "landmarks" else
             np.array(v, float).reshape(len(v), 2) for k, v in errors.items()}
 
@@ -138,8 +158,7 @@ def main() -> None:
                               int(config.world.eye_window.zoom))
         marks = errors.pop("landmarks")
         for placed, e in errors.items():
-            where = (f"{placed:g} eye distances" if placed != "blazeface" else
-                     "BlazeFace's eye landmarks, 4x view")
+            where = PLACES[placed] if isinstance(placed, str) else f"{placed:g} eye distances"
             cells = ("- | - | -" if not len(e) else f"{np.median(e):.1f}° | "
                      f"{np.percentile(e, 90):.1f}° | {np.mean(e > 10):.3f}")
             rows.append(f"| {kept} | {trained_sd:g} | {where} | {len(e)} | {cells} |")
@@ -150,7 +169,8 @@ def main() -> None:
              f"`{CONDITION}` of docs/results/people/eyes.toml and sockets.toml, seed index 0, "
              "frozen; its first "
              f"command on {n_caregivers} unseen caregivers x {n_poses} poses, world seed {SEED}. "
-             f"BlazeFace found the face in {len(marks)} of {n_caregivers * n_poses} views"
+             f"BlazeFace's second look found the face in {len(marks)} of "
+             f"{n_caregivers * n_poses} views"
              + ("." if not len(marks) else "; "
              "the midpoint of its eye landmarks lay a median "
              f"{np.median(marks[:, 0]):.3f} eye distances from the eyeballs' centres (90th "

@@ -1,6 +1,7 @@
 """The robot's parts: what the robot has and knows.
 
-Its detectors and face finders, visual attention (Eq. 1, 2), the internal evaluator's radius
+Its detectors and face finders, the eye windows it cuts from its frames and the socket patches
+it keeps of them, visual attention (Eq. 1, 2), the internal evaluator's radius
 (Eq. 3), the faces' running statistics (:mod:`.face_standardiser`), the gates, the head's moves,
 the agent protocol and the robot's options. The learners, each with its kernels, are folders
 of :mod:`jointattention.models` (``models/network/``, ``models/memory/``,

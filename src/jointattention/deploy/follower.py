@@ -13,22 +13,34 @@ detector; or template matching with the mean face the model learned from, or Ope
 cascade), its window is cut by
 :func:`~jointattention.agent.faces.window_of` (the function imported recordings are
 made with), and the learning module gives one step toward where the caregiver looks.
+
+A model that reads the eyes too (a world with ``[world.eye_window]``) takes frames from the
+finer sensor its eye window was seen through (``zoom`` times the camera's size, e.g. 1280 x 960
+for a 320 x 240 camera at 4): the face is found and its window cut in the frame shrunk to
+the camera's size, and the eye window is cut from the whole frame where BlazeFace, looking
+twice, puts the eyes (:mod:`~jointattention.agent.eye_windows`), then kept as the model's
+robot keeps it (its socket patches, :mod:`~jointattention.agent.eye_sockets`).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from .._arrays import angles
+from ..agent.blazeface import BlazeFace
+from ..agent.eye_sockets import eye_patches
+from ..agent.eye_windows import eye_landmarks, eye_window_of
 from ..agent.faces import Face, window_of
 from ..agent.finders import DEFAULT_FACE, FACE_METHODS, check_finder, finder_for
 from ..errors import ArgumentError, ConfigError
 from .saved import LearnedModel, Robot, load_model
 
-__all__ = ["FACE_METHODS", "GazeFollower", "Look"]
+__all__ = ["EYE_MIN_SCORE", "FACE_METHODS", "GazeFollower", "Look"]
+
+EYE_MIN_SCORE = 0.4  # BlazeFace's least face probability when it places the eyes
 
 
 @dataclass(frozen=True)
@@ -36,14 +48,17 @@ class Look:
     """What the follower made of one frame.
 
     Attributes:
-        face: the caregiver's face found in the frame.
+        face: the caregiver's face found in the frame, in its pixels.
         window: the face window cut around it, (H, W) uint8, as the model's inputs.
         command_rad: the learning module's (dpan, dtilt), one step long.
+        eyes: what the model read of the eyes (its eye window, or the socket patches kept
+            of it), (h, w) uint8; None for a model of the face window alone.
     """
 
     face: Face
     window: np.ndarray
     command_rad: np.ndarray
+    eyes: np.ndarray | None = None
 
 
 class GazeFollower:
@@ -64,11 +79,11 @@ class GazeFollower:
     def __init__(self, model: LearnedModel, face: str = DEFAULT_FACE,
                  min_score: float | None = None, *, refine: bool = True):
         check_finder(face, min_score)
-        if model.robot.eye_size_px is not None:
-            raise ConfigError("the model reads an eye window, which the follower cannot "
-                              "place in a camera image precisely enough yet (docs/results/people/"
-                              "eye_placement.md); expected a "
-                              "model of a world without [world.eye_window]")
+        self.eye_window = model.config.world.eye_window if model.robot.eye_size_px else None
+        if self.eye_window is not None and face != "blazeface":
+            raise ConfigError(f"face = {face!r}: the model reads the eyes, which only "
+                              "BlazeFace's landmarks place; expected face = 'blazeface'")
+        self.eye_net = BlazeFace(EYE_MIN_SCORE) if self.eye_window is not None else None
         self.model, self.face = model, face
         self.finder = finder_for(face, model.face_template() if face == "template" else None,
                                  min_score, refine=refine)
@@ -89,14 +104,50 @@ class GazeFollower:
         faces = self.finder.find(frame)
         return faces[0] if faces else None
 
+    @property
+    def frame_size_px(self) -> tuple[int, int] | None:
+        """The (width, height) of the frames an eye model takes: its fovea's; None: any size."""
+        if self.eye_window is None:
+            return None
+        width, height = self.model.robot.image_size_px
+        return (round(self.eye_window.zoom * width), round(self.eye_window.zoom * height))
+
     def look(self, frame_rgb: np.ndarray, theta_rad) -> Look | None:
         """The face, its window and the command for a frame seen at head angle ``theta_rad``."""
         theta = self.check_angle(theta_rad)
-        face = self.find(frame_rgb)
-        if face is None:
+        if self.eye_window is None:
+            face = self.find(frame_rgb)
+            if face is None:
+                return None
+            window = window_of(frame_rgb, face, self.model.robot.face_size_px)
+            return Look(face, window, self.model.lm_command(window, theta))
+        return self._look_with_eyes(frame_rgb, theta)
+
+    def _look_with_eyes(self, frame_rgb: np.ndarray, theta: np.ndarray) -> Look | None:
+        """:meth:`look` for a model that reads the eyes: the frame is its fovea's."""
+        import cv2
+
+        frame = np.asarray(frame_rgb)
+        expected = self.frame_size_px
+        if (frame.dtype != np.uint8 or frame.ndim != 3 or frame.shape[2] != 3
+                or (frame.shape[1], frame.shape[0]) != expected):
+            raise ArgumentError(
+                f"frame of {frame.dtype} and shape {frame.shape}: the model reads the eyes "
+                f"through a fovea {self.eye_window.zoom:g} times its camera's size; expected "
+                f"RGB uint8 frames {expected[0]} wide and {expected[1]} high")
+        camera = cv2.resize(frame, self.model.robot.image_size_px, interpolation=cv2.INTER_AREA)
+        face = self.find(camera)
+        marks = eye_landmarks(self.eye_net, frame) if face is not None else None
+        if marks is None:
             return None
-        window = window_of(frame_rgb, face, self.model.robot.face_size_px)
-        return Look(face, window, self.model.lm_command(window, theta))
+        window = window_of(camera, face, self.model.robot.face_size_px)
+        ew = self.eye_window
+        eyes = eye_window_of(cv2.cvtColor(frame, cv2.COLOR_RGB2GRAY), *marks,
+                             (ew.width_px, ew.height_px), ew.span)
+        if ew.socket_patch_px:
+            eyes = eye_patches(eyes, ew.span, ew.socket_patch_px)
+        command = self.model.lm_command(np.r_[window.ravel(), eyes.ravel()], theta)
+        return Look(_in_frame(face, frame.shape[1] / camera.shape[1]), window, command, eyes)
 
     def command(self, frame_rgb: np.ndarray, theta_rad) -> np.ndarray | None:
         """(dpan, dtilt) in radians, one step toward where the caregiver looks; None: no face."""
@@ -113,3 +164,10 @@ class GazeFollower:
                 raise ArgumentError(f"theta_rad: {name} {np.rad2deg(value):.1f} deg is outside "
                                     f"the model's robot's joint range [{lo}, {hi}] deg")
         return theta
+
+
+def _in_frame(face: Face, zoom: float) -> Face:
+    """``face``, found in the frame shrunk ``zoom`` times, in the frame's own pixels."""
+    marks = None if face.landmarks_px is None else (face.landmarks_px + 0.5) * zoom - 0.5
+    return replace(face, centre_px=(np.asarray(face.centre_px) + 0.5) * zoom - 0.5,
+                   height_px=face.height_px * zoom, landmarks_px=marks)

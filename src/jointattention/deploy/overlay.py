@@ -2,7 +2,8 @@
 
 The face window's box (green), the face finder's landmarks where it gives them (yellow:
 BlazeFace's eyes, nose, mouth and ears), the window itself magnified in the corner with the
-module's direction drawn from its centre (red, as in the paper's Fig. 6), and from the image
+module's direction drawn from its centre (red, as in the paper's Fig. 6), below it what a model
+that reads the eyes read of them (its eye window or socket patches), and from the image
 centre the line along which the head will turn (red arrow; pan right is image right, tilt up
 is image up).
 """
@@ -57,6 +58,14 @@ def draw_look(frame_rgb: np.ndarray, look: Look | None) -> np.ndarray:
              tuple(int(v) for v in ic + direction * 0.45 * wh * zoom), RED, max(1, zoom // 3))
     iy = min(h - inset.shape[0], int(30 * scale * 1.6))
     out[iy:iy + inset.shape[0], :inset.shape[1]] = inset[:, :w]
+    if look.eyes is not None:  # what the model read of the eyes, as wide, below the window
+        eh, ew = look.eyes.shape
+        size = (inset.shape[1], max(1, round(eh * inset.shape[1] / ew)))
+        eyes = cv2.cvtColor(cv2.resize(look.eyes, size, interpolation=cv2.INTER_NEAREST),
+                            cv2.COLOR_GRAY2RGB)
+        ey = iy + inset.shape[0]
+        rows = min(eyes.shape[0], h - ey)
+        out[ey:ey + rows, :eyes.shape[1]] = eyes[:rows, :w]
     dpan, dtilt = np.rad2deg(look.command_rad)
     _text(out, f"command: pan {dpan:+.1f} deg, tilt {dtilt:+.1f} deg",
           (8, int(20 * scale * 1.6)), scale, thick)
