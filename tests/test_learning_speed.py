@@ -29,9 +29,30 @@ def test_each_seed_gets_its_own_steps_to_90pct_and_final():
     rows = {(r[0], r[2]): r for r in table.rows}
     assert rows[("fast", 0)][5] == 20_000 and rows[("fast", 1)][5] == 60_000
     assert rows[("fast", 0)][4] == 1.0 and rows[("flat", 0)][4] == 0.0
-    assert rows[("fast", 0)][7] is True  # 2x10^4 steps and the whole ceiling
-    assert rows[("fast", 1)][7] is False  # 6x10^4 steps: too slow
-    assert rows[("flat", 0)][7] is False  # fast to nothing: below 0.95 of the ceiling
+    assert math.isnan(rows[("fast", 0)][7])  # no held-out measure
+    assert rows[("fast", 0)][8] is True  # 2x10^4 steps and the whole ceiling
+    assert rows[("fast", 1)][8] is False  # 6x10^4 steps: too slow
+    assert rows[("flat", 0)][8] is False  # fast to nothing: below 0.95 of the ceiling
+
+
+def _held(unseen_success: list[float]) -> dict:
+    """Held-out curves of the fast condition: 2 seeds x 3 kinds x 1 checkpoint."""
+    success = np.full((2, 3, 1), 0.5)
+    success[:, 2, 0] = unseen_success
+    return {"fast": (np.array([100_000]), {"success": success})}
+
+
+def test_the_target_judges_the_frozen_model_on_unseen_caregivers():
+    """Where measured, the unseen caregivers' fraction is shown and judged at 0.9, not the final."""
+    ceilings = {"unseen caregivers": {"5": 0.8}}
+    table = learning_speed_table(CONFIG, _curves(), {"5": 0.9}, _held([0.6, 0.76]), ceilings)
+    rows = {(r[0], r[2]): r for r in table.rows}
+    assert rows[("fast", 0)][7] == 0.75 and rows[("fast", 1)][7] == 0.95
+    assert rows[("fast", 0)][8] is False  # fast, the whole ceiling in training, 0.75 on strangers
+    table = learning_speed_table(CONFIG, _curves(), {"5": 0.9}, _held([0.74, 0.76]), ceilings)
+    assert table.rows[0][7] == 0.925 and table.rows[0][8] is True  # 0.925: above 0.9
+    assert math.isnan(rows[("flat", 0)][7])  # not measured: its final stands in
+    assert np.array_equal(speed_points(table)["fast"], [[20_000, 0.925], [60_000, 0.95]])
 
 
 def test_steps_are_also_given_in_minutes_of_a_real_head():

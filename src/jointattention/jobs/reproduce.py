@@ -256,7 +256,7 @@ def reproduce(config: Config, out: str | Path, *, workers: int = 1, backend: str
         claims += held_out_claims(config, held, held_ceilings)
         seeds = seed_diagnostics(out, config, curves, cells)
         diagnostics = condition_diagnostics(out, config, seeds)
-        speed = learning_speed_table(config, curves, ceilings)
+        speed = learning_speed_table(config, curves, ceilings, held, held_ceilings)
         if progress is not None:
             progress("tables")
         files = [*([write_trials_csv(out, cells)] if trials_csv else []),
