@@ -43,3 +43,26 @@ def needs_gl(gl_available: bool) -> None:
     """Skip the test where no world can render."""
     if not gl_available:
         pytest.skip("no off-screen OpenGL (EGL or OSMesa) on this machine")
+
+
+@pytest.fixture(scope="session")
+def socket_run():
+    """A tiny people-world run that keeps socket patches, and its model (2,000 steps)."""
+    import dataclasses
+
+    from jointattention import train
+    from jointattention.agent.gates import SigmoidGate
+    from jointattention.config import Config, ExperimentConfig, load_config
+    from jointattention.config.run import RecordingConfig
+    from jointattention.models.bootstrap import BootstrapOptions
+    from jointattention.world.options import EyeWindowConfig
+
+    eyes = EyeWindowConfig(width_px=64, height_px=24, span=2.67, placement_sd=0.1,
+                           socket_patch_px=12)
+    run = Config(
+        model=BootstrapOptions(learner="population",
+                               gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),
+        world=dataclasses.replace(load_config("people").world, eye_window=eyes),
+        recording=RecordingConfig(caregivers=3, poses_per_caregiver=4, seed=7),
+        experiment=ExperimentConfig(n_steps=2000, n_seeds=1))
+    return run, train(run, run.experiment.conditions[0].name)

@@ -9,13 +9,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jointattention import evaluate, load_model, train
+from jointattention import evaluate, load_model
 from jointattention.agent.eye_sockets import _drawn_eye, eye_patches, socket_bank
-from jointattention.agent.gates import SigmoidGate
-from jointattention.config import Config, ExperimentConfig, load_config
-from jointattention.config.run import RecordingConfig
+from jointattention.config import load_config
 from jointattention.experiment.cells import datasets_of
-from jointattention.models.bootstrap import BootstrapOptions
 from jointattention.world.options import EyeWindowConfig
 from jointattention.world.recording import make_datasets
 
@@ -122,17 +119,9 @@ def test_a_finders_error_moves_the_iris_far_less_in_the_patch(people_windows):
     assert in_window > 2 and in_patch < in_window / 3  # measured: 0.8 px against 4.4 px
 
 
-def test_a_model_of_socket_patches_is_saved_loaded_and_evaluated(tmp_path):
+def test_a_model_of_socket_patches_is_saved_loaded_and_evaluated(tmp_path, socket_run):
     """A model learned from socket patches keeps their size, and evaluate reads them."""
-    eyes = EyeWindowConfig(width_px=64, height_px=24, span=2.67, placement_sd=0.1,
-                           socket_patch_px=12)
-    run = Config(
-        model=BootstrapOptions(learner="population",
-                               gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),
-        world=dataclasses.replace(load_config("people").world, eye_window=eyes),
-        recording=RecordingConfig(caregivers=3, poses_per_caregiver=4, seed=7),
-        experiment=ExperimentConfig(n_steps=2000, n_seeds=1))
-    model = train(run, run.experiment.conditions[0].name)
+    run, model = socket_run
     back = load_model(model.save(tmp_path / "m.npz"))
     assert back.robot.eye_size_px == (24, 12)
     ds = datasets_of(run)

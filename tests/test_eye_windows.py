@@ -9,14 +9,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jointattention import GazeFollower, train
+from jointattention import GazeFollower
 from jointattention.agent.blazeface import BlazeFace
 from jointattention.agent.eye_windows import eye_landmarks, eye_window_of
-from jointattention.agent.gates import SigmoidGate
-from jointattention.config import Config, ExperimentConfig, load_config
-from jointattention.config.run import RecordingConfig
+from jointattention.config import load_config
 from jointattention.deploy.overlay import draw_look
-from jointattention.models.bootstrap import BootstrapOptions
 from jointattention.world.options import EyeWindowConfig
 from jointattention.world.recording import HELD_OUT, eye_box, eye_window_at
 from jointattention.world.simulator import World
@@ -92,17 +89,10 @@ def test_the_window_it_cuts_is_the_simulators_window(people_views):
     assert np.median(placed) > 0.45 and np.median(placed) > np.median(below) + 0.2  # 0.59, 0.26
 
 
-def test_the_follower_reads_a_socket_model_from_a_fovea_frame(people_views):
+def test_the_follower_reads_a_socket_model_from_a_fovea_frame(people_views, socket_run):
     """A socket-patch model follows on frames of its fovea: a step, the face in frame pixels."""
-    eyes = EyeWindowConfig(width_px=64, height_px=24, span=2.67, placement_sd=0.1,
-                           socket_patch_px=12)
-    run = Config(
-        model=BootstrapOptions(learner="population",
-                               gate=SigmoidGate(midpoint_steps=1500.0, width_steps=500.0)),
-        world=dataclasses.replace(load_config("people").world, eye_window=eyes),
-        recording=RecordingConfig(caregivers=3, poses_per_caregiver=4, seed=7),
-        experiment=ExperimentConfig(n_steps=2000, n_seeds=1))
-    follower = GazeFollower(train(run, run.experiment.conditions[0].name))
+    run, model = socket_run
+    follower = GazeFollower(model)
     frame, look = next((f, x) for f, *_ in people_views[:4]
                        if (x := follower.look(f, np.zeros(2))) is not None)
     assert look.eyes.shape == (12, 24)
