@@ -5,10 +5,11 @@ A model that reads the caregiver's eyes learned from eye windows that the simula
 the window itself: BlazeFace's two eye landmarks give the eyes' midpoint and their distance,
 and a field ``span`` eye distances wide around the midpoint is cut and resampled to the window.
 
-BlazeFace sees a whole frame shrunk to 128 pixels, where the eyes are a few pixels apart: on the
-people world's views its eye midpoint lies a median 0.18 eye distances from the eyeballs'
-centres. A second look, at a square :data:`SECOND_LOOK_FACES` face boxes wide around the face it
-found, halves that to 0.08 (both: ``docs/results/people/eye_placement.md``).
+BlazeFace sees a whole frame shrunk to 128 pixels, where the eyes are a few pixels apart. A
+second look, at a square :data:`SECOND_LOOK_FACES` face boxes wide around the face it found,
+places them about twice as close to the eyeballs' centres on the people world's views
+(``tests/test_eye_windows.py`` holds it closer; ``docs/results/people/eye_placement.md``
+gives its error and what each placement costs an eye model).
 
 Layer 2 (the robot's parts): imports only the plumbing and its sibling modules.
 """
