@@ -51,9 +51,24 @@ def test_spec_makes_the_grid_product(tmp_path):
     assert cfg.experiment.n_seeds == 2 and [c.name for c in cfg.experiment.conditions] == ["n3"]
 
 
+def test_grid_values_given_by_name_name_their_points(tmp_path):
+    """A table of values by name sets each value (a whole section too) and names the point."""
+    sweep = load_sweep(_spec(tmp_path, SPEC.replace(
+        '"model.n_hidden" = [3]',
+        '"world.eye_window" = { face = { width_px = 0, height_px = 0 }, '
+        'eyes = { width_px = 24, height_px = 8 } }')))
+    assert list(sweep.points) == [f"learning_rate={r},eye_window={w}"
+                                  for r in ("0.0003", "0.003") for w in ("face", "eyes")]
+    cfg = sweep.points["learning_rate=0.003,eye_window=eyes"]
+    assert cfg.world.eye_window.width_px == 24 and cfg.world.eye_window.height_px == 8
+    assert not sweep.points["learning_rate=0.003,eye_window=face"].world.eye_window.enabled
+    assert sweep.values["learning_rate=0.003,eye_window=eyes"] == (0.003, "eyes")
+
+
 @pytest.mark.parametrize(("text", "match"), [
     ('base = "quick"\nseeds = 3\n', "seeds: unknown key"),
     ('[grid]\n"model.learning_rate" = 0.1\n', "expected a non-empty list"),
+    ('[grid]\n"model.learning_rate" = {}\n', "or a table of values by name"),
     ('[grid]\n"model.learning_rat" = [0.1]\n', "learning_rat: unknown setting"),
     ('[grid]\n"agnt.learning_rate" = [0.1]\n', "no section 'agnt'"),
     ('[set]\n"model.n_hidden" = "many"\n', "expected int"),

@@ -8,11 +8,14 @@ A spec::
     [grid]                            # dotted settings -> values; the sweep is their product
     "model.learning_rate" = [0.0003, 0.001]
     "model.n_hidden" = [7, 14]
+    "world.eye_window" = { none = { width_px = 0, height_px = 0 }, eyes = { width_px = 96,
+                           height_px = 24 } }  # values by name: each point is named by it
     [[conditions]]                    # optional: replaces the base's conditions
     name = "n5-sigmoid"
     n_objects = 5
 
-Each grid point is a run folder ``OUT/<point>/`` (as ``reproduce`` writes), so finished cells
+Each grid point is a run folder ``OUT/<point>/`` (``key=value,...``; a value given by name, as
+a whole section may be, goes by its name), as ``reproduce`` writes it, so finished cells
 are kept and a re-run does only the missing ones. ``OUT/summary.csv`` and ``summary.md`` give
 the final success per point and condition.
 """
@@ -48,7 +51,10 @@ _SPEC_KEYS = ("base", "set", "grid", "conditions")
 
 @dataclass(frozen=True)
 class Sweep:
-    """A parsed spec: the grid's keys, and one configuration per point, by point name."""
+    """A parsed spec: the grid's keys, and one configuration per point, by point name.
+
+    ``values``: each point's values, as named (a value given by name goes by its name).
+    """
 
     keys: tuple[str, ...]
     points: dict[str, Config]
@@ -77,14 +83,24 @@ def _point_name(keys, values) -> str:
     return UNSAFE.sub("_", ",".join(parts))[:200] or "base"
 
 
-def _read_grid(grid: object, where: str, max_cells: int) -> dict[str, list]:
-    """The grid table, checked: non-empty lists of distinct values, at most ``max_cells`` points."""
+def _read_grid(grid: object, where: str, max_cells: int) -> dict[str, list[tuple]]:
+    """The grid table, checked: each setting's (name, value) pairs, at most ``max_cells`` points.
+
+    A setting takes a non-empty list of distinct values (each named by its text) or a table
+    of values by name.
+    """
     if not isinstance(grid, dict):
         raise ConfigError(f"{where}: grid = {grid!r}: expected a table of settings -> lists")
-    n_points = 1
+    n_points, named = 1, {}
     for key, values in grid.items():
-        if not isinstance(values, list) or not values:
-            raise ConfigError(f"{where} [grid]: {key} = {values!r}: expected a non-empty list")
+        if isinstance(values, dict) and values:
+            named[key] = list(values.items())
+            values = list(values.values())
+        elif not isinstance(values, list) or not values:
+            raise ConfigError(f"{where} [grid]: {key} = {values!r}: expected a non-empty list, "
+                              "or a table of values by name")
+        else:
+            named[key] = [(v, v) for v in values]
         seen = []  # 1e-3 and 0.001 are one value; true and 1 are two
         for v in values:
             same = repr(v) if isinstance(v, (dict, list)) else (type(v) is bool, v)
@@ -96,7 +112,7 @@ def _read_grid(grid: object, where: str, max_cells: int) -> dict[str, list]:
         if n_points > max_cells:
             raise ConfigError(f"{where} [grid]: more than {max_cells:,} points; expected at "
                               "most that many (--max-cells raises the bound)")
-    return grid
+    return named
 
 
 def load_sweep(path: str | Path, *, max_cells: int = MAX_CELLS) -> Sweep:
@@ -130,13 +146,15 @@ def load_sweep(path: str | Path, *, max_cells: int = MAX_CELLS) -> Sweep:
     grid = _read_grid(spec.get("grid", {}), str(path), max_cells)
     keys = tuple(grid)
     points, values = {}, {}
-    for combo in itertools.product(*grid.values()):
-        name = _point_name(keys, combo)
+    for pairs in itertools.product(*grid.values()):
+        labels = tuple(label for label, _ in pairs)
+        name = _point_name(keys, labels)
         if name in points:
-            raise ConfigError(f"{path} [grid]: points {values[name]!r} and {combo!r} share the "
+            raise ConfigError(f"{path} [grid]: points {values[name]!r} and {labels!r} share the "
                               f"folder name {name!r}; expected values that differ as text")
-        points[name] = _apply(config, dict(zip(keys, combo, strict=True)), f"{path} [grid]")
-        values[name] = combo
+        points[name] = _apply(config, {k: v for k, (_, v) in zip(keys, pairs, strict=True)},
+                              f"{path} [grid]")
+        values[name] = labels
     return Sweep(keys, points, values)
 
 
