@@ -207,6 +207,7 @@ def test_a_model_with_an_eye_window_is_saved_loaded_and_evaluated(tmp_path):
         evaluate(back, no_eyes, n_objects=3, n_trials=20)
     follower = GazeFollower(back)
     assert follower.frame_size_px == (1280, 960)
+    assert GazeFollower(back, min_score=0.9).eye_net.min_score == 0.9  # both looks
     with pytest.raises(ArgumentError, match="expected RGB uint8 frames 1280 wide and 960 high"):
         follower.look(np.zeros((240, 320, 3), np.uint8), ds.theta_face_rad[0])
     with pytest.raises(ConfigError, match="expected face = 'blazeface'"):

@@ -40,7 +40,7 @@ from .saved import LearnedModel, Robot, load_model
 
 __all__ = ["EYE_MIN_SCORE", "FACE_METHODS", "GazeFollower", "Look"]
 
-EYE_MIN_SCORE = 0.4  # BlazeFace's least face probability when it places the eyes
+EYE_MIN_SCORE = 0.4  # BlazeFace's least face probability when it places the eyes, by default
 
 
 @dataclass(frozen=True)
@@ -71,7 +71,8 @@ class GazeFollower:
             mean face window the model learned from) or ``"haar"`` (OpenCV's frontal-face cascade).
         min_score: least score of a face (None: the finder's own; BlazeFace's probability
             from 0 to 1, the template's normalised correlation from -1 to 1); a run-time
-            choice, not part of what was learned.
+            choice, not part of what was learned. For a model that reads the eyes it also
+            holds for BlazeFace's looks that place them (None: :data:`EYE_MIN_SCORE`).
         refine: BlazeFace's pixel refinements of where the window is cut, learned on the
             simulated heads; False for photographs of people (the landmarks alone).
     """
@@ -83,7 +84,8 @@ class GazeFollower:
         if self.eye_window is not None and face != "blazeface":
             raise ConfigError(f"face = {face!r}: the model reads the eyes, which only "
                               "BlazeFace's landmarks place; expected face = 'blazeface'")
-        self.eye_net = BlazeFace(EYE_MIN_SCORE) if self.eye_window is not None else None
+        self.eye_net = (BlazeFace(EYE_MIN_SCORE if min_score is None else min_score)
+                        if self.eye_window is not None else None)
         self.model, self.face = model, face
         self.finder = finder_for(face, model.face_template() if face == "template" else None,
                                  min_score, refine=refine)
