@@ -106,27 +106,27 @@ def first_errors(model, world_config, n_caregivers: int, n_poses: int, zoom: int
             world.set_head_angle(theta)
             face = capture_face_window(world).ravel()
             command = kin.centring_angles(state.target_pos_m) - theta
+
+            def placed_at(mid, apart, error=None, face=face, theta=theta, command=command):
+                """The first command's error with the eye window placed at ``mid``."""
+                eyes = eye_window_kept(kept, eye_window_at(world, mid, apart, error))
+                return angle_deg(model.lm_command(np.r_[face, eyes.ravel()], theta), command)
+
             centre, distance = eye_box(world)
             for sd in TESTED_SD:
-                eyes = eye_window_kept(kept, eye_window_at(world, centre, distance,
-                                                           place.normal(0.0, sd, 3)))
-                errors[sd].append(angle_deg(model.lm_command(np.r_[face, eyes.ravel()], theta),
-                                            command))
+                errors[sd].append(placed_at(centre, distance, place.normal(0.0, sd, 3)))
             fine = world.render_fovea(kin.centre_px, kin.width_px, fine_size)
             found = net.detect(fine)
             if found:  # the eyes where BlazeFace puts them, back in camera pixels
                 marks = (found[0].landmarks_px[:2] - fine_centre) / zoom + kin.centre_px
-                errors["whole view"].append(angle_deg(model.lm_command(np.r_[face, eye_window_kept(
-                    kept, eye_window_at(world, marks.mean(axis=0), float(
-                        np.linalg.norm(marks[0] - marks[1])))).ravel()], theta), command))
+                errors["whole view"].append(placed_at(marks.mean(axis=0), float(
+                    np.linalg.norm(marks[0] - marks[1]))))
             close = eye_landmarks(net, fine)
             if close is not None:
                 mid, apart = (close[0] - fine_centre) / zoom + kin.centre_px, close[1] / zoom
-                eyes = eye_window_kept(kept, eye_window_at(world, mid, apart))
                 errors["landmarks"].append(
                     (np.linalg.norm(mid - centre) / distance, apart / distance))
-                errors["second look"].append(angle_deg(
-                    model.lm_command(np.r_[face, eyes.ravel()], theta), command))
+                errors["second look"].append(placed_at(mid, apart))
             look = follower.look(fine, theta)
             if look is not None:
                 errors["follower"].append(angle_deg(look.command_rad, command))
