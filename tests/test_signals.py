@@ -110,6 +110,30 @@ def test_a_signal_leaves_no_worker_and_a_rerun_is_identical(reference, signum, s
         assert (tmp / out / name).read_bytes() == (tmp / "whole" / name).read_bytes(), name
 
 
+def _sleep(seconds: float) -> float:
+    time.sleep(seconds)
+    return seconds
+
+
+def test_stopped_workers_leave_no_pipe_for_the_exit_hook_to_race():
+    """After the workers are stopped, the pool's manager thread has ended and closed its pipe.
+
+    Were it still closing the pipe, the interpreter's exit hook could write to it as it closed
+    ("OSError: Bad file descriptor" after Ctrl-C, Python 3.11).
+    """
+    from concurrent.futures import ProcessPoolExecutor
+
+    from jointattention.experiment.backends import _stop_workers
+
+    pool = ProcessPoolExecutor(max_workers=2)
+    futures = [pool.submit(_sleep, 30.0) for _ in range(4)]
+    while not any(f.running() for f in futures):
+        time.sleep(0.01)
+    manager = pool._executor_manager_thread
+    _stop_workers(pool)
+    assert not manager.is_alive()
+
+
 def test_the_fast_world_imports_nothing_of_opengl(tmp_path):
     """A fast-mode run with an OpenGL backend that cannot start imports neither MuJoCo nor GL."""
     (tmp_path / "c.toml").write_text(CONFIG.replace("200000", "2000").replace("n_seeds = 3",

@@ -77,16 +77,21 @@ def _end_with_parent(parent_pid: int) -> None:
 
 def _stop_workers(pool: ProcessPoolExecutor) -> None:
     """End ``pool``'s workers now: their cells in progress are lost, finished ones are saved."""
+    # Read these first: shutdown() sets them to None (Python 3.11-3.13).
+    manager = getattr(pool, "_executor_manager_thread", None)
+    processes = dict(getattr(pool, "_processes", None) or {})
     if hasattr(pool, "terminate_workers"):  # Python 3.14+
         pool.terminate_workers()
-        return
-    # Read the workers first: shutdown() sets pool._processes to None (Python 3.11-3.13).
-    processes = dict(getattr(pool, "_processes", None) or {})
-    pool.shutdown(wait=False, cancel_futures=True)
-    for p in list(processes.values()):
-        p.terminate()
-    for p in list(processes.values()):
-        p.join(5)
+    else:
+        pool.shutdown(wait=False, cancel_futures=True)
+        for p in list(processes.values()):
+            p.terminate()
+        for p in list(processes.values()):
+            p.join(5)
+    # Until its manager thread has closed the pool's wake-up pipe, the interpreter's exit hook
+    # can write to the pipe as it closes: "OSError: Bad file descriptor" on Ctrl-C (3.11).
+    if manager is not None:
+        manager.join(5)
 
 
 @contextmanager
