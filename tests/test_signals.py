@@ -121,11 +121,9 @@ def test_stopped_workers_leave_no_pipe_for_the_exit_hook_to_race():
     Were it still closing the pipe, the interpreter's exit hook could write to it as it closed
     ("OSError: Bad file descriptor" after Ctrl-C, Python 3.11).
     """
-    from concurrent.futures import ProcessPoolExecutor
+    from jointattention.experiment.backends import _pool, _stop_workers
 
-    from jointattention.experiment.backends import _stop_workers
-
-    pool = ProcessPoolExecutor(max_workers=2)
+    pool = _pool(2)
     futures = [pool.submit(_sleep, 30.0) for _ in range(4)]
     while not any(f.running() for f in futures):
         time.sleep(0.01)

@@ -75,6 +75,12 @@ def _end_with_parent(parent_pid: int) -> None:
             os._exit(1)
 
 
+def _pool(workers: int) -> ProcessPoolExecutor:
+    """A pool of ``workers`` processes that end with this one and leave signals to it."""
+    return ProcessPoolExecutor(max_workers=workers, initializer=_end_with_parent,
+                               initargs=(os.getpid(),))
+
+
 def _stop_workers(pool: ProcessPoolExecutor) -> None:
     """End ``pool``'s workers now: their cells in progress are lost, finished ones are saved."""
     # Read these first: shutdown() sets them to None (Python 3.11-3.13).
@@ -120,8 +126,7 @@ def _local(run: CellFunction, jobs: Sequence[CellJob], workers: int) -> Iterator
     if workers <= 1:
         yield from (_run_saved(run, j) for j in jobs)
         return
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_end_with_parent,
-                               initargs=(os.getpid(),))
+    pool = _pool(workers)
     try:
         with _signals_noted() as noted:
             pending = {pool.submit(_run_saved, run, j) for j in jobs}
