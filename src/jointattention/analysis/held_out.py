@@ -17,7 +17,8 @@ from ..experiment.results import Cells, cell_records
 from .claim_record import Claim, reading_of
 from .tables import Table
 
-__all__ = ["AIM", "KINDS", "held_out_claims", "held_out_curves", "held_out_table"]
+__all__ = ["AIM", "KINDS", "frozen_fractions", "held_out_claims", "held_out_curves",
+           "held_out_table"]
 
 KINDS = ("training", "new poses", "unseen caregivers")
 # the aim for a model that follows people it never saw (docs/generalisation.md)
@@ -48,6 +49,17 @@ def _fraction(success: np.ndarray, ceiling: float) -> np.ndarray:
     return success / ceiling if ceiling > 0 else np.full_like(success, np.nan)
 
 
+def frozen_fractions(measured: dict, ceilings: dict, n_objects: int) -> list[np.ndarray]:
+    """Per kind (:data:`KINDS`), each seed's last frozen success over that set's ceiling.
+
+    ``measured``: one condition's measures, as in :func:`held_out_curves`; ``ceilings``:
+    {kind: {str(n_objects): ceiling}}. NaN where the ceiling is not known.
+    """
+    return [_fraction(measured["success"][:, j, -1],
+                      ceilings.get(kind, {}).get(str(n_objects), np.nan))
+            for j, kind in enumerate(KINDS)]
+
+
 def held_out_table(config: Config, curves: HeldOut, ceilings: dict,
                    novelty: dict | None = None) -> Table:
     """One row per measured condition: the three kinds side by side, at the end of learning.
@@ -75,8 +87,7 @@ def held_out_table(config: Config, curves: HeldOut, ceilings: dict,
         if c.name not in curves:
             continue
         m = curves[c.name][1]
-        fractions = [_fraction(m["success"][:, j, -1], ceilings.get(kind, {}).get(
-            str(c.n_objects), np.nan)) for j, kind in enumerate(KINDS)]
+        fractions = frozen_fractions(m, ceilings, c.n_objects)
         median = np.nanmean(m["median_error_deg"][:, :, -1], axis=0) if np.isfinite(
             m["median_error_deg"][:, :, -1]).any() else np.full(3, np.nan)
         rows.append((c.name, c.n_objects, *(round(float(f.mean()), 3) for f in fractions),

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..config import Config
-from .held_out import AIM, KINDS, HeldOut
+from .held_out import AIM, KINDS, HeldOut, frozen_fractions
 from .metrics import final_success, time_to_fraction
 from .tables import Table
 
@@ -54,15 +54,14 @@ def learning_speed_table(config: Config, curves: dict, ceilings: dict[str, float
     for c in config.experiment.conditions:
         ends, per_seed = curves[c.name]
         ceiling = ceilings.get(str(c.n_objects), float("nan"))
-        held_ceiling = (held_ceilings or {}).get(KINDS[unseen], {}).get(str(c.n_objects),
-                                                                        float("nan"))
         measured = (held or {}).get(c.name)
+        strangers = (frozen_fractions(measured[1], held_ceilings or {}, c.n_objects)[unseen]
+                     if measured is not None else np.full(len(per_seed), np.nan))
         for seed, curve in enumerate(per_seed):
             final = final_success(curve)
             steps = time_to_fraction(curve, ends)
             fraction = final / ceiling
-            stranger = (float(measured[1]["success"][seed, unseen, -1]) / held_ceiling
-                        if measured is not None and held_ceiling > 0 else float("nan"))
+            stranger = float(strangers[seed])
             well = (stranger >= UNSEEN_TARGET_FRACTION if np.isfinite(stranger)
                     else fraction >= TARGET_FRACTION)
             rows.append((c.name, c.n_objects, seed, round(final, 3), round(fraction, 3), steps,
