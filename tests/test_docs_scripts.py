@@ -28,6 +28,7 @@ RUN_ELSEWHERE = {
     "results/people/record.py": "test_people_docs.py",
     "results/people/robustness.py": "test_people_docs.py",
     "results/people/taught_bound.py": "test_people_docs.py",
+    "results/people/taught_closed_loop.py": "test_people_docs.py",
     "results/robot/camera_view.py": "test_saved_models.py",
 }
 # Scripts under docs/ that no test runs, and why.

@@ -65,6 +65,21 @@ def test_the_taught_bound_is_written_for_each_world(tmp_path, needs_gl, monkeypa
     assert "socket patches" in rows[-1]
 
 
+def test_the_closed_loop_taught_bound_stands_beside_each_run(tmp_path, needs_gl, monkeypatch):
+    """taught_closed_loop.py measures each eye run's learner taught the truth, beside the run."""
+    monkeypatch.setenv("JOINTATTENTION_CACHE", str(tmp_path / "cache"))
+    out = tmp_path / "taught.md"
+    _run("taught_closed_loop.py", "--passes", "1", "--train-caregivers", "3", "--out",
+         str(out))
+    rows = [r.split("|")[1:-1] for r in out.read_text().splitlines() if "°" in r]
+    assert [(r[0].strip(), r[1].strip()) for r in rows] == [
+        ("placed exactly", "5"), ("placed exactly", "10"),
+        ("socket patches the robot finds", "5"), ("socket patches the robot finds", "10")]
+    assert all(0 <= float(c) <= 2 for r in rows for c in r[2:5])  # fractions of a ceiling
+    shipped = (DOCS / "belief" / "held_out.md").read_text()  # the run's own column, read
+    assert all(f"| {r[6].strip()} |" in shipped for r in rows[:2])
+
+
 def test_the_novelty_of_a_preset_s_held_out_sets_is_written(tmp_path):
     """novelty.py writes a row per held-out kind of each preset named."""
     out = tmp_path / "novelty.md"
