@@ -76,6 +76,9 @@ READINGS = [  # each reading and gate of the bootstrap model, early enough to be
             "replay_capacity": 30, "readout": "ratio", "features": "hog"}}),
     ConditionConfig(name="population-belief", n_objects=10, model={
         "learner": "population", "population": {"n_hidden": 16, "belief": 1.0}}),
+    ConditionConfig(name="population-unfound", n_objects=10, model={
+        "learner": "population", "population": {"n_hidden": 16, "belief": 1.0,
+                                                 "unfound": True}}),
     ConditionConfig(name="population-performance", n_objects=3, shuffle_faces=True, model={
         "learner": "population", "gate_per": "trial", "learning_target": "final_direction",
         "population": {"n_hidden": 8, "average_rate": 0.0, "readout": "mode",

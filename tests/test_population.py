@@ -10,7 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jointattention.agent.protocol import Body
+from jointattention.agent.detections import Detections
+from jointattention.agent.protocol import LM, VF, Body, Outcome
 from jointattention.config import AgentConfig, ConditionConfig, load_config
 from jointattention.datasets import default_datasets
 from jointattention.deploy.saved import LearnedModel, load_model
@@ -235,6 +236,40 @@ def test_a_replayed_trial_teaches_as_teaching_it_again():
         assert np.array_equal(getattr(a.module.population, name),
                               getattr(b.module.population, name)), name
     assert a.module.population.n_taught_ == 4
+
+
+@given(k=st.integers(0, 124), width_deg=st.floats(2.0, 20.0))
+@settings(max_examples=20, deadline=None)
+def test_a_line_that_found_nothing_teaches_a_direction_away_from_it(k, width_deg):
+    """``unfound``: the direction taught lies over three label widths from the line read out.
+
+    It is kept in the replay memory as a trial's one place, and taught: the weights move.
+    """
+    agent = _agent(n_hidden=8, unfound=True, label_width_deg=width_deg)
+    ds = default_datasets()
+    face = ds.face[k].reshape(-1).astype(float)
+    agent.module.begin(face, ds.theta_face_rad[k])
+    psi, w2 = agent.module.direction_rad_, agent.module.population.w2_.copy()
+    assert agent.module.learns_unfound and agent.module.learn_unfound() == 1
+    taught = agent.module.replay_directions_[0, 0]
+    assert agent.module.replay_counts_[0] == 1
+    assert abs(math.remainder(taught - psi, 2 * math.pi)) > 3 * math.radians(width_deg) - 1e-9
+    assert not np.array_equal(agent.module.population.w2_, w2)
+
+
+def test_only_a_trial_the_module_drove_and_ended_unfound_teaches_against_its_line():
+    """A fired trial, a frozen agent, or a last move by another module: not taught so."""
+    agent = _agent(unfound=True)
+    none = Detections(np.zeros((0, 2)), np.zeros(0), np.zeros(0), np.zeros(0), (320, 240))
+    unfound = Outcome(fired=False, theta_rad=np.zeros(2), detections=none, seen=None)
+    fired = Outcome(fired=True, theta_rad=np.zeros(2), detections=none, seen=0)
+    agent._last_module = LM
+    assert agent._learns_unfound(unfound) and not agent._learns_unfound(fired)
+    agent._last_module = VF
+    assert not agent._learns_unfound(unfound)
+    agent._last_module, agent.learning = LM, False
+    assert not agent._learns_unfound(unfound)
+    assert not _agent()._learns_unfound(unfound)  # the option is off by default
 
 
 @given(seed=st.integers(0, 2**32 - 1), counts=st.lists(st.integers(0, 3), min_size=1, max_size=5))

@@ -157,7 +157,8 @@ class ModuleKernels(NamedTuple):
       the last image's objects in pixels (``seen`` the attended one: ``agent.moves.places_into``
       finds their places), ``thetas`` and ``steps`` (n, 2) the trial's head angles and the
       steps taken from them; ``rng`` is ``learn_rng``. It returns how many places or samples
-      it learned.
+      it learned. A module whose ``learns_unfound`` is True is also called, with ``seen``
+      -1 and ``place`` unset, for a trial it drove last that ended with nothing found.
     """
 
     begin: Any

@@ -309,9 +309,14 @@ class BootstrapAgent(NetworkState):
         The network counts the samples taught, the other modules the places.
         """
         if not self._learns(outcome):
-            return 0
+            return self.module.learn_unfound() if self._learns_unfound(outcome) else 0
         self._measure(outcome)
         return self.module.learn(outcome, np.array(self._thetas), np.array(self._steps))
+
+    def _learns_unfound(self, outcome: Outcome) -> bool:
+        """Whether a trial teaches against its line: the module drove and nothing was found."""
+        return (self.learning and not outcome.fired and self._last_module == LM
+                and getattr(self.module, "learns_unfound", False))
 
     def _learns(self, outcome: Outcome) -> bool:
         """Whether the trial teaches: Eq. 3 fired after a move (the last by VF if learn_from=vf)."""

@@ -175,6 +175,11 @@ def run_trials(until_steps, max_trials, world, robot, state, sight, module, tria
             module_learn(module, place, centre[:m], seen, pan, tilt, cx, cy,
                          robot.gain_rad_per_px, face, thetas[:n_steps], steps[:n_steps],
                          module_rng)
+        elif (robot.learning and robot.learn_unfound and end != END_FIRED
+              and last_module == _LM):  # BootstrapAgent._learns_unfound: no object seen
+            module_learn(module, place, centre[:m], -1, pan, tilt, cx, cy,
+                         robot.gain_rad_per_px, face, thetas[:n_steps], steps[:n_steps],
+                         module_rng)
         record_trial(records, c, start, n_steps, n_lm, n_random, attended, target, end)
     return 0
 

@@ -59,6 +59,7 @@ class LoopRobot(NamedTuple):
     learning_target: int  # its index in LEARNING_TARGETS
     learn_from_vf: bool  # learn only from trials whose last move the visual controller made
     caregiver_judges: bool  # a taught model: learn only when the caregiver approves
+    learn_unfound: bool  # a trial the module drove that found nothing teaches it (seen -1)
     learning: bool  # False: frozen, nothing learned and the learning time stands still
 
 

@@ -302,9 +302,40 @@ def trial_learn(a, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face
     The places are :func:`~jointattention.agent.moves.places_into`'s, from the last image
     (``thetas`` and ``steps``, the trial's, teach nothing).
     """
+    if seen < 0:  # the module drove and found nothing (``unfound``; BootstrapAgent.end_trial)
+        return unfound_learn(a, face, rng)
     n = places_into(place, centre, seen, a.in_view, pan, tilt, cx, cy, gain_rad_per_px,
                     a.places)
     return population_learn(a, a.places[:n], face, a.trial[1], a.trial[2], rng)
+
+
+@jit
+def unfound_learn(a, face, rng) -> int:
+    """A trial whose line found nothing: teach a direction the network believed in besides.
+
+    The evaluator never fired along the line read out (``a.trial[0]``), so that direction is
+    not taught again: one is drawn from ``rng`` by the network's p(direction | face) at the
+    trial's start (``a.p``, as :func:`population_begin` left it) with the directions within
+    three label widths of the line left out, and taught as a place found is
+    (:func:`population_learn`). Returns the places taught: 1, or 0 where the network believes
+    in no other direction.
+    """
+    n = len(a.p)
+    away_rad = 3.0 / math.sqrt(a.kappa)  # three label widths: kappa is 1 / width^2
+    q, total = np.empty(n), 0.0
+    for b in range(n):
+        d = 2.0 * math.pi * b / n - a.trial[0]
+        q[b] = a.p[b] if abs(math.atan2(math.sin(d), math.cos(d))) > away_rad else 0.0
+        total += q[b]
+    if total <= 0.0:
+        return 0
+    u, b = rng.random() * total, 0
+    while b < n - 1 and u >= q[b]:
+        u -= q[b]
+        b += 1
+    psi = 2.0 * math.pi * b / n  # unit b's direction (von_mises_into)
+    a.places[0, 0], a.places[0, 1] = a.trial[1] + math.cos(psi), a.trial[2] + math.sin(psi)
+    return population_learn(a, a.places[:1], face, a.trial[1], a.trial[2], rng)
 
 
 KERNELS = ModuleKernels(trial_begin, trial_command, trial_direction, trial_learn)

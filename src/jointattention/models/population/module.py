@@ -30,6 +30,7 @@ from ._trial import (
     line_step,
     population_learn,
     trial_begin,
+    unfound_learn,
 )
 from .code import PopulationCode
 from .features import n_features
@@ -221,6 +222,22 @@ class PopulationModule:
         n = self.kernels.learn(a, *self.host.trial_end(outcome),
                                np.ascontiguousarray(thetas, dtype=float),
                                np.ascontiguousarray(steps, dtype=float), self.learn_rng)
+        self.sync(a)
+        return n
+
+    @property
+    def learns_unfound(self) -> bool:
+        """Whether a trial it drove that found nothing teaches it (``population.unfound``)."""
+        return bool(self.host.options.population.unfound)
+
+    def learn_unfound(self) -> int:
+        """Teach against the line of a trial that found nothing (:func:`~._trial.unfound_learn`).
+
+        For the trial :meth:`begin` started; the compiled engine calls the same kernel through
+        ``learn`` with no object seen.
+        """
+        a = self.arrays()
+        n = unfound_learn(a, self._face, self.learn_rng)
         self.sync(a)
         return n
 

@@ -55,6 +55,12 @@ class PopulationOptions(Section):
         "p(direction | the average face) there (self-training: a distractor lies anywhere for "
         "any face, the target where she looks, so the network's belief picks it out as it "
         "learns)", lo=0, hi=1)
+    unfound: bool = param(
+        False, "a trial that the module drove and that ended with nothing found (the "
+        "evaluator never fired: a joint or the step limit) teaches a direction drawn from the "
+        "network's own p(direction | face) with the line it followed left out (within three "
+        "label widths): a line into empty space is otherwise never taught against, and a "
+        "face whose line leads there stays wrong (docs/generalisation.md)")
     replay_capacity: int = param(20_000, "trials the replay memory keeps (the oldest is "
                                  "forgotten); each keeps its face's features, 8.9 kB with "
                                  "the default features (178 MB when full)", lo=1,
