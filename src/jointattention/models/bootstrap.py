@@ -306,7 +306,8 @@ class BootstrapAgent(NetworkState):
     def end_trial(self, outcome: Outcome) -> int:
         """Learn from the trial if the evaluator fired; returns what the module was taught.
 
-        The network counts the samples taught, the other modules the places.
+        The network counts the samples taught, the other modules the places. A module that
+        learns from a trial it drove that found nothing (``learns_unfound``) learns from it too.
         """
         if not self._learns(outcome):
             return self.module.learn_unfound() if self._learns_unfound(outcome) else 0

@@ -300,7 +300,8 @@ def trial_learn(a, place, centre, seen, pan, tilt, cx, cy, gain_rad_per_px, face
     """The trial's end: :func:`population_learn` of ``place`` (and ``in_view``, the others').
 
     The places are :func:`~jointattention.agent.moves.places_into`'s, from the last image
-    (``thetas`` and ``steps``, the trial's, teach nothing).
+    (``thetas`` and ``steps``, the trial's, teach nothing); with ``seen`` -1 (a trial the
+    module drove that found nothing, with ``unfound``), :func:`unfound_learn`'s.
     """
     if seen < 0:  # the module drove and found nothing (``unfound``; BootstrapAgent.end_trial)
         return unfound_learn(a, face, rng)
