@@ -314,10 +314,19 @@ class BootstrapAgent(NetworkState):
         self._measure(outcome)
         return self.module.learn(outcome, np.array(self._thetas), np.array(self._steps))
 
+    @property
+    def learns_unfound(self) -> bool:
+        """Whether its module learns from a trial it drove that found nothing.
+
+        A module says so by its ``learns_unfound`` (the population code's ``unfound``); one
+        that does not say, a user's among them, does not.
+        """
+        return bool(getattr(self.module, "learns_unfound", False))
+
     def _learns_unfound(self, outcome: Outcome) -> bool:
         """Whether a trial teaches against its line: the module drove and nothing was found."""
         return (self.learning and not outcome.fired and self._last_module == LM
-                and getattr(self.module, "learns_unfound", False))
+                and self.learns_unfound)
 
     def _learns(self, outcome: Outcome) -> bool:
         """Whether the trial teaches: Eq. 3 fired after a move (the last by VF if learn_from=vf)."""

@@ -165,19 +165,16 @@ def run_trials(until_steps, max_trials, world, robot, state, sight, module, tria
         # the caregiver judges (the agent's judge: TeacherAgent's, DevelopmentalAgent's)
         fired, on_target, error_rad = _told(end, attended, target, obj_pos)
         approved = agent_judge(sight, fired, on_target, error_rad, robot.learning)
-        if _learns(robot, end, n_steps, approved, last_module):
+        learns = _learns(robot, end, n_steps, approved, last_module)
+        if learns:
             v_pan, v_tilt = _aim(robot, centre[seen], cx, cy, pan, tilt, place)
             if robot.gate_kind == PERFORMANCE:  # BootstrapAgent._measure
                 u_pan, u_tilt = module_direction(module, pan_start, tilt_start, robot.step_rad)
                 agreement[0] = agreement_update(
                     agreement[0], u_pan, u_tilt, pan + v_pan - pan_start,
                     tilt + v_tilt - tilt_start, robot.gate_a, robot.gate_window)
+        if learns or _learns_unfound(robot, end, last_module):  # nothing found: seen -1
             module_learn(module, place, centre[:m], seen, pan, tilt, cx, cy,
-                         robot.gain_rad_per_px, face, thetas[:n_steps], steps[:n_steps],
-                         module_rng)
-        elif (robot.learning and robot.learn_unfound and end != END_FIRED
-              and last_module == _LM):  # BootstrapAgent._learns_unfound: no object seen
-            module_learn(module, place, centre[:m], -1, pan, tilt, cx, cy,
                          robot.gain_rad_per_px, face, thetas[:n_steps], steps[:n_steps],
                          module_rng)
         record_trial(records, c, start, n_steps, n_lm, n_random, attended, target, end)
@@ -227,6 +224,16 @@ def _gated(robot, t, agreement, evidence, gate_rng) -> int:
     """The module the gate chooses at learning time ``t``: one draw from ``gate_rng``."""
     rate = gate_rate(robot, t, agreement, evidence)
     return _LM if gate_rng.random() < rate else _VF
+
+
+@jit(inline=True)
+def _learns_unfound(robot, end, last_module) -> bool:
+    """Whether the module learns from a trial it drove that found nothing.
+
+    (``BootstrapAgent._learns_unfound``.) Such a trial did not fire, so its ``seen`` is -1
+    (:func:`~jointattention.experiment.trial.end_after_look`).
+    """
+    return robot.learning and robot.learn_unfound and end != END_FIRED and last_module == _LM
 
 
 @jit(inline=True)

@@ -102,8 +102,7 @@ class CompiledCell:
             *opts.gate.compiled_inputs(), opts.gate_per == "trial",
             opts.vf_fallback == "lm", opts.vf_fallback == "sweep",
             LEARNING_TARGETS.index(opts.learning_target), opts.learn_from == "vf",
-            bool(opts.taught), bool(getattr(agent.module, "learns_unfound", False)),
-            bool(agent.learning))
+            bool(opts.taught), agent.learns_unfound, bool(agent.learning))
         faces = agent.faces
         self._state = LoopState(
             *faces.statistics(world.faces.shape[1]), faces.seen,
