@@ -26,8 +26,10 @@ writes ``baselines.md`` (the table), and ``baselines_runs.json``, every finished
 re-run with the same arguments resumes from it). An off-policy run (SAC, TD3: about 30 steps
 a second on one core, two hours a seed) also saves its model and replay buffer in
 ``checkpoints/`` every ``--checkpoint-every`` steps; stopped, the same command continues it
-from there, and a finished run deletes them. ``--quick`` runs a few hundred steps of
-each, one seed, 10 episodes per measure (the test suite runs it; its numbers mean nothing).
+from there, and a finished run deletes them. ``--finished-only`` trains nothing and writes the
+table from the runs that have finished, each row naming its seeds. ``--quick`` runs a few
+hundred steps of each, one seed, 10 episodes per measure (the test suite runs it; its numbers
+mean nothing).
 """
 
 from __future__ import annotations
@@ -257,6 +259,10 @@ def main() -> None:
     parser.add_argument("--checkpoint-every", type=float, default=25_000,
                         help="save an off-policy run (SAC, TD3, DQN) every this many steps, "
                              "to continue it if stopped (default 2.5e4; 0: never)")
+    parser.add_argument("--finished-only", action="store_true",
+                        help="train nothing: write the table from the runs that have finished "
+                             "(each row says how many seeds it holds; a run still under way is "
+                             "left out)")
     parser.add_argument("--quick", action="store_true",
                         help=f"{QUICK['steps']} steps, the first seed, {QUICK['episodes']} "
                              "episodes per measure (a smoke test)")
@@ -273,6 +279,8 @@ def main() -> None:
         records = []
         for seed in seeds:
             key = f"{algo} | N{args.n_objects} | {steps} | seed {seed} | {episodes}"
+            if key not in done and args.finished_only:
+                continue
             if key not in done:
                 every = int(args.checkpoint_every)
                 checkpoint = (out / "checkpoints" / key.replace(" | ", "_").replace(" ", "")
@@ -286,14 +294,15 @@ def main() -> None:
                 tmp.replace(done_path)
                 if checkpoint is not None:
                     shutil.rmtree(checkpoint, ignore_errors=True)
-            records.append(done[key])
+            records.append(done[key] | {"seed": seed})
             print(algo, f"seed {seed}", f"final {done[key]['final']:.3f}", flush=True)
         rows.append((algo, records))
     floors = {env_id(a, args.n_objects): floor(env_id(a, args.n_objects), episodes)
               for a in ("ppo", "dqn")}
     algos = ("" if args.algos == [*ALGOS, *TUNED, *LEARNERS] else
              f" --algos {' '.join(args.algos)}")
-    lines = _table(rows, floors, args.n_objects, steps, seeds, episodes, args.quick, algos)
+    lines = _table(rows, floors, args.n_objects, steps, seeds, episodes, args.quick,
+                   algos + " --finished-only" * args.finished_only)
     (out / "baselines.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
 
@@ -317,8 +326,12 @@ def _fmt(values) -> str:
 def _table(rows, floors, n_objects, steps, seeds, episodes, quick, algos) -> list[str]:
     lines = ["| learner | environment | final, learning | sampled: training | sampled: new "
              "poses | sampled: unseen | deterministic: training | deterministic: new poses | "
-             "deterministic: unseen | minutes per seed |", "|---" * 10 + "|"]
+             "deterministic: unseen | minutes per seed | seeds |", "|---" * 11 + "|"]
     for algo, records in rows:
+        if not records:  # --finished-only, and none of its runs has finished
+            lines.append(f"| {_NAMES[algo]} | {env_id(algo, n_objects)} | not yet run"
+                         + " | -" * 7 + " | none |")
+            continue
         env = env_id(algo, n_objects) if algo not in LEARNERS else \
             f"runner, {n_objects} object" + "s" * (n_objects > 1)
         cells = [_fmt([r["final"] for r in records])]
@@ -326,14 +339,16 @@ def _table(rows, floors, n_objects, steps, seeds, episodes, quick, algos) -> lis
             cells += [_fmt([None if r["frozen"][mode] is None else r["frozen"][mode][s]
                             for r in records]) for s in SPLITS]
         minutes = np.mean([r["minutes"] for r in records])
-        lines.append(f"| {_NAMES[algo]} | {env} | {' | '.join(cells)} | {minutes:.1f} |")
+        ran = " ".join(str(r["seed"]) for r in records)
+        lines.append(f"| {_NAMES[algo]} | {env} | {' | '.join(cells)} | {minutes:.1f} | {ran} |")
     for env, values in floors.items():
         lines.append(f"| random actions | {env} | - | "
-                     + " | ".join(f"{values[s]:.3f}" for s in SPLITS) + " | - | - | - | - |")
+                     + " | ".join(f"{values[s]:.3f}" for s in SPLITS) + " | - | - | - | - | - |")
     command = "python examples/rl_baselines.py" + algos + (" --quick" if quick else (
         f" --steps {steps} --seeds {' '.join(map(str, seeds))} --n-objects {n_objects}"
         f" --episodes {episodes}"))
-    lines += ["", f"({len(seeds)} seed{'s' * (len(seeds) > 1)}: mean (lowest-highest); "
+    lines += ["", f"(Seeds {' '.join(map(str, seeds))}: mean (lowest-highest) of those a row's "
+              "last column names; "
               f"{steps:,} environment steps of learning; SB3's defaults (PPO, A2C: 8 "
               "environments; SAC, TD3, DQN: one), but for the one argument a row names; final: "
               "the episodes ending in the last tenth of learning; frozen: "

@@ -40,6 +40,18 @@ def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path
                            capture_output=True, text=True, timeout=900)
     assert again.returncode == 0 and "td3 seed 0" in again.stdout  # resumed: no retraining
     assert json.loads((tmp_path / "baselines_runs.json").read_text()) == runs
+    # --finished-only: a run not finished is a row that says so, and nothing is trained
+    del runs[next(key for key in runs if key.startswith("td3 "))]
+    (tmp_path / "baselines_runs.json").write_text(json.dumps(runs))
+    table_only = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
+                                 "--quick", "--finished-only", "--out", str(tmp_path)],
+                                capture_output=True, text=True, timeout=900)
+    assert table_only.returncode == 0, table_only.stderr
+    assert json.loads((tmp_path / "baselines_runs.json").read_text()) == runs
+    rows = {row.split(" | ")[0].lstrip("| "): row.strip("| ").split(" | ")
+            for row in (tmp_path / "baselines.md").read_text().splitlines()[2:2 + learned]}
+    assert rows["TD3"][2] == "not yet run" and rows["TD3"][-1] == "none"
+    assert rows["SAC"][-1] == "0" and rows["SAC"][2] != "-"
 
 
 def _baselines_module():
