@@ -24,7 +24,7 @@ measured by the runner's held-out measure, their own way of acting.
 
 writes ``baselines.md`` (the table), and ``baselines_runs.json``, every finished run (a
 re-run with the same arguments resumes from it). An off-policy run (SAC, TD3: about 30 steps
-a second on one core, two hours a seed) also saves its model and replay buffer in
+a second on one core, two and a half hours a seed) also saves its model and replay buffer in
 ``checkpoints/`` every ``--checkpoint-every`` steps; stopped, the same command continues it
 from there, and a finished run deletes them. ``--finished-only`` trains nothing and writes the
 table from the runs that have finished, each row naming its seeds. ``--quick`` runs a few
@@ -261,7 +261,7 @@ def main() -> None:
                              "to continue it if stopped (default 2.5e4; 0: never)")
     parser.add_argument("--finished-only", action="store_true",
                         help="train nothing: write the table from the runs that have finished "
-                             "(each row says how many seeds it holds; a run still under way is "
+                             "(each row names the seeds it holds; a run still under way is "
                              "left out)")
     parser.add_argument("--quick", action="store_true",
                         help=f"{QUICK['steps']} steps, the first seed, {QUICK['episodes']} "

@@ -15,7 +15,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path):
-    """``rl_baselines.py --quick``: five families, tuned A2C and DQN, the runner's, the floor."""
+    """``rl_baselines.py --quick``: every learner's row, a resumed run, ``--finished-only``."""
     pytest.importorskip("stable_baselines3", reason="needs the rl extra: make test-rl")
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
                            "--quick", "--out", str(tmp_path)], capture_output=True, text=True,
