@@ -12,6 +12,7 @@ import ast
 import dataclasses
 import fcntl
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -204,6 +205,19 @@ def test_summarise_writes_a_row_per_point_and_condition(short_run, tmp_path):
     assert [r.split("|")[2].strip() for r in rows] == ["paper-n5", "developmental-n5"]
     # the novelty (last column) is NaN here: the models preset learns from the shipped sets
     assert all("nan" not in r.rsplit("|", 2)[0] and "(" in r.split("|")[7] for r in rows)
+
+
+def test_summarise_names_a_missing_cell_in_one_line(short_run, tmp_path):
+    """learn-fast/summarise.py on a sweep with a cell missing: one error line, nothing written."""
+    point = tmp_path / "sweep" / short_run.name
+    shutil.copytree(short_run, point)
+    next(iter(sorted((point / "cells").glob("*.npz")))).unlink()
+    out = tmp_path / "ablation.md"
+    proc = subprocess.run([sys.executable, str(DOCS / "results/learn-fast/summarise.py"),
+                           str(point.parent), "--out", str(out)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "cannot read it" in proc.stderr.splitlines()[-1] and not out.exists()
 
 
 def test_fresh_measures_a_saved_model_on_fresh_caregivers(tmp_path, needs_gl):

@@ -33,6 +33,7 @@ from jointattention.analysis.curves import condition_curves
 from jointattention.analysis.held_out import held_out_curves, held_out_table
 from jointattention.analysis.metrics import final_success, time_to_fraction
 from jointattention.config import load_config
+from jointattention.errors import JointAttentionError
 from jointattention.experiment.held_out import held_out_novelty
 from jointattention.jobs.reproduce import held_out_ceilings, run_ceilings
 
@@ -87,7 +88,11 @@ def main() -> None:
     config = load_config(folders[0] / "config.toml")
     lines = [HEADER, "|---" * 10 + "|"]
     for folder in folders:
-        lines += point_rows(folder)
+        try:
+            lines += point_rows(folder)
+        except JointAttentionError as err:  # a point not finished, or not a run folder
+            parser.error(f"{err} (`jointattention sweep` on its spec finishes a sweep that "
+                         "stopped)")
     lines += ["", f"({config.experiment.n_seeds} seeds per point; bins of "
               f"{config.experiment.bin_steps:,} steps; minutes at "
               f"{config.experiment.head_moves_per_s:g} moves a second; novelty: the median "
