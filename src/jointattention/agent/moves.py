@@ -13,8 +13,8 @@ import numpy as np
 from .._jit import jit
 from .attention import visual_feedback_rad
 
-__all__ = ["MAX_PLACES", "capped_step", "learning_samples", "place_step", "places_into",
-           "random_step", "scale_angle_into", "unit_step"]
+__all__ = ["MAX_PLACES", "capped_step", "learning_samples", "line_capture", "place_step",
+           "places_into", "random_step", "scale_angle_into", "unit_step"]
 
 MAX_PLACES = 20  # places a learning module keeps of one trial at most (objects in a scene: 20)
 
@@ -43,6 +43,31 @@ def place_step(d_pan: float, d_tilt: float, step_rad: float,
     if saccade_rad > 0:
         return capped_step(d_pan, d_tilt, saccade_rad)
     return unit_step(d_pan, d_tilt, step_rad)
+
+
+@jit
+def line_capture(centre_px, cx_px, cy_px, gain_rad_per_px, pan, tilt, start_pan, start_tilt,
+                 u_pan, u_tilt, capture_rad) -> int:
+    """The first object in view along a line, within ``capture_rad`` of it; -1 if none.
+
+    The line runs from the trial's start (``start_pan``, ``start_tilt``) in the direction
+    (``u_pan``, ``u_tilt``). Each object's place is the head angle now plus Eq. 2's command
+    to it; of those ahead of the start and no farther than ``capture_rad`` from the line, the
+    nearest the start along it. Following a line, the eyes land on the first thing on it.
+    """
+    norm = math.hypot(u_pan, u_tilt)
+    if norm <= 0.0:
+        return -1
+    u0, u1 = u_pan / norm, u_tilt / norm
+    best, best_i = np.inf, -1
+    for i in range(centre_px.shape[0]):
+        v_pan, v_tilt = visual_feedback_rad(centre_px[i, 0], centre_px[i, 1], cx_px, cy_px,
+                                            gain_rad_per_px)
+        d_pan, d_tilt = pan + v_pan - start_pan, tilt + v_tilt - start_tilt
+        along = d_pan * u0 + d_tilt * u1
+        if along > 0.0 and abs(d_pan * u1 - d_tilt * u0) <= capture_rad and along < best:
+            best, best_i = along, i
+    return best_i
 
 
 @jit

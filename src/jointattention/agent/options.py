@@ -26,6 +26,11 @@ class AgentConfig(Section):
         lo=0.01, hi=1)
     lm_step_deg: float = param(4.0, "length of one step of the learning module", lo=0.1, hi=30)
     max_steps: int = param(40, "step limit of a trial", lo=1, hi=10000)
+    line_capture_deg: float = param(
+        0.0, "beyond the paper: a move along the learning module's line (or the oracle's) "
+        "goes instead, in one move of visual feedback (Eq. 2), to the first object in view "
+        "ahead along the line and at most this far from it (0: the paper's steps along the "
+        "line until Eq. 3 fires)", lo=0, hi=90)
 
     def d_th_px(self, image_width_px: int) -> float:
         """The internal evaluator's radius (Eq. 3): d_th = W * d_th_fraction."""

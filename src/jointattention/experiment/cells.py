@@ -288,5 +288,7 @@ def oracle_wins(ds: CaregiverDatasets, config: Config, n_objects: int, n_trials:
     return placed(oracle_trials(world, ds.theta_face_rad + ds.command_rad, rng,
                                 float(np.deg2rad(config.agent.lm_step_deg)),
                                 float(config.agent.d_th_px(world.width_px)),
-                                int(config.agent.max_steps), n_trials, bool(any_object)),
+                                int(config.agent.max_steps), n_trials,
+                                float(np.deg2rad(config.agent.line_capture_deg)),
+                                float(config.agent.vf_gain_rad_per_px), bool(any_object)),
                   world)

@@ -18,7 +18,7 @@ from ..agent.attention import most_interesting, visual_feedback
 from ..agent.detections import Detections
 from ..agent.face_standardiser import FaceStandardiser
 from ..agent.gates import GATES, Gate, SigmoidGate
-from ..agent.moves import random_step
+from ..agent.moves import line_capture, random_step
 from ..agent.options import AgentConfig
 from ..agent.protocol import LM, RANDOM, VF, AgentKernels, Body, Outcome
 from ..errors import ConfigError
@@ -288,7 +288,9 @@ class BootstrapAgent(NetworkState):
                   if module == VF else None)
         if module == VF and target is None:
             module = LM if o.vf_fallback == "lm" else RANDOM
-        if module == VF:
+        if module == LM:
+            target = self._captured(det, theta_rad)
+        if target is not None:
             dtheta = visual_feedback(det, target, self.mechanisms.vf_gain_rad_per_px)
         elif module == LM:
             dtheta = self.module.step(theta_rad)
@@ -302,6 +304,23 @@ class BootstrapAgent(NetworkState):
         if self.learning:
             self.learning_time_steps += 1
         return dtheta, module
+
+    def _captured(self, det: Detections, theta_rad) -> int | None:
+        """The object in view the module's line lands on (``line_capture_deg``), if any.
+
+        :func:`~jointattention.agent.moves.line_capture` along the module's direction from
+        the trial's start.
+        """
+        capture_rad = np.deg2rad(self.mechanisms.line_capture_deg)
+        if capture_rad <= 0 or len(det.centre_px) == 0:
+            return None
+        u = self.module.direction(self._theta_start)
+        (cx, cy), start = det.image_centre_px, self._theta_start
+        i = line_capture(np.ascontiguousarray(det.centre_px, dtype=float), float(cx), float(cy),
+                         float(self.mechanisms.vf_gain_rad_per_px), float(theta_rad[0]),
+                         float(theta_rad[1]), float(start[0]), float(start[1]), float(u[0]),
+                         float(u[1]), float(capture_rad))
+        return i if i >= 0 else None
 
     def end_trial(self, outcome: Outcome) -> int:
         """Learn from the trial if the evaluator fired; returns what the module was taught.

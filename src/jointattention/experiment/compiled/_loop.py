@@ -45,7 +45,7 @@ from ...agent.gates import (
     performance_rate,
     sigmoid_rate,
 )
-from ...agent.moves import random_step
+from ...agent.moves import line_capture, random_step
 from ...agent.protocol import AgentKernels
 from ...models.bootstrap import LEARNING_TARGETS
 from ...world.kinematics import separation_rad
@@ -146,7 +146,17 @@ def run_trials(until_steps, max_trials, world, robot, state, sight, module, tria
                 d_pan, d_tilt = visual_feedback_rad(centre[i, 0], centre[i, 1], cx, cy,
                                                     robot.gain_rad_per_px)
             elif module_now == _LM:
-                d_pan, d_tilt = module_command(module, pan, tilt, robot.step_rad, move_rng)
+                j = -1
+                if robot.capture_rad > 0:  # BootstrapAgent._captured
+                    u_pan, u_tilt = module_direction(module, pan_start, tilt_start,
+                                                     robot.step_rad)
+                    j = line_capture(centre[:m], cx, cy, robot.gain_rad_per_px, pan, tilt,
+                                     pan_start, tilt_start, u_pan, u_tilt, robot.capture_rad)
+                if j >= 0:
+                    d_pan, d_tilt = visual_feedback_rad(centre[j, 0], centre[j, 1], cx, cy,
+                                                        robot.gain_rad_per_px)
+                else:
+                    d_pan, d_tilt = module_command(module, pan, tilt, robot.step_rad, move_rng)
             elif robot.vf_fallback_sweep:
                 d_pan, d_tilt = sweep
             else:

@@ -98,7 +98,8 @@ class CompiledCell:
         opts, shared = agent.options, agent.mechanisms
         self._robot = LoopRobot(
             np.asarray(shared.interest_weights, dtype=float), float(shared.vf_gain_rad_per_px),
-            float(shared.d_th_px(world.width_px)), float(agent.step_rad), int(shared.max_steps),
+            float(shared.d_th_px(world.width_px)), float(agent.step_rad),
+            float(np.deg2rad(shared.line_capture_deg)), int(shared.max_steps),
             *opts.gate.compiled_inputs(), opts.gate_per == "trial",
             opts.vf_fallback == "lm", opts.vf_fallback == "sweep",
             LEARNING_TARGETS.index(opts.learning_target), opts.learn_from == "vf",

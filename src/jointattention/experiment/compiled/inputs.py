@@ -47,6 +47,7 @@ class LoopRobot(NamedTuple):
     gain_rad_per_px: float
     d_th_px: float
     step_rad: float
+    capture_rad: float  # line_capture_deg (0: none)
     max_steps: int
     gate_kind: int  # SIGMOID, CONSTANT, PERFORMANCE or EVIDENCE (agent/gates.py)
     gate_a: float  # the constant rate, the sigmoid's midpoint, the performance's agree_rad or
