@@ -207,6 +207,18 @@ def test_summarise_writes_a_row_per_point_and_condition(short_run, tmp_path):
     assert all("nan" not in r.rsplit("|", 2)[0] and "(" in r.split("|")[7] for r in rows)
 
 
+def test_summarise_with_ceilings_gives_the_success_its_fraction_is_of(short_run, tmp_path):
+    """--ceilings adds the unseen success and its ceiling, whose ratio is the fraction shown."""
+    out = tmp_path / "capture.md"
+    _run("results/learn-fast/summarise.py", short_run.parent, "--out", out, "--ceilings",
+         cwd=tmp_path)
+    assert "their ceiling |" in out.read_text().splitlines()[0]
+    for row in _rows(out, "| models | "):
+        cells = [c.strip() for c in row.split("|")[1:-1]]
+        fraction, success, ceiling = float(cells[6].split()[0]), float(cells[10]), float(cells[11])
+        assert 0 < ceiling <= 1 and success == pytest.approx(fraction * ceiling, abs=2e-3)
+
+
 def test_summarise_names_a_missing_cell_in_one_line(short_run, tmp_path):
     """learn-fast/summarise.py on a sweep with a cell missing: one error line, nothing written."""
     point = tmp_path / "sweep" / short_run.name

@@ -3,7 +3,7 @@
 Usage::
 
     python docs/results/learn-fast/summarise.py SWEEP_FOLDER
-        [--out docs/results/learn-fast/ablation.md]
+        [--out docs/results/learn-fast/ablation.md] [--ceilings]
 
 Reads each point of a sweep (``jointattention sweep``: one run folder per point), measures its
 ceilings where the folder has none (the oracle on the training sets and on the held-out sets,
@@ -17,6 +17,10 @@ condition:
 - the frozen model at the end on caregivers it never saw: success as a fraction of their
   ceiling (mean and worst seed), median angle error, the share of those caregivers whose median
   error is above 10°, and how new they are (the median novelty of ``held_out.md``).
+
+With ``--ceilings``, also the unseen caregivers' success itself and their ceiling: where the
+points move differently (``agent.line_capture_deg``), the oracle moves so too, and each
+point's ceiling is its own.
 """
 
 from __future__ import annotations
@@ -52,12 +56,15 @@ def _natural(folder: Path) -> list:
     return [float(t) if t[:1].isdigit() else t for t in re.split(r"(\d+(?:\.\d+)?)", folder.name)]
 
 
-def point_rows(folder: Path) -> list[str]:
-    """The table's rows for one sweep point's run folder."""
+CEILING_COLUMNS = " unseen caregivers' success | their ceiling |"
+
+
+def point_rows(folder: Path, ceilings_too: bool = False) -> list[str]:
+    """The table's rows for one sweep point's run folder (``ceilings_too``: CEILING_COLUMNS)."""
     config = load_config(folder / "config.toml")
     ceilings = run_ceilings(config, folder / "ceilings.json")
-    held = held_out_table(config, held_out_curves(folder, config),
-                          held_out_ceilings(config, folder / "held_out_ceilings.json"),
+    held_ceilings = held_out_ceilings(config, folder / "held_out_ceilings.json")
+    held = held_out_table(config, held_out_curves(folder, config), held_ceilings,
                           held_out_novelty(config))
     unseen = {r[0]: dict(zip(held.columns, r, strict=True)) for r in held.rows}
     rows = []
@@ -72,24 +79,35 @@ def point_rows(folder: Path) -> list[str]:
                     f"({u.get('unseen_worst_seed_fraction', '-')}) | "
                     f"{u.get('unseen_median_deg', '-')}° | "
                     f"{u.get('unseen_share_over_10deg', '-')} | "
-                    f"{_number(u.get('unseen_novelty_median'))} |")
+                    f"{_number(u.get('unseen_novelty_median'))} |"
+                    + (_ceiling_cells(u, held_ceilings, n) if ceilings_too else ""))
     return rows
+
+
+def _ceiling_cells(unseen: dict, held_ceilings: dict, n_objects: int) -> str:
+    """The unseen caregivers' success (their fraction times their ceiling) and the ceiling."""
+    ceiling = held_ceilings["unseen caregivers"][str(n_objects)]
+    fraction = unseen.get("unseen_fraction")
+    success = "-" if fraction is None else f"{float(fraction) * ceiling:.3f}"
+    return f" {success} | {ceiling:.3f} |"
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("sweep", type=Path, help="the sweep's output folder")
     parser.add_argument("--out", default="docs/results/learn-fast/ablation.md")
+    parser.add_argument("--ceilings", action="store_true",
+                        help="add the unseen caregivers' success and their ceiling")
     args = parser.parse_args()
     folders = sorted((p.parent for p in args.sweep.glob("*/config.toml")), key=_natural)
     if not folders:
         parser.error(f"{args.sweep}: no sweep point (a folder with config.toml) in it; expected "
                      "the --out folder of `jointattention sweep`")
     config = load_config(folders[0] / "config.toml")
-    lines = [HEADER, "|---" * 10 + "|"]
+    lines = [HEADER + CEILING_COLUMNS * args.ceilings, "|---" * (10 + 2 * args.ceilings) + "|"]
     for folder in folders:
         try:
-            lines += point_rows(folder)
+            lines += point_rows(folder, args.ceilings)
         except JointAttentionError as err:  # a point not finished, or not a run folder
             parser.error(f"{err} (`jointattention sweep` on its spec finishes a sweep that "
                          "stopped)")
@@ -98,7 +116,8 @@ def main() -> None:
               f"{config.experiment.head_moves_per_s:g} moves a second; novelty: the median "
               "distance of the unseen caregivers to the nearest training caregiver, in spacings "
               "of the training caregivers (-: one caregiver has no spacing). Written by `python "
-              f"docs/results/learn-fast/summarise.py {args.sweep} --out {args.out}`.)"]
+              f"docs/results/learn-fast/summarise.py {args.sweep} --out {args.out}"
+              f"{' --ceilings' * args.ceilings}`.)"]
     text = "\n".join(lines) + "\n"
     print(write_text(args.out, text))
     print(text)
