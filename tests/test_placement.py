@@ -44,6 +44,16 @@ def test_a_region_called_reachable_has_no_point_that_cannot_be_centred(case, see
         assert limits[0] <= p <= limits[1] and limits[2] <= t <= limits[3]
 
 
+def test_a_region_a_rounding_error_in_front_of_the_camera_is_not_called_reachable():
+    """Points at the camera's own depth, in front by one ulp, may round to behind it."""
+    offset = np.array([0.0, np.nextafter(0.1, 0.0), 0.0])  # the camera a hair short of 0.1 m
+    region = np.array([0.0, 0.0, 0.0, 1.0, 0.1, 0.1, 0.02, 0.04, 3, 15, 0])
+    assert not all_reachable(region, offset, np.radians([-30.0, 30.0, -20.0, 20.0]))
+    behind = [centring_angles(0.1 * np.array(forward_axis(0.0, math.radians(t))), offset)[2]
+              for t in np.linspace(0.0, 1.0, 200)]
+    assert any(status != CENTRED for status in behind)  # what the margin keeps out
+
+
 def test_a_region_beyond_the_limits_is_not_called_reachable():
     """A region that reaches past a joint limit keeps the check."""
     region, offset, limits = region_of(WorldConfig())

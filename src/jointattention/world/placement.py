@@ -109,6 +109,9 @@ def region_of(world: WorldConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return region, offset, limits
 
 
+_DEPTH_MARGIN_M = 1e-9  # all_reachable's margin on the distances in front of the camera
+
+
 def all_reachable(region: np.ndarray, offset_m: np.ndarray, limits_rad: np.ndarray,
                   margin_rad: float = 1e-6) -> bool:
     """Whether every point of the object region can be centred within the joint limits.
@@ -128,7 +131,9 @@ def all_reachable(region: np.ndarray, offset_m: np.ndarray, limits_rad: np.ndarr
         return False
     delta = math.asin(across / d_min)
     elevation = math.radians(max(abs(tilt_deg)))
-    if not (d_min * math.cos(elevation) > abs(ox) and d_min * math.cos(delta) > oy
+    # a point only a rounding error in front of the camera may land behind it
+    if not (d_min * math.cos(elevation) > abs(ox) + _DEPTH_MARGIN_M
+            and d_min * math.cos(delta) > oy + _DEPTH_MARGIN_M
             and math.sin(delta) < math.cos(elevation)):
         return False
     spread = math.asin(math.sin(delta) / math.cos(elevation))
