@@ -109,7 +109,7 @@ def region_of(world: WorldConfig) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return region, offset, limits
 
 
-_DEPTH_MARGIN_M = 1e-9  # all_reachable's margin on the distances in front of the camera
+_DEPTH_MARGIN_M = 1e-9  # by how much all_reachable's distances must clear the camera's offsets
 
 
 def all_reachable(region: np.ndarray, offset_m: np.ndarray, limits_rad: np.ndarray,
@@ -131,7 +131,7 @@ def all_reachable(region: np.ndarray, offset_m: np.ndarray, limits_rad: np.ndarr
         return False
     delta = math.asin(across / d_min)
     elevation = math.radians(max(abs(tilt_deg)))
-    # a point only a rounding error in front of the camera may land behind it
+    # a point a rounding error past an offset may land inside it or behind the camera
     if not (d_min * math.cos(elevation) > abs(ox) + _DEPTH_MARGIN_M
             and d_min * math.cos(delta) > oy + _DEPTH_MARGIN_M
             and math.sin(delta) < math.cos(elevation)):
