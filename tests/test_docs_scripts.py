@@ -28,6 +28,7 @@ RUN_ELSEWHERE = {
     "results/people/novelty.py": "test_people_docs.py",
     "results/people/record.py": "test_people_docs.py",
     "results/people/robustness.py": "test_people_docs.py",
+    "results/people/socket_net.py": "test_socket_net.py",
     "results/people/taught_bound.py": "test_people_docs.py",
     "results/people/taught_closed_loop.py": "test_people_docs.py",
     "results/robot/camera_view.py": "test_saved_models.py",

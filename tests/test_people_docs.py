@@ -60,9 +60,9 @@ def test_the_taught_bound_is_written_for_each_world(tmp_path, needs_gl, monkeypa
     _run("taught_bound.py", "--epochs", "1", "--caregivers", "2", "--train-caregivers", "3",
          "--out", str(out))
     rows = [r for r in out.read_text().splitlines() if r.startswith("| ") and "°" in r]
-    assert len(rows) == 7 and all("| 12 |" in r for r in rows)
-    assert "eye window" in rows[-3] and "placed with an error" in rows[-2]
-    assert "socket patches" in rows[-1]
+    assert len(rows) == 8 and all("| 12 |" in r for r in rows)
+    assert "eye window" in rows[-4] and "placed with an error" in rows[-3]
+    assert "socket patches" in rows[-2] and "socket network" in rows[-1]
 
 
 def test_the_closed_loop_taught_bound_stands_beside_each_run(tmp_path, needs_gl, monkeypatch):

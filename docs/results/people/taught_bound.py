@@ -18,7 +18,9 @@ preset's (256 caregivers), the people world with the 60x50 face window of
 docs/world.md), placed exactly and with an eye finder's error, whose features
 (:mod:`jointattention.models.population.features`, as the face window's) are added to the
 input; last, the socket patches of ``docs/results/people/sockets.toml`` (a wider window placed
-with an error of 0.1 eye distances, and a patch cut around each socket the robot finds).
+with an error of 0.1 eye distances, and a patch cut around each socket the robot finds), the
+sockets found by the drawn-eye bank and then by the eye-socket network
+(``socket_finder = "net"``, :mod:`jointattention.agent.socket_net`).
 Writes the median and 90th-percentile angle errors.
 """
 
@@ -55,6 +57,8 @@ CONFIGS = {  # name: (configuration, its eye window or None)
         "people", {**EYES, "placement_sd": 0.03}),
     "people world, socket patches of a window placed with an error of 0.1": (
         "people", SOCKETS),
+    "people world, the same window, the sockets found by the socket network": (
+        "people", {**SOCKETS, "socket_finder": "net"}),
 }
 
 

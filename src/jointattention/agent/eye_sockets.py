@@ -23,12 +23,14 @@ from functools import lru_cache
 
 import numpy as np
 
-__all__ = ["IRIS_RATIO", "MATCH_SCALE", "SOCKET_RADII", "eye_patches", "socket_bank"]
+__all__ = ["FINDERS", "IRIS_RATIO", "MATCH_SCALE", "SOCKET_RADII", "eye_patches", "socket_bank",
+           "socket_centre", "sockets"]
 
 # Socket radii of the bank in eye distances (centre to centre): an eyeball's visible disc is
 # about a fifth of an eye distance, and eye size and spacing vary by about 15% each among people.
 SOCKET_RADII = (0.146, 0.1875, 0.229)
 IRIS_RATIO = 0.6  # the iris's radius over the socket's
+FINDERS = ("bank", "net")  # what finds the sockets: the drawn eyes, or the shipped network
 _N_OFFSETS = 7  # iris offsets per axis of the bank, across +-0.5 R (the outer rows not vertically)
 _SUPERSAMPLE = 4  # each drawn eye is drawn this much finer, then averaged down
 # How much worse a drawn eye may match and still count (e-fold): in the people world, a window
@@ -74,7 +76,7 @@ def _peak(response: np.ndarray) -> tuple[float, float, float]:
     return float(response[y, x]), x + dx, y + dy
 
 
-def _socket_centre(half: np.ndarray, bank: tuple[np.ndarray, ...]) -> tuple[float, float]:
+def socket_centre(half: np.ndarray, bank: tuple[np.ndarray, ...]) -> tuple[float, float]:
     """Where the socket's centre lies in ``half`` (x, y px): the drawn eyes' places, weighted.
 
     Each drawn eye's best place, weighted by exp(its match / :data:`MATCH_SCALE`) over the
@@ -96,19 +98,46 @@ def _socket_centre(half: np.ndarray, bank: tuple[np.ndarray, ...]) -> tuple[floa
     return float(x), float(y)
 
 
-def eye_patches(window: np.ndarray, span: float, patch_px: int) -> np.ndarray:
+def sockets(window: np.ndarray, span: float, finder: str = "bank") -> np.ndarray:
+    """Both sockets (2 eyes, x y) in ``window``'s pixels, the left eye first.
+
+    ``finder``: ``"bank"``, the drawn eyes matched in each half (:func:`socket_centre`), or
+    ``"net"``, the shipped eye-socket network (:mod:`.socket_net`), which reads the whole
+    window (fitted for the windows of ``docs/results/people/sockets.toml``).
+    """
+    grey = np.asarray(window, np.float32)
+    if finder == "net":
+        from .socket_net import shipped
+
+        return shipped().predict(grey[None])[0]
+    if finder != "bank":
+        raise ValueError(f"finder {finder!r}: expected one of {', '.join(FINDERS)}")
+    half = grey.shape[1] // 2
+    bank = socket_bank(grey.shape[1] / span)
+    found = np.array([socket_centre(np.ascontiguousarray(grey[:, :half]), bank),
+                      socket_centre(np.ascontiguousarray(grey[:, half:]), bank)])
+    found[1, 0] += half
+    return found
+
+
+def eye_patches(window: np.ndarray, span: float, patch_px: int, finder: str = "bank"
+                ) -> np.ndarray:
     """Each eye's ``patch_px`` square patch, cut around its socket; the two side by side.
 
     ``window``: an eye window (height, width) of grey levels holding both eyes, ``span`` eye
-    distances wide, the left eye in its left half. Returns (patch_px, 2 * patch_px) uint8.
+    distances wide, the left eye in its left half; ``finder``: what finds the sockets
+    (:func:`sockets`). Returns (patch_px, 2 * patch_px) uint8.
     """
     import cv2
 
     grey = np.asarray(window, np.float32)
-    width = grey.shape[1]
-    bank = socket_bank(width / span)
-    halves = (grey[:, : width // 2], grey[:, width // 2:])
-    patches = [cv2.getRectSubPix(np.ascontiguousarray(h), (patch_px, patch_px),
-                                 _socket_centre(np.ascontiguousarray(h), bank))
-               for h in halves]
+    if finder == "bank":  # each half's socket, cut from that half
+        half = grey.shape[1] // 2
+        bank = socket_bank(grey.shape[1] / span)
+        parts = [np.ascontiguousarray(h) for h in (grey[:, :half], grey[:, half:])]
+        centres = [socket_centre(h, bank) for h in parts]
+    else:
+        parts, centres = (grey, grey), [tuple(map(float, c)) for c in sockets(grey, span, finder)]
+    patches = [cv2.getRectSubPix(part, (patch_px, patch_px), centre)
+               for part, centre in zip(parts, centres, strict=True)]
     return np.clip(np.rint(np.hstack(patches)), 0, 255).astype(np.uint8)

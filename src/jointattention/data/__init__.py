@@ -1,4 +1,4 @@
-"""Package data: the default caregiver data sets, their held-out sets and BlazeFace's files.
+"""Package data: the default data sets, their held-out sets, BlazeFace's and the socket network.
 
 :data:`SHA256` records each file's SHA-256: the package reads them only through
 :func:`jointattention._readers.shipped_path`, which checks the sum when a file is first used,
@@ -12,6 +12,7 @@ SHA256 = {
     "blazeface_calibration.npz":
         "564994d130218b842bc8f4bd036963b729750ddddb654e745d8905cf56b78f41",
     "caregiver_125.npz": "33cb1922abc618332aff10caf079011b784d69cc26cbabcdef92251054bd6201",
+    "eye_socket_net.npz": "6ce94655f994af4f6da49b21793e340db52a209aff4f97a08f576a33398eb3ac",
     "face_detection_short_range.tflite":
         "3bc182eb9f33925d9e58b5c8d59308a760f4adea8f282370e428c51212c26633",
     "held_out_caregivers.npz":

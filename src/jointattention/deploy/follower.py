@@ -147,7 +147,7 @@ class GazeFollower:
         eyes = eye_window_of(cv2.cvtColor(frame, cv2.COLOR_RGB2GRAY), *marks,
                              (ew.width_px, ew.height_px), ew.span)
         if ew.socket_patch_px:
-            eyes = eye_patches(eyes, ew.span, ew.socket_patch_px)
+            eyes = eye_patches(eyes, ew.span, ew.socket_patch_px, ew.socket_finder)
         command = self.model.lm_command(np.r_[window.ravel(), eyes.ravel()], theta)
         return Look(_in_frame(face, frame.shape[1] / camera.shape[1]), window, command, eyes)
 

@@ -194,6 +194,11 @@ class EyeWindowConfig(Section):
         0, "the side of the patch the robot cuts around each eye's socket, found in the window "
         "(jointattention.agent.eye_sockets), kept in place of the window: the two patches side "
         "by side; 0: the window as cut", lo=0, hi=128)
+    socket_finder: str = param(
+        "bank", "what finds the sockets for the patches: 'bank', drawn eyes matched in each half "
+        "of the window (jointattention.agent.eye_sockets); 'net', the shipped eye-socket network, "
+        "fitted on 128 x 48 windows 2.67 eye distances wide (jointattention.agent.socket_net)",
+        choices=("bank", "net"))
 
     def __post_init__(self) -> None:
         super().__post_init__()

@@ -29,7 +29,7 @@ from .simulator import World
 
 __all__ = ["CUTS", "HELD_OUT", "capture_eye_window", "capture_face_window", "caregivers_of",
            "eye_box", "eye_window_at", "eye_window_kept", "face_box", "head_box", "make_datasets",
-           "split_evenly"]
+           "sockets_in_window", "split_evenly"]
 
 HELD_OUT = "held-out"  # the stream of held-out recordings; no training world draws from it
 
@@ -85,11 +85,13 @@ def capture_eye_window(world: World) -> np.ndarray:
 def eye_window_kept(eye_window: EyeWindowConfig, window: np.ndarray) -> np.ndarray:
     """What the robot keeps of an eye ``window``: its socket patches (``socket_patch_px``), or it.
 
-    The patches are the robot's own (:func:`~jointattention.agent.eye_sockets.eye_patches`).
+    The patches are the robot's own (:func:`~jointattention.agent.eye_sockets.eye_patches`),
+    around the sockets its ``socket_finder`` finds.
     """
     if not eye_window.socket_patch_px:
         return window
-    return eye_patches(window, eye_window.span, eye_window.socket_patch_px)
+    return eye_patches(window, eye_window.span, eye_window.socket_patch_px,
+                       eye_window.socket_finder)
 
 
 def _placement_error(world: World, sd: float) -> np.ndarray:
@@ -129,6 +131,21 @@ def eye_window_at(world: World, centre_px, distance_px: float, error=None) -> np
         gray = cv2.resize(gray, coarse, interpolation=cv2.INTER_AREA)
         return cv2.resize(gray, (ew.width_px, ew.height_px), interpolation=cv2.INTER_LINEAR)
     return cv2.resize(gray, (ew.width_px, ew.height_px), interpolation=cv2.INTER_AREA)
+
+
+def sockets_in_window(world: World, centre_px, distance_px: float) -> np.ndarray:
+    """Where the eyeballs' centres lie in the eye window :func:`eye_window_at` cuts there.
+
+    (2 eyes, x y) in window pixels (pixel centres at integers), the left eye first: what only
+    the experimenter knows, to fit and measure the robot's socket finders.
+    """
+    ew = world.config.eye_window
+    eyes = np.stack([world.data.body(body).xpos for body in EYE_BODIES])
+    uv, _ = world.kinematics.project(eyes, world.head_angle_rad)
+    field_px = ew.span * distance_px
+    half_px = np.array([1.0, ew.height_px / ew.width_px]) * field_px / 2
+    corner = np.asarray(centre_px, float) - half_px
+    return (uv - corner) * ew.width_px / field_px - 0.5
 
 
 def capture_face_window(world: World, image: np.ndarray | None = None) -> np.ndarray:
