@@ -48,10 +48,8 @@ def unseen_windows(gl_available):
                 w.set_head_angle(w.face_angle_rad)
                 centre, distance = eye_box(w)
                 error = place.normal(0.0, 0.1, 3)
-                centre = centre + error[:2] * distance
-                distance *= np.exp(error[2])
-                windows.append(eye_window_at(w, centre, distance))
-                truth.append(sockets_in_window(w, centre, distance))
+                windows.append(eye_window_at(w, centre, distance, error))
+                truth.append(sockets_in_window(w, centre, distance, error))
     return np.array(windows), np.array(truth)
 
 

@@ -52,9 +52,8 @@ def record(world, caregivers: int, poses: int, seed: int, stream: str, sd: float
                 w.set_head_angle(w.face_angle_rad)
                 centre, distance = eye_box(w)
                 error = place.normal(0.0, sd, 3)
-                centre, distance = centre + error[:2] * distance, distance * np.exp(error[2])
-                wins.append(eye_window_at(w, centre, distance))
-                truth.append(sockets_in_window(w, centre, distance))
+                wins.append(eye_window_at(w, centre, distance, error))
+                truth.append(sockets_in_window(w, centre, distance, error))
         if (c + 1) % max(1, caregivers // 10) == 0:
             print(f"  {label}: {c + 1} of {caregivers} caregivers "
                   f"({time.perf_counter() - start:.0f} s)", flush=True)

@@ -98,6 +98,14 @@ def socket_centre(half: np.ndarray, bank: tuple[np.ndarray, ...]) -> tuple[float
     return float(x), float(y)
 
 
+def _bank_halves(grey: np.ndarray, span: float) -> tuple[list[np.ndarray], list]:
+    """Each half of ``grey`` and the bank's socket in it (in that half's pixels)."""
+    half = grey.shape[1] // 2
+    bank = socket_bank(grey.shape[1] / span)
+    halves = [np.ascontiguousarray(h) for h in (grey[:, :half], grey[:, half:])]
+    return halves, [socket_centre(h, bank) for h in halves]
+
+
 def sockets(window: np.ndarray, span: float, finder: str = "bank") -> np.ndarray:
     """Both sockets (2 eyes, x y) in ``window``'s pixels, the left eye first.
 
@@ -112,11 +120,8 @@ def sockets(window: np.ndarray, span: float, finder: str = "bank") -> np.ndarray
         return shipped().predict(grey[None])[0]
     if finder != "bank":
         raise ValueError(f"finder {finder!r}: expected one of {', '.join(FINDERS)}")
-    half = grey.shape[1] // 2
-    bank = socket_bank(grey.shape[1] / span)
-    found = np.array([socket_centre(np.ascontiguousarray(grey[:, :half]), bank),
-                      socket_centre(np.ascontiguousarray(grey[:, half:]), bank)])
-    found[1, 0] += half
+    found = np.array(_bank_halves(grey, span)[1])
+    found[1, 0] += grey.shape[1] // 2
     return found
 
 
@@ -132,10 +137,7 @@ def eye_patches(window: np.ndarray, span: float, patch_px: int, finder: str = "b
 
     grey = np.asarray(window, np.float32)
     if finder == "bank":  # each half's socket, cut from that half
-        half = grey.shape[1] // 2
-        bank = socket_bank(grey.shape[1] / span)
-        parts = [np.ascontiguousarray(h) for h in (grey[:, :half], grey[:, half:])]
-        centres = [socket_centre(h, bank) for h in parts]
+        parts, centres = _bank_halves(grey, span)
     else:
         parts, centres = (grey, grey), [tuple(map(float, c)) for c in sockets(grey, span, finder)]
     patches = [cv2.getRectSubPix(part, (patch_px, patch_px), centre)

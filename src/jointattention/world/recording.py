@@ -61,9 +61,23 @@ def eye_box(world: World) -> tuple[np.ndarray, float]:
 
     From the eyeballs' centres (they stay where they are as the eyes turn), in camera pixels.
     """
+    uv = _eyes_px(world)
+    return uv.mean(axis=0), float(np.linalg.norm(uv[0] - uv[1]))
+
+
+def _eyes_px(world: World) -> np.ndarray:
+    """The eyeballs' centres in camera pixels (2 eyes, x y), the left eye first."""
     eyes = np.stack([world.data.body(body).xpos for body in EYE_BODIES])
     uv, _ = world.kinematics.project(eyes, world.head_angle_rad)
-    return uv.mean(axis=0), float(np.linalg.norm(uv[0] - uv[1]))
+    return uv
+
+
+def _placed(centre_px, distance_px: float, error) -> tuple[np.ndarray, float]:
+    """Where a window placed with ``error`` ((dx, dy, log width) in eye distances) lies."""
+    if error is None:
+        return centre_px, distance_px
+    return (np.asarray(centre_px) + np.asarray(error[:2]) * distance_px,
+            distance_px * np.exp(error[2]))
 
 
 _PLACEMENT_KEY = 0x3E7E  # the eye window's placement error: apart from the scene's noise
@@ -119,9 +133,7 @@ def eye_window_at(world: World, centre_px, distance_px: float, error=None) -> np
     if not ew.enabled:
         raise ValueError("the world keeps no eye window; expected eye_window.width_px and "
                          "height_px above 0")
-    if error is not None:
-        centre_px = np.asarray(centre_px) + np.asarray(error[:2]) * distance_px
-        distance_px = distance_px * np.exp(error[2])
+    centre_px, distance_px = _placed(centre_px, distance_px, error)
     field_px = ew.span * distance_px
     size = (FOVEA_SUPERSAMPLE * ew.width_px, FOVEA_SUPERSAMPLE * ew.height_px)
     gray = cv2.cvtColor(world.render_fovea(centre_px, field_px, size), cv2.COLOR_RGB2GRAY)
@@ -133,15 +145,16 @@ def eye_window_at(world: World, centre_px, distance_px: float, error=None) -> np
     return cv2.resize(gray, (ew.width_px, ew.height_px), interpolation=cv2.INTER_AREA)
 
 
-def sockets_in_window(world: World, centre_px, distance_px: float) -> np.ndarray:
+def sockets_in_window(world: World, centre_px, distance_px: float, error=None) -> np.ndarray:
     """Where the eyeballs' centres lie in the eye window :func:`eye_window_at` cuts there.
 
     (2 eyes, x y) in window pixels (pixel centres at integers), the left eye first: what only
-    the experimenter knows, to fit and measure the robot's socket finders.
+    the experimenter knows, to fit and measure the robot's socket finders. ``error``: as
+    :func:`eye_window_at`'s.
     """
     ew = world.config.eye_window
-    eyes = np.stack([world.data.body(body).xpos for body in EYE_BODIES])
-    uv, _ = world.kinematics.project(eyes, world.head_angle_rad)
+    uv = _eyes_px(world)
+    centre_px, distance_px = _placed(centre_px, distance_px, error)
     field_px = ew.span * distance_px
     half_px = np.array([1.0, ew.height_px / ew.width_px]) * field_px / 2
     corner = np.asarray(centre_px, float) - half_px
