@@ -101,3 +101,28 @@ def test_the_follower_reads_a_socket_model_from_a_fovea_frame(people_views, sock
     assert draw_look(frame, look).shape == frame.shape
     step = np.deg2rad(run.agent.lm_step_deg)
     assert np.linalg.norm(look.command_rad) == pytest.approx(step, rel=1e-6)
+
+
+def test_the_closed_loop_runs_a_socket_model_through_its_fovea(socket_run, needs_gl):
+    """closed-loop on an eye model: each first look is the fovea's view, every window whole."""
+    from jointattention.jobs.closed_loop import closed_loop
+
+    run, model = socket_run
+    result = closed_loop(model, 1, 4, seed=1)
+    assert result.n_trials == 4 and result.faces_found >= 0.5
+    for value in (result.rendered_success, result.rendered_box_face_success,
+                  result.rendered_dataset_face_success, result.fast_success):
+        assert 0 <= value <= 1
+    assert 0 <= result.image_error_deg <= 180 and 0 <= result.dataset_error_deg <= 180
+
+
+def test_the_closed_loop_refuses_data_sets_without_the_models_eyes(socket_run):
+    """Data sets with no eye windows, for a model that reads the eyes: one DatasetError line."""
+    from jointattention.errors import DatasetError
+    from jointattention.experiment.cells import datasets_of
+    from jointattention.jobs.closed_loop import closed_loop
+
+    run, model = socket_run
+    no_eyes = dataclasses.replace(datasets_of(run), eyes=None)
+    with pytest.raises(DatasetError, match="eye windows none; expected the model's: 24x12 px"):
+        closed_loop(model, 1, 2, datasets=no_eyes)

@@ -48,7 +48,7 @@ from ._readers import loads_json, read_npz, shipped_path
 from .errors import DatasetError, FileError
 
 __all__ = ["MAX_TARGET_M", "SCHEMA_VERSION", "CaregiverDatasets", "default_datasets", "load",
-           "save", "scenes_sha256", "shipped_file", "views_of"]
+           "save", "scenes_sha256", "shipped_file", "views_of", "window_mismatch"]
 
 SCHEMA_VERSION = 2  # the newest; version 1 is version 2 without ``caregiver``
 MAX_TARGET_M = 100.0  # a target farther than this from the robot is not a scene it can see
@@ -110,6 +110,23 @@ class CaregiverDatasets:
     def n_caregivers(self) -> int | None:
         """How many distinct caregivers the ``caregiver`` field names (None without it)."""
         return None if self.caregiver is None else len(np.unique(self.caregiver))
+
+
+def window_mismatch(ds: CaregiverDatasets, face_px, eye_px) -> str | None:
+    """How ``ds``'s windows differ from a model's (face ``face_px``, eyes ``eye_px`` or None).
+
+    None if they are the same size; else what differs, as an error message says it.
+    """
+    def said(size):
+        return "none" if size is None else f"{size[0]}x{size[1]} px"
+
+    face_px, eye_px = tuple(face_px), None if eye_px is None else tuple(eye_px)
+    if ds.window_size_px != face_px:
+        return f"face windows of {said(ds.window_size_px)}; expected the model's {said(face_px)}"
+    if ds.eye_window_size_px != eye_px:
+        return (f"eye windows {said(ds.eye_window_size_px)}; expected the model's: "
+                f"{said(eye_px)}")
+    return None
 
 
 def views_of(face: np.ndarray, eyes: np.ndarray | None) -> np.ndarray:

@@ -21,7 +21,7 @@ import numpy as np
 from .._checks import check_int
 from .._readers import loads_toml
 from ..config import Config, WorldConfig, load_config
-from ..datasets import CaregiverDatasets
+from ..datasets import CaregiverDatasets, window_mismatch
 from ..errors import ConfigError, DatasetError, FileError
 from ..rng import stream
 from ..world.identity import Caregiver, caregiver_from_dict
@@ -185,16 +185,9 @@ def evaluate_agent(agent, ds: CaregiverDatasets, config: Config, *, name: str = 
     if not isinstance(ds, CaregiverDatasets):
         raise ConfigError(f"datasets {ds!r}: expected CaregiverDatasets (jointattention."
                           "load_datasets)")
-    if ds.window_size_px != tuple(agent.body.face_size_px):
-        raise ConfigError(f"{name or 'data sets'}: face windows of {ds.window_size_px[0]}x"
-                          f"{ds.window_size_px[1]} px; expected the model's "
-                          f"{agent.body.face_size_px[0]}x{agent.body.face_size_px[1]}")
-    mine = getattr(agent.body, "eye_size_px", None)
-    if ds.eye_window_size_px != (None if mine is None else tuple(mine)):
-        def said(size):
-            return "none" if size is None else f"{size[0]}x{size[1]} px"
-        raise ConfigError(f"{name or 'data sets'}: eye windows {said(ds.eye_window_size_px)}; "
-                          f"expected the model's: {said(mine)}")
+    wrong = window_mismatch(ds, agent.body.face_size_px, getattr(agent.body, "eye_size_px", None))
+    if wrong is not None:
+        raise ConfigError(f"{name or 'data sets'}: {wrong}")
     if ceiling is None:
         ceiling = oracle_success(ds, config, n_objects, n_trials, seed)
     success = frozen_success(agent, ds, config, n_objects, n_trials, seed)

@@ -8,6 +8,12 @@ same trials, in the fast world (data-set face windows, projected objects) is the
 between the two, the rendered trials given the experimenter's window (cut around the head's
 projection in the same image) and the data set's window tell where the loss is: the finder's
 window, the image, or the object detector and evaluator.
+
+A model that reads the eyes too (``[world.eye_window]``) is shown, for its first look, the view
+rendered through its fovea (``zoom`` times the camera's size), as a robot with a finer sensor
+would take it: the follower finds the face in it shrunk and the eyes in it whole
+(:class:`~jointattention.deploy.follower.GazeFollower`). The experimenter's window then holds
+the eye window cut at the eyeballs' centres too, and the data set's window its kept eyes.
 """
 
 from __future__ import annotations
@@ -20,7 +26,7 @@ import numpy as np
 from ..agent.finders import DEFAULT_FACE
 from ..agent.protocol import LM, Outcome
 from ..config import WorldConfig
-from ..datasets import CaregiverDatasets
+from ..datasets import CaregiverDatasets, views_of, window_mismatch
 from ..deploy.follower import GazeFollower
 from ..deploy.saved import LearnedModel
 from ..errors import DatasetError
@@ -30,23 +36,40 @@ from ..experiment.trial import SceneTrial, run_trial
 from ..rng import stream
 from ..world.identity import Caregiver
 from ..world.kinematics import HeadKinematics
-from ..world.recording import capture_face_window, caregivers_of
+from ..world.recording import (
+    capture_face_window,
+    caregivers_of,
+    eye_box,
+    eye_window_at,
+    eye_window_kept,
+)
 from ..world.rendered import RenderedScenes
 
 __all__ = ["TABLE_HEAD", "ClosedLoopResult", "FollowingAgent", "caregivers_shown",
-           "check_windows", "closed_loop"]
+           "check_windows", "closed_loop", "experimenters_view"]
 
 
 def check_windows(ds: CaregiverDatasets, model: LearnedModel, where: str) -> None:
-    """Refuse data sets whose face windows are not the model's size, before any trial.
+    """Refuse data sets whose face or eye windows are not the model's size, before any trial.
 
     ``where``: how the data sets are named in the error.
     """
-    fw = model.config.world.face_window
-    if ds.window_size_px != (fw.width_px, fw.height_px):
-        w, h = ds.window_size_px
-        raise DatasetError(f"{where}: face windows of {w}x{h} pixels; expected the model's "
-                           f"{fw.width_px}x{fw.height_px} (its world's face_window)")
+    wrong = window_mismatch(ds, model.robot.face_size_px, model.robot.eye_size_px)
+    if wrong is not None:
+        raise DatasetError(f"{where}: {wrong} (its world's face_window and eye_window)")
+
+
+def experimenters_view(world, image: np.ndarray, eyes: bool) -> np.ndarray:
+    """The window cut around the head's projection in ``image``; with ``eyes``, then the eyes'.
+
+    The eye window is cut at the eyeballs' centres (:func:`~jointattention.world.recording.
+    eye_box`, which only the experimenter knows) and kept as the model's robot keeps it.
+    """
+    face = capture_face_window(world, image)
+    if not eyes:
+        return face
+    kept = eye_window_kept(world.config.eye_window, eye_window_at(world, *eye_box(world)))
+    return views_of(face, kept)
 
 
 def caregivers_shown(ds: CaregiverDatasets, world: WorldConfig) -> list[Caregiver] | None:
@@ -72,7 +95,7 @@ class FollowingAgent:
         self.model, self.learning_time_steps = model, 0
 
     def begin_trial(self, face_window: np.ndarray, theta_rad: np.ndarray) -> None:
-        """Keep the face window of this trial."""
+        """Keep this trial's view (its face window; and eyes, for a model that reads them)."""
         self._face = face_window
 
     def act(self, detections, theta_rad: np.ndarray) -> tuple[np.ndarray, str]:
@@ -135,6 +158,7 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
     rng = stream(seed, "closed-loop", n_objects)
     scenes = RenderedScenes(config.world, config.detector, n_objects, seed=config.seed,
                             rng=stream(seed, "closed-loop-render", n_objects))
+    fovea_px = follower.frame_size_px  # None: the model reads the camera's image alone
     wins = {"rendered": 0, "rendered_box_face": 0, "rendered_dataset_face": 0, "fast": 0}
     found, errors = 0, {"image": [], "dataset": []}
     try:
@@ -146,18 +170,21 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
             rendered = scenes.show(fast, face_m)
             trial = SceneTrial(rendered, theta, kinematics=kin, max_steps=config.agent.max_steps,
                                evaluate=evaluate)  # its first look renders the start image
-            look = follower.look(rendered.last_image, theta)
-            box = capture_face_window(scenes.world, rendered.last_image)
-            errors["dataset"].append(angle_deg(model.lm_command(ds.face[k], theta),
+            image = rendered.last_image if fovea_px is None else scenes.world.render_fovea(
+                kin.centre_px, kin.width_px, fovea_px)  # the head is at theta: the start view
+            look = follower.look(image, theta)
+            box = experimenters_view(scenes.world, rendered.last_image, fovea_px is not None)
+            errors["dataset"].append(angle_deg(model.lm_command(ds.view(k), theta),
                                                ds.command_rad[k]))
             if look is not None:
                 found += 1
                 errors["image"].append(angle_deg(look.command_rad, ds.command_rad[k]))
-                wins["rendered"] += run_trial(trial, agent, look.window).success
+                seen = look.window if look.eyes is None else views_of(look.window, look.eyes)
+                wins["rendered"] += run_trial(trial, agent, seen).success
             for name, scene, window in (
                     ("rendered_box_face", scenes.show(fast, face_m), box),
-                    ("rendered_dataset_face", scenes.show(fast, face_m), ds.face[k]),
-                    ("fast", fast, ds.face[k])):
+                    ("rendered_dataset_face", scenes.show(fast, face_m), ds.view(k)),
+                    ("fast", fast, ds.view(k))):
                 trial = SceneTrial(scene, theta, kinematics=kin,
                                    max_steps=config.agent.max_steps, evaluate=evaluate)
                 wins[name] += run_trial(trial, agent, window).success
