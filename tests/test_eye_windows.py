@@ -107,7 +107,7 @@ def test_the_closed_loop_runs_a_socket_model_through_its_fovea(socket_run, needs
     """closed-loop on an eye model: each first look is the fovea's view, every window whole."""
     from jointattention.jobs.closed_loop import closed_loop
 
-    run, model = socket_run
+    _, model = socket_run
     result = closed_loop(model, 1, 4, seed=1)
     assert result.n_trials == 4 and result.faces_found >= 0.5
     for value in (result.rendered_success, result.rendered_box_face_success,
