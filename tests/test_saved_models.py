@@ -425,6 +425,33 @@ def test_the_readme_follow_command_finds_the_face_in_the_shipped_frame(tmp_path,
     assert (tmp_path / "follow" / "camera_view_follow.png").is_file()
 
 
+def test_the_people_model_follows_in_the_shipped_fovea_frame(tmp_path, capsys, needs_gl):
+    """The shipped people-world model reads face and eyes in fovea_view_people.jpg: a command.
+
+    camera_view.py --people draws the frame (compared as an image, to a few grey levels) and
+    names the head angle that follow --theta takes.
+    """
+    import subprocess
+    import sys
+
+    import cv2
+
+    root = Path(__file__).resolve().parent.parent
+    frame = root / "docs" / "results" / "robot" / "fovea_view_people.jpg"
+    drawn = tmp_path / "view.jpg"
+    said = subprocess.run([sys.executable, str(root / "docs" / "results" / "robot"
+                                               / "camera_view.py"), str(drawn), "--people"],
+                          check=True, capture_output=True, text=True, timeout=300).stdout
+    diff = np.abs(cv2.imread(str(drawn)).astype(int) - cv2.imread(str(frame)).astype(int))
+    assert diff.shape == (960, 1280, 3) and np.mean(diff) < 2.0
+    theta = said.split("follow ")[1].split()[0]
+    assert main(["follow", str(root / "docs" / "results" / "people" / "sockets_net_n10.npz"),
+                 str(frame), theta, "--out", str(tmp_path / "follow")]) == 0
+    record = json.loads(capsys.readouterr().out.strip())
+    assert record["face"]["score"] > 0.5 and record["command_deg"] is not None
+    assert (tmp_path / "follow" / "fovea_view_people_follow.png").is_file()
+
+
 SHIPPED_MODEL = (Path(__file__).resolve().parents[1] / "docs" / "results" / "generalise"
                  / "population_n10.npz")
 RECORD_SCENES = """

@@ -127,3 +127,17 @@ def test_the_fitting_script_fits_a_network_that_numpy_runs(tmp_path, needs_gl):
     assert proc.returncode == 0, proc.stderr
     assert SocketNet.load(out).window_px == (128, 48)
     assert "| socket network (socket_net) |" in table.read_text()
+
+
+def test_recordings_by_the_network_are_cached_under_its_sum(monkeypatch):
+    """A network fitted again (a new SHA-256) records anew; the bank's recordings keep theirs."""
+    from jointattention import data
+    from jointattention.experiment.dataset_cache import recorded_path
+
+    people = load_config("people").world
+    by = {finder: dataclasses.replace(people, eye_window=dataclasses.replace(
+        SOCKETS, socket_finder=finder)) for finder in ("net", "bank")}
+    before = {finder: recorded_path(world, 8, 1) for finder, world in by.items()}
+    monkeypatch.setitem(data.SHA256, "eye_socket_net.npz", "0" * 64)
+    assert recorded_path(by["net"], 8, 1) != before["net"]
+    assert recorded_path(by["bank"], 8, 1) == before["bank"]
