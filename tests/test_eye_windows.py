@@ -126,3 +126,27 @@ def test_the_closed_loop_refuses_data_sets_without_the_models_eyes(socket_run):
     no_eyes = dataclasses.replace(datasets_of(run), eyes=None)
     with pytest.raises(DatasetError, match="eye windows none; expected the model's: 24x12 px"):
         closed_loop(model, 1, 2, datasets=no_eyes)
+
+
+def test_following_moves_as_the_learned_agent_does_when_its_module_leads(socket_run):
+    """The closed loop's follower runs the module's trial: the agent's own moves, gate at LM."""
+    from jointattention.experiment.cells import datasets_of, evaluator, random_scene
+    from jointattention.experiment.evaluate import freeze
+    from jointattention.experiment.trial import SceneTrial, run_trial
+    from jointattention.jobs.closed_loop import FollowingAgent
+    from jointattention.rng import stream
+    from jointattention.world.kinematics import HeadKinematics
+
+    run, model = socket_run
+    ds, kin = datasets_of(run), HeadKinematics.from_config(run.world)
+    leader = freeze(model.agent)
+    leader.gate_rate = lambda: 1.0  # the learning module moves the head at every step
+    follower, rng = FollowingAgent(model), stream(0, "follow-test")
+    for _ in range(12):
+        k, scene, _ = random_scene(run, ds, kin, 3, rng)
+        outcomes = [run_trial(SceneTrial(scene, ds.theta_face_rad[k], kinematics=kin,
+                                         max_steps=run.agent.max_steps,
+                                         evaluate=evaluator(run)), agent, ds.view(k))
+                    for agent in (leader, follower)]
+        assert outcomes[0].success == outcomes[1].success
+        assert outcomes[0].n_steps == outcomes[1].n_steps

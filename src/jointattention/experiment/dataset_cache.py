@@ -8,8 +8,8 @@ only on the world's configuration, the counts, the seed, the stream and the pack
 network fitted again records other patches), so it is kept under a name made from them:
 ``$JOINTATTENTION_CACHE`` (default ``~/.cache/jointattention``) ``/datasets/<hash>.npz``,
 written atomically (two processes recording the same file both write whole files). A run
-records them in its own process before its cells (:func:`~.held_out.held_out_sets`), so that worker processes only read them:
-a process forked after its parent rendered cannot render.
+records them in its own process before its cells (:func:`~.held_out.held_out_sets`), so that
+worker processes only read them: a process forked after its parent rendered cannot render.
 """
 
 from __future__ import annotations

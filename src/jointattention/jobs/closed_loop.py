@@ -23,6 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._arrays import angles, views
 from ..agent.finders import DEFAULT_FACE
 from ..agent.protocol import LM, Outcome
 from ..config import WorldConfig
@@ -31,6 +32,7 @@ from ..deploy.follower import GazeFollower
 from ..deploy.saved import LearnedModel
 from ..errors import DatasetError
 from ..experiment.cells import datasets_of, evaluator, random_scene
+from ..experiment.evaluate import freeze
 from ..experiment.probes import angle_deg
 from ..experiment.trial import SceneTrial, run_trial
 from ..rng import stream
@@ -88,20 +90,33 @@ def caregivers_shown(ds: CaregiverDatasets, world: WorldConfig) -> list[Caregive
 class FollowingAgent:
     """A learned model as an agent that only follows: the learning module moves the head.
 
-    It learns no more (``end_trial`` does nothing): what is measured is what was saved.
+    A bootstrap model's module runs its trial as it did in learning: it reads the face once at
+    the start, then each step moves toward what it read (the population code along its line
+    from the face, the memory toward its recalled place, the network by its command at each
+    head angle). Other models give their learning module's command at each step. It learns no
+    more (``end_trial`` does nothing): what is measured is what was saved.
     """
 
     def __init__(self, model: LearnedModel):
         self.model, self.learning_time_steps = model, 0
+        self.agent = freeze(model.agent)  # the module's trial state is its own, not the model's
+        self.module = getattr(self.agent, "module", None)
 
     def begin_trial(self, face_window: np.ndarray, theta_rad: np.ndarray) -> None:
-        """Keep this trial's view (its face window; and eyes, for a model that reads them)."""
+        """Read this trial's view (its face window; and eyes, for a model that reads them)."""
         self._face = face_window
+        if self.module is not None:
+            self.module.begin(views("face_window", face_window, self.agent.body),
+                              angles("theta_rad", theta_rad))
 
     def act(self, detections, theta_rad: np.ndarray) -> tuple[np.ndarray, str]:
         """One step of the learning module."""
         self.learning_time_steps += 1
-        return self.model.lm_command(self._face, theta_rad), LM
+        if self.module is None:
+            return self.model.lm_command(self._face, theta_rad), LM
+        theta = angles("theta_rad", theta_rad)
+        self.module.observe(detections, theta)
+        return self.module.step(theta), LM
 
     def end_trial(self, outcome: Outcome) -> None:
         """Nothing is learned."""
