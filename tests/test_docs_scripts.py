@@ -234,17 +234,19 @@ def test_summarise_names_a_missing_cell_in_one_line(short_run, tmp_path):
 
 
 def test_fresh_measures_a_saved_model_on_fresh_caregivers(tmp_path, needs_gl):
-    """generalise/fresh.py --quick on the shipped model: a row per set and a summary."""
+    """generalise/fresh.py --quick on the shipped model: a row per set, a summary, its command."""
     models = tmp_path / "models"
     models.mkdir()
     shipped = DOCS / "results" / "generalise" / "population_n10.npz"
-    (models / "population-n10-s0.npz").symlink_to(shipped)
+    (models / "shipped-10-0.npz").symlink_to(shipped)
     out = tmp_path / "fresh.md"
     _run("results/generalise/fresh.py", "--quick", "--models", models, "--objects", "10",
-         "--training-seeds", "1", "--out", out, cwd=tmp_path,
-         env={"JOINTATTENTION_CACHE": str(tmp_path / "cache")})
+         "--training-seeds", "1", "--files", "shipped-{n}-{i}.npz", "--held-out-seeds", "2026",
+         "--out", out, cwd=tmp_path, env={"JOINTATTENTION_CACHE": str(tmp_path / "cache")})
     rows = _rows(out, "| population-n10 |")
     assert len(rows) == 2 and all("nan" not in r for r in rows)
+    assert rows[0].count("|") == 12  # with the novelty column
+    assert "--files shipped-{n}-{i}.npz --held-out-seeds 2026" in out.read_text()  # its command
 
 
 def test_lookup_writes_a_row_per_kind_of_face(tmp_path):
