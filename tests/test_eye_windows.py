@@ -14,6 +14,7 @@ from jointattention.agent.blazeface import BlazeFace
 from jointattention.agent.eye_windows import eye_landmarks, eye_window_of
 from jointattention.config import load_config
 from jointattention.deploy.overlay import draw_look
+from jointattention.errors import ArgumentError
 from jointattention.world.options import EyeWindowConfig
 from jointattention.world.recording import HELD_OUT, eye_box, eye_window_at
 from jointattention.world.simulator import World
@@ -150,3 +151,20 @@ def test_following_moves_as_the_learned_agent_does_when_its_module_leads(socket_
                     for agent in (leader, follower)]
         assert outcomes[0].success == outcomes[1].success
         assert outcomes[0].n_steps == outcomes[1].n_steps
+
+
+def test_the_follower_steps_through_a_trial_from_one_look(people_views, socket_run):
+    """The follower looks once (begin), then steps on from it; a step with no trial: one error."""
+    run, model = socket_run
+    follower = GazeFollower(model)
+    with pytest.raises(ArgumentError, match=r"expected begin\(frame, theta\) first"):
+        follower.step(np.zeros(2))
+    start = np.zeros(2)
+    look = next(x for f, *_ in people_views[:4] if (x := follower.begin(f, start)) is not None)
+    np.testing.assert_allclose(follower.step(start), look.command_rad, atol=1e-12)
+    theta = start.copy()
+    for _ in range(3):  # along the line read at the face, one step at a time
+        step = follower.step(theta)
+        assert np.linalg.norm(step) == pytest.approx(np.deg2rad(run.agent.lm_step_deg))
+        theta = theta + step
+    np.testing.assert_allclose(theta, 3 * look.command_rad, atol=1e-9)

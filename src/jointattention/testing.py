@@ -32,11 +32,11 @@ from pathlib import Path
 
 import numpy as np
 
+from .agent.protocol import freeze
 from .config import ConditionConfig, Config
 from .deploy.saved import check_savable, load_model, save_model
 from .errors import ConfigError, JointAttentionError
 from .experiment.cells import datasets_of, evaluator, make_agent, random_scene, run_cell
-from .experiment.evaluate import freeze
 from .experiment.trial import SceneTrial, run_trial
 from .models.registry import MODELS, ModelOptions
 from .world.kinematics import HeadKinematics

@@ -9,16 +9,19 @@ report (:class:`~jointattention.agent.detections.Detections`) and how each trial
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 from typing import Any, NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
 from .._jit import jit
+from ..errors import ConfigError
 from .detections import Detections
 
 __all__ = ["LM", "RANDOM", "VF", "Agent", "AgentKernels", "Body", "ModuleKernels", "Outcome",
-           "TrialKernels", "judge_target", "no_observe", "no_passed_over", "see_as_is"]
+           "TrialKernels", "freeze", "judge_target", "no_observe", "no_passed_over",
+           "see_as_is"]
 
 # The modules that may move the head (the second value of Agent.act).
 VF, LM, RANDOM = "vf", "lm", "random"
@@ -230,3 +233,18 @@ class TrialKernels(NamedTuple):
     begin: Any
     act: Any
     learn: Any
+
+
+def freeze(agent):
+    """A copy of ``agent`` that learns nothing (``learning = False``); ``agent`` is untouched.
+
+    What only learning reads (a learning module's ``learning_only()``: the population code's
+    replay memory, 178 MB when full) is not copied: the copy holds empty arrays in its place.
+    """
+    if not hasattr(agent, "learning"):
+        raise ConfigError(f"{type(agent).__name__}: this model cannot be frozen (it has no "
+                          "'learning' switch); expected a model of the package's registry")
+    unread = getattr(getattr(agent, "module", None), "learning_only", tuple)()
+    frozen = copy.deepcopy(agent, {id(a): a[:0].copy() for a in unread})
+    frozen.learning = False
+    return frozen

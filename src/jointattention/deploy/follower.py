@@ -35,8 +35,9 @@ from ..agent.eye_sockets import eye_patches
 from ..agent.eye_windows import eye_landmarks, eye_window_of
 from ..agent.faces import Face, window_of
 from ..agent.finders import DEFAULT_FACE, FACE_METHODS, check_finder, finder_for
+from ..datasets import views_of
 from ..errors import ArgumentError, ConfigError
-from .saved import LearnedModel, Robot, load_model
+from .saved import LearnedModel, LMTrial, Robot, load_model
 
 __all__ = ["EYE_MIN_SCORE", "FACE_METHODS", "GazeFollower", "Look"]
 
@@ -59,6 +60,11 @@ class Look:
     window: np.ndarray
     command_rad: np.ndarray
     eyes: np.ndarray | None = None
+
+    @property
+    def view(self) -> np.ndarray:
+        """What the model read, as its ``lm_command`` takes it: the window, then the eyes flat."""
+        return views_of(self.window, self.eyes)
 
 
 class GazeFollower:
@@ -87,6 +93,7 @@ class GazeFollower:
         self.eye_net = (BlazeFace(EYE_MIN_SCORE if min_score is None else min_score)
                         if self.eye_window is not None else None)
         self.model, self.face = model, face
+        self._trial: LMTrial | None = None
         self.finder = finder_for(face, model.face_template() if face == "template" else None,
                                  min_score, refine=refine)
 
@@ -151,8 +158,34 @@ class GazeFollower:
         command = self.model.lm_command(np.r_[window.ravel(), eyes.ravel()], theta)
         return Look(_in_frame(face, frame.shape[1] / camera.shape[1]), window, command, eyes)
 
+    def begin(self, frame_rgb: np.ndarray, theta_rad) -> Look | None:
+        """A trial's look at the face, the head at it: the face, its window and the first step.
+
+        :meth:`step` then moves the head on as the model's learning module did when it led in
+        learning (:meth:`~jointattention.deploy.saved.LearnedModel.lm_trial`): once at the
+        face, then step by step, is how the population code and the memory follow a gaze.
+        None: no face, and no trial.
+        """
+        look = self.look(frame_rgb, theta_rad)
+        self._trial = None if look is None else self.model.lm_trial(look.view, theta_rad)
+        return look
+
+    def step(self, theta_rad, detections=None) -> np.ndarray:
+        """(dpan, dtilt) in radians: the trial's next step, the head now at ``theta_rad``.
+
+        ``detections``: the robot's detector's report now, for a model whose module looks
+        (the memory's); the others need none.
+        """
+        if self._trial is None:
+            raise ArgumentError("step: no trial to step in; expected begin(frame, theta) first, "
+                                "with the head at the caregiver and her face found")
+        return self._trial.step(self.check_angle(theta_rad), detections)
+
     def command(self, frame_rgb: np.ndarray, theta_rad) -> np.ndarray | None:
-        """(dpan, dtilt) in radians, one step toward where the caregiver looks; None: no face."""
+        """(dpan, dtilt) in radians, a first step toward where she looks; None: no face.
+
+        The first step of a trial from this frame: :meth:`begin` and :meth:`step` run the rest.
+        """
         look = self.look(frame_rgb, theta_rad)
         return None if look is None else look.command_rad
 

@@ -46,22 +46,23 @@ import json
 import math
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
 
-from .._arrays import angles
+from .._arrays import angles, views
 from .._checks import check_path, short_repr
 from .._files import save_npz
 from .._readers import loads_json, loads_toml, read_npz
 from .._version import __version__
-from ..agent.protocol import Body
+from ..agent.protocol import Body, freeze
 from ..config import Config, check_config, condition_named, load_config, model_options, to_toml
 from ..errors import ArgumentError, ConfigError, FileError
 from ..models.bootstrap import BootstrapAgent
 from ..models.registry import MODELS, ModelOptions
 
-__all__ = ["SCHEMA_VERSION", "LearnedModel", "Robot", "check_savable", "load_model",
+__all__ = ["SCHEMA_VERSION", "LMTrial", "LearnedModel", "Robot", "check_savable", "load_model",
            "save_model"]
 
 _MAX_WEIGHT_ABS, _MAX_SUM_ABS = 1e6, 1e18  # beyond: not learned, and commands overflow to NaN
@@ -116,6 +117,37 @@ class Robot:
             mine[k] is not None and not np.allclose(mine[k], theirs[k], rtol=0, atol=1e-9))]
 
 
+class LMTrial:
+    """The learning module through one trial, moving the head as it did when it led in learning.
+
+    A bootstrap agent's module reads the view once, with the head at the face, then each step
+    moves toward what it read: the population code along its line from the face, the memory
+    toward its recalled place, the paper's network by its command at each head angle. So a
+    robot follows a gaze by one look at the face and then steps, not by a new look at every
+    frame (that reads the face from a head turned away, which these modules never learned
+    from). A model with no such module gives its learning module's command at each step.
+    """
+
+    def __init__(self, agent, view: np.ndarray, theta_rad: np.ndarray):
+        self._agent, self._view = agent, view
+        self._module = getattr(agent, "module", None)
+        if self._module is not None:
+            self._module.begin(views("view", view, agent.body), theta_rad)
+
+    def step(self, theta_rad, detections=None) -> np.ndarray:
+        """(dpan, dtilt) in radians, one step, from the head at ``theta_rad``.
+
+        ``detections``: what the robot's detector reports at this step, for a module that
+        looks (the memory's); None: nothing is observed.
+        """
+        theta = angles("theta_rad", theta_rad)
+        if self._module is None:
+            return self._agent.lm_command(self._view, theta)
+        if detections is not None:
+            self._module.observe(detections, theta)
+        return self._module.step(theta)
+
+
 @dataclass(frozen=True)
 class LearnedModel:
     """A learned agent (bootstrap or teacher) and the robot, configuration and data it had."""
@@ -145,6 +177,20 @@ class LearnedModel:
         see it.
         """
         return self.agent.lm_command(face_window, angles("theta_rad", theta_rad))
+
+    def lm_trial(self, view: np.ndarray, theta_rad) -> LMTrial:
+        """The learning module's trial from ``view``, the head at the face at ``theta_rad``.
+
+        ``view`` as :meth:`lm_command` takes it. Its :meth:`~LMTrial.step` moves the head as
+        the module moved it when it led in learning. The model learns nothing from it; one
+        trial runs at a time (a new one ends the one before).
+        """
+        return LMTrial(self._following, view, angles("theta_rad", theta_rad))
+
+    @cached_property
+    def _following(self):
+        """A frozen copy of the agent whose module runs the trials (:meth:`lm_trial`)."""
+        return freeze(self.agent)
 
     def face_template(self) -> np.ndarray:
         """The mean of the faces it learned from, (H, W) uint8: a template to find them."""

@@ -11,7 +11,6 @@ and per caregiver identity.
 from __future__ import annotations
 
 import contextlib
-import copy
 import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -20,6 +19,7 @@ import numpy as np
 
 from .._checks import check_int
 from .._readers import loads_toml
+from ..agent.protocol import freeze
 from ..config import Config, WorldConfig, load_config
 from ..datasets import CaregiverDatasets, window_mismatch
 from ..errors import ConfigError, DatasetError, FileError
@@ -75,21 +75,6 @@ class Evaluation:
     def as_dict(self) -> dict:
         """The fields and ``fraction_of_ceiling``, as plain numbers (for JSON and CSV)."""
         return {**dataclasses.asdict(self), "fraction_of_ceiling": self.fraction_of_ceiling}
-
-
-def freeze(agent):
-    """A copy of ``agent`` that learns nothing (``learning = False``); ``agent`` is untouched.
-
-    What only learning reads (a learning module's ``learning_only()``: the population code's
-    replay memory, 178 MB when full) is not copied: the copy holds empty arrays in its place.
-    """
-    if not hasattr(agent, "learning"):
-        raise ConfigError(f"{type(agent).__name__}: this model cannot be frozen (it has no "
-                          "'learning' switch); expected a model of the package's registry")
-    unread = getattr(getattr(agent, "module", None), "learning_only", tuple)()
-    frozen = copy.deepcopy(agent, {id(a): a[:0].copy() for a in unread})
-    frozen.learning = False
-    return frozen
 
 
 def frozen_success(agent, ds: CaregiverDatasets, config: Config, n_objects: int,

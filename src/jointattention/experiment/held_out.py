@@ -16,13 +16,14 @@ from collections.abc import Callable
 import numpy as np
 
 from .._readers import shipped_path
+from ..agent.protocol import freeze
 from ..config import ConditionConfig, Config, WorldConfig, to_toml
 from ..datasets import CaregiverDatasets, load
 from ..errors import ConfigError
 from .cells import datasets_of, run_cell
 from .controls import blank_spread_deg, mirror_flip_share
 from .dataset_cache import recorded_file
-from .evaluate import _errors, data_sets_novelty, freeze, frozen_success, who_posed
+from .evaluate import _errors, data_sets_novelty, frozen_success, who_posed
 from .probes import probe_sets
 
 __all__ = ["KINDS", "MEASURES", "checkpoint_steps", "final_held_out", "held_out_datasets",

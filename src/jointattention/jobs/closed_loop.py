@@ -23,7 +23,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._arrays import angles, views
 from ..agent.finders import DEFAULT_FACE
 from ..agent.protocol import LM, Outcome
 from ..config import WorldConfig
@@ -32,7 +31,6 @@ from ..deploy.follower import GazeFollower
 from ..deploy.saved import LearnedModel
 from ..errors import DatasetError
 from ..experiment.cells import datasets_of, evaluator, random_scene
-from ..experiment.evaluate import freeze
 from ..experiment.probes import angle_deg
 from ..experiment.trial import SceneTrial, run_trial
 from ..rng import stream
@@ -90,33 +88,22 @@ def caregivers_shown(ds: CaregiverDatasets, world: WorldConfig) -> list[Caregive
 class FollowingAgent:
     """A learned model as an agent that only follows: the learning module moves the head.
 
-    A bootstrap model's module runs its trial as it did in learning: it reads the face once at
-    the start, then each step moves toward what it read (the population code along its line
-    from the face, the memory toward its recalled place, the network by its command at each
-    head angle). Other models give their learning module's command at each step. It learns no
-    more (``end_trial`` does nothing): what is measured is what was saved.
+    Each trial is the module's own (:meth:`~jointattention.deploy.saved.LearnedModel.lm_trial`):
+    it reads the face once at the start, then steps as it did when it led in learning. It
+    learns no more (``end_trial`` does nothing): what is measured is what was saved.
     """
 
     def __init__(self, model: LearnedModel):
         self.model, self.learning_time_steps = model, 0
-        self.agent = freeze(model.agent)  # the module's trial state is its own, not the model's
-        self.module = getattr(self.agent, "module", None)
 
     def begin_trial(self, face_window: np.ndarray, theta_rad: np.ndarray) -> None:
         """Read this trial's view (its face window; and eyes, for a model that reads them)."""
-        self._face = face_window
-        if self.module is not None:
-            self.module.begin(views("face_window", face_window, self.agent.body),
-                              angles("theta_rad", theta_rad))
+        self._trial = self.model.lm_trial(face_window, theta_rad)
 
     def act(self, detections, theta_rad: np.ndarray) -> tuple[np.ndarray, str]:
         """One step of the learning module."""
         self.learning_time_steps += 1
-        if self.module is None:
-            return self.model.lm_command(self._face, theta_rad), LM
-        theta = angles("theta_rad", theta_rad)
-        self.module.observe(detections, theta)
-        return self.module.step(theta), LM
+        return self._trial.step(theta_rad, detections), LM
 
     def end_trial(self, outcome: Outcome) -> None:
         """Nothing is learned."""
@@ -194,8 +181,7 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
             if look is not None:
                 found += 1
                 errors["image"].append(angle_deg(look.command_rad, ds.command_rad[k]))
-                seen = look.window if look.eyes is None else views_of(look.window, look.eyes)
-                wins["rendered"] += run_trial(trial, agent, seen).success
+                wins["rendered"] += run_trial(trial, agent, look.view).success
             for name, scene, window in (
                     ("rendered_box_face", scenes.show(fast, face_m), box),
                     ("rendered_dataset_face", scenes.show(fast, face_m), ds.view(k)),
