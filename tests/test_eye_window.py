@@ -118,8 +118,7 @@ def test_the_fovea_renders_the_whole_view_finer_than_the_camera():
     with World(EYES, seed=3) as world:
         kin = world.kinematics
         before = world.render()
-        fine = world.render_fovea(kin.centre_px, kin.width_px,
-                                  (4 * kin.width_px, 4 * kin.height_px))
+        fine = world.render_zoomed(4)
         small = np.asarray(fine.reshape(kin.height_px, 4, kin.width_px, 4, 3).mean(axis=(1, 3)))
         assert fine.shape == (4 * kin.height_px, 4 * kin.width_px, 3)
         assert world.model.vis.global_.offwidth == kin.width_px

@@ -45,12 +45,10 @@ def people_views():
         eye_window=EyeWindowConfig(width_px=128, height_px=48, span=2.67))
     views = []
     with World(world_config, seed=4242, stream=HELD_OUT) as world:
-        kin = world.kinematics
         for i in range(32):
             world.reset(new_identity=i > 0 and i % 2 == 0)
             world.set_head_angle(world.face_angle_rad)
-            frame = world.render_fovea(kin.centre_px, kin.width_px,
-                                       (4 * kin.width_px, 4 * kin.height_px))
+            frame = world.render_zoomed(4)
             centre, distance = eye_box(world)
             views.append((frame, 4 * centre + 1.5, 4 * distance,
                           eye_window_at(world, centre, distance)))

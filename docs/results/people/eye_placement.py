@@ -115,7 +115,7 @@ def first_errors(model, world_config, n_caregivers: int, n_poses: int, zoom: int
             centre, distance = eye_box(world)
             for sd in TESTED_SD:
                 errors[sd].append(placed_at(centre, distance, place.normal(0.0, sd, 3)))
-            fine = world.render_fovea(kin.centre_px, kin.width_px, fine_size)
+            fine = world.render_zoomed(zoom)
             found = net.detect(fine)
             if found:  # the eyes where BlazeFace puts them, back in camera pixels
                 marks = (found[0].landmarks_px[:2] - fine_centre) / zoom + kin.centre_px

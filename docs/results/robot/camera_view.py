@@ -50,9 +50,8 @@ def main() -> None:
             # whole degrees, as follow --theta takes them back
             theta = np.deg2rad(np.round(np.rad2deg(world.face_angle_rad)))
             world.set_head_angle(theta)
-            kin, zoom = world.kinematics, world_config.eye_window.zoom
-            image = world.render_fovea(kin.centre_px, kin.width_px,
-                                       (round(zoom * kin.width_px), round(zoom * kin.height_px)))
+            kin = world.kinematics
+            image = world.render_zoomed(world_config.eye_window.zoom)
             pan, tilt = np.rad2deg(theta) + 0.0  # no "-0"
             print(f"head at pan {pan:.0f} deg, tilt {tilt:.0f} deg: follow "
                   f"--theta={pan:.0f},{tilt:.0f}")  # "=": a negative pan is no option

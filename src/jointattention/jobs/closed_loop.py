@@ -160,7 +160,7 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
     rng = stream(seed, "closed-loop", n_objects)
     scenes = RenderedScenes(config.world, config.detector, n_objects, seed=config.seed,
                             rng=stream(seed, "closed-loop-render", n_objects))
-    fovea_px = follower.frame_size_px  # None: the model reads the camera's image alone
+    reads_eyes = follower.frame_size_px is not None  # then its frames are its fovea's
     wins = {"rendered": 0, "rendered_box_face": 0, "rendered_dataset_face": 0, "fast": 0}
     found, errors = 0, {"image": [], "dataset": []}
     try:
@@ -172,20 +172,20 @@ def closed_loop(model: LearnedModel, n_objects: int, n_trials: int, *, seed: int
             rendered = scenes.show(fast, face_m)
             trial = SceneTrial(rendered, theta, kinematics=kin, max_steps=config.agent.max_steps,
                                evaluate=evaluate)  # its first look renders the start image
-            image = rendered.last_image if fovea_px is None else scenes.world.render_fovea(
-                kin.centre_px, kin.width_px, fovea_px)  # the head is at theta: the start view
+            image = (scenes.world.render_zoomed(config.world.eye_window.zoom) if reads_eyes
+                     else rendered.last_image)  # the head is at theta: the start view
             look = follower.look(image, theta)
-            box = experimenters_view(scenes.world, rendered.last_image, fovea_px is not None)
-            errors["dataset"].append(angle_deg(model.lm_command(ds.view(k), theta),
-                                               ds.command_rad[k]))
+            box = experimenters_view(scenes.world, rendered.last_image, reads_eyes)
+            view = ds.view(k)
+            errors["dataset"].append(angle_deg(model.lm_command(view, theta), ds.command_rad[k]))
             if look is not None:
                 found += 1
                 errors["image"].append(angle_deg(look.command_rad, ds.command_rad[k]))
                 wins["rendered"] += run_trial(trial, agent, look.view).success
             for name, scene, window in (
                     ("rendered_box_face", scenes.show(fast, face_m), box),
-                    ("rendered_dataset_face", scenes.show(fast, face_m), ds.view(k)),
-                    ("fast", fast, ds.view(k))):
+                    ("rendered_dataset_face", scenes.show(fast, face_m), view),
+                    ("fast", fast, view)):
                 trial = SceneTrial(scene, theta, kinematics=kin,
                                    max_steps=config.agent.max_steps, evaluate=evaluate)
                 wins[name] += run_trial(trial, agent, window).success

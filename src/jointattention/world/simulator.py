@@ -186,9 +186,7 @@ class World:
         finer sensor sees there: the ``"fovea"`` camera's intrinsics are set to cut exactly
         that part of the image plane (the same pinhole, so the same perspective), through the
         scene's sensor effects. The eye window is cut from it
-        (:func:`~.recording.capture_eye_window`); the whole view at ``zoom`` times the
-        camera's resolution is ``render_fovea(kinematics.centre_px, width_px, (zoom * width_px,
-        zoom * height_px))``.
+        (:func:`~.recording.capture_eye_window`); the whole view finer is :meth:`render_zoomed`.
         """
         m, kin = self.model, self.kinematics
         width, height = size_px
@@ -212,6 +210,17 @@ class World:
         r = self._fovea_renderers[key]
         r.update_scene(self.data, camera="fovea")
         return apply_sensor(r.render().copy(), self.state.look, self._noise)
+
+    def render_zoomed(self, zoom: float) -> np.ndarray:
+        """The robot's whole view through the fovea, ``zoom`` times the camera's resolution.
+
+        RGB uint8 (round(zoom * height), round(zoom * width), 3): what a camera of the same
+        pose with a sensor ``zoom`` times finer sees (:meth:`render_fovea` over the whole
+        image), the frames a model that reads the eyes takes.
+        """
+        kin = self.kinematics
+        return self.render_fovea(kin.centre_px, kin.width_px,
+                                 (round(zoom * kin.width_px), round(zoom * kin.height_px)))
 
     def object_geom_ids(self) -> np.ndarray:
         """The MuJoCo geom id of each object (to read segmentation images)."""
