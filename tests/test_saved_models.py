@@ -399,6 +399,30 @@ def test_a_model_s_recorded_data_sets_are_recorded_again_with_progress(tmp_path,
     assert len(counts) == 6  # kept: not recorded again
 
 
+ROBOT_DOCS = Path(__file__).resolve().parents[1] / "docs" / "results" / "robot"
+
+
+def _drawn_again(shipped: Path, tmp_path: Path, *args: str) -> tuple[np.ndarray, str]:
+    """camera_view.py ``args`` run again: its frame's difference from ``shipped``, its stdout."""
+    import subprocess
+    import sys
+
+    import cv2
+
+    drawn = tmp_path / f"view{shipped.suffix}"
+    said = subprocess.run([sys.executable, str(ROBOT_DOCS / "camera_view.py"), str(drawn), *args],
+                          check=True, capture_output=True, text=True, timeout=300).stdout
+    return np.abs(cv2.imread(str(drawn)).astype(int) - cv2.imread(str(shipped)).astype(int)), said
+
+
+def _follows(model: Path, frame: Path, tmp_path: Path, capsys, *args: str) -> None:
+    """``follow model frame args`` finds a face, prints a command and writes its overlay."""
+    assert main(["follow", str(model), str(frame), *args, "--out", str(tmp_path / "follow")]) == 0
+    record = json.loads(capsys.readouterr().out.strip())
+    assert record["face"]["score"] > 0.5 and record["command_deg"] is not None
+    assert (tmp_path / "follow" / f"{frame.stem}_follow.png").is_file()
+
+
 def test_the_readme_follow_command_finds_the_face_in_the_shipped_frame(tmp_path, capsys,
                                                                        needs_gl):
     """The README's follow command, on the shipped camera_view.png, finds a face and a command.
@@ -406,23 +430,10 @@ def test_the_readme_follow_command_finds_the_face_in_the_shipped_frame(tmp_path,
     The frame is what docs/results/robot/camera_view.py draws (the same bytes where the renderer is
     this machine's; compared as an image elsewhere, to a few grey levels).
     """
-    import subprocess
-    import sys
-
-    import cv2
-
-    root = Path(__file__).resolve().parent.parent
-    frame = root / "docs" / "results" / "robot" / "camera_view.png"
-    drawn = tmp_path / "view.png"
-    subprocess.run([sys.executable, str(root / "docs" / "results" / "robot" / "camera_view.py"),
-                    str(drawn)], check=True, capture_output=True, timeout=300)
-    diff = np.abs(cv2.imread(str(drawn)).astype(int) - cv2.imread(str(frame)).astype(int))
+    frame = ROBOT_DOCS / "camera_view.png"
+    diff, _ = _drawn_again(frame, tmp_path)
     assert np.mean(diff) < 2.0
-    assert main(["follow", str(root / "docs" / "results" / "generalise" / "population_n10.npz"),
-                 str(frame), "--out", str(tmp_path / "follow")]) == 0
-    record = json.loads(capsys.readouterr().out.strip())
-    assert record["face"]["score"] > 0.5 and record["command_deg"] is not None
-    assert (tmp_path / "follow" / "camera_view_follow.png").is_file()
+    _follows(ROBOT_DOCS.parent / "generalise" / "population_n10.npz", frame, tmp_path, capsys)
 
 
 def test_the_people_model_follows_in_the_shipped_fovea_frame(tmp_path, capsys, needs_gl):
@@ -431,25 +442,12 @@ def test_the_people_model_follows_in_the_shipped_fovea_frame(tmp_path, capsys, n
     camera_view.py --people draws the frame (compared as an image, to a few grey levels) and
     names the head angle that follow --theta takes.
     """
-    import subprocess
-    import sys
-
-    import cv2
-
-    root = Path(__file__).resolve().parent.parent
-    frame = root / "docs" / "results" / "robot" / "fovea_view_people.jpg"
-    drawn = tmp_path / "view.jpg"
-    said = subprocess.run([sys.executable, str(root / "docs" / "results" / "robot"
-                                               / "camera_view.py"), str(drawn), "--people"],
-                          check=True, capture_output=True, text=True, timeout=300).stdout
-    diff = np.abs(cv2.imread(str(drawn)).astype(int) - cv2.imread(str(frame)).astype(int))
+    frame = ROBOT_DOCS / "fovea_view_people.jpg"
+    diff, said = _drawn_again(frame, tmp_path, "--people")
     assert diff.shape == (960, 1280, 3) and np.mean(diff) < 2.0
     theta = said.split("follow ")[1].split()[0]
-    assert main(["follow", str(root / "docs" / "results" / "people" / "sockets_net_n10.npz"),
-                 str(frame), theta, "--out", str(tmp_path / "follow")]) == 0
-    record = json.loads(capsys.readouterr().out.strip())
-    assert record["face"]["score"] > 0.5 and record["command_deg"] is not None
-    assert (tmp_path / "follow" / "fovea_view_people_follow.png").is_file()
+    _follows(ROBOT_DOCS.parent / "people" / "sockets_net_n10.npz", frame, tmp_path, capsys,
+             theta)
 
 
 SHIPPED_MODEL = (Path(__file__).resolve().parents[1] / "docs" / "results" / "generalise"
