@@ -48,9 +48,10 @@ def _conv(x: np.ndarray, w: np.ndarray, b: np.ndarray, dilation: int) -> np.ndar
 
 def _pool(x: np.ndarray) -> np.ndarray:
     """2 x 2 max pooling (odd edges dropped)."""
-    n, c, h, w = x.shape
-    x = x[:, :, : h // 2 * 2, : w // 2 * 2]
-    return x.reshape(n, c, h // 2, 2, w // 2, 2).max(axis=(3, 5))
+    h, w = x.shape[2] // 2 * 2, x.shape[3] // 2 * 2
+    # four strided maxima: numpy's max over two inner axes of a reshape is many times slower
+    return np.maximum(np.maximum(x[:, :, 0:h:2, 0:w:2], x[:, :, 0:h:2, 1:w:2]),
+                      np.maximum(x[:, :, 1:h:2, 0:w:2], x[:, :, 1:h:2, 1:w:2]))
 
 
 class SocketNet:
