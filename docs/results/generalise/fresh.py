@@ -13,7 +13,7 @@ records 32 caregivers x 25 poses from each of three held-out seeds (2026, 77, 42
 or test of the repository uses them), and measures each model frozen on each set with its own
 object count (:func:`jointattention.evaluate`, 10,000 trials of the model and of the oracle).
 Writes one row per model and set, then the mean and the worst over them, and the command that
-wrote them. Other models (e.g. the people world's, docs/results/people/shipped.md) take
+wrote them. Other models (e.g. the people world's, docs/results/people/sockets_net_n10.md) take
 ``--files`` (``{n}``: the object count, ``{i}``: the seed index) and seeds of their own
 (``--held-out-seeds``). ``--quick`` (the tests' run): one held-out seed, 2 caregivers x 2
 poses, 50 trials.
