@@ -25,6 +25,7 @@ DOCS = ROOT / "docs"
 # Scripts under docs/ that another test file runs, and that file.
 RUN_ELSEWHERE = {
     "results/people/head_pose_bound.py": "test_people_docs.py",
+    "results/people/ladder.py": "test_people_docs.py",
     "results/people/novelty.py": "test_people_docs.py",
     "results/people/record.py": "test_people_docs.py",
     "results/people/robustness.py": "test_people_docs.py",

@@ -86,3 +86,15 @@ def test_the_novelty_of_a_preset_s_held_out_sets_is_written(tmp_path):
     _run("novelty.py", "default", "--out", str(out))
     rows = [r for r in out.read_text().splitlines() if r.startswith("| default |")]
     assert [r.split("|")[2].strip() for r in rows] == ["new poses", "unseen caregivers"]
+
+
+def test_the_ladder_is_gathered_from_the_runs_own_tables(tmp_path):
+    """ladder.py writes the shipped ladder.md again, a row per run, from the runs' tables."""
+    out = tmp_path / "ladder.md"
+    _run("ladder.py", "--out", str(out))
+    assert out.read_text() == (DOCS / "ladder.md").read_text()
+    runs = [r.split("|")[1].strip(" `") for r in out.read_text().splitlines()[2:]
+            if r.startswith("| `")]
+    assert runs[0] == "people" and {"eyes", "sockets_net"} <= set(runs)
+    sockets_net = (DOCS / "sockets_net" / "held_out.md").read_text().splitlines()[3]
+    assert f"| {sockets_net.split('|')[5].strip()} (" in out.read_text()  # its 10 objects
