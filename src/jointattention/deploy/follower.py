@@ -155,7 +155,7 @@ class GazeFollower:
                              (ew.width_px, ew.height_px), ew.span)
         if ew.socket_patch_px:
             eyes = eye_patches(eyes, ew.span, ew.socket_patch_px, ew.socket_finder)
-        command = self.model.lm_command(np.r_[window.ravel(), eyes.ravel()], theta)
+        command = self.model.lm_command(views_of(window, eyes), theta)
         return Look(_in_frame(face, frame.shape[1] / camera.shape[1]), window, command, eyes)
 
     def begin(self, frame_rgb: np.ndarray, theta_rad) -> Look | None:
