@@ -250,6 +250,33 @@ def test_fresh_measures_a_saved_model_on_fresh_caregivers(tmp_path, needs_gl):
     assert "--files shipped-{n}-{i}.npz --held-out-seeds 2026" in out.read_text()  # its command
 
 
+def test_fresh_records_the_caregivers_of_another_world(tmp_path, needs_gl):
+    """fresh.py --world: the model among another world's caregivers, newer than its own."""
+    models = tmp_path / "models"
+    models.mkdir()
+    (models / "m-10-0.npz").symlink_to(DOCS / "results" / "generalise" / "population_n10.npz")
+    novelty = []
+    for world in ([], ["--world", "people"]):
+        out = tmp_path / f"fresh{len(world)}.md"
+        _run("results/generalise/fresh.py", "--quick", "--models", models, "--objects", "10",
+             "--training-seeds", "1", "--files", "m-{n}-{i}.npz", "--held-out-seeds", "2026",
+             *world, "--out", out, cwd=tmp_path,
+             env={"JOINTATTENTION_CACHE": str(tmp_path / "cache")})
+        novelty.append(float(_rows(out, "| population-n10 |")[0].split("|")[-2].split(",")[0]))
+    assert "--world people" in out.read_text()
+    assert novelty[1] > 2 * novelty[0]  # the people world's caregivers lie far from its own
+
+
+def test_fresh_refuses_an_unknown_world_before_recording(tmp_path):
+    """fresh.py --world NAME that is no preset or file: one line naming it, nothing written."""
+    out = tmp_path / "fresh.md"
+    proc = subprocess.run([sys.executable, str(DOCS / "results/generalise/fresh.py"),
+                           "--world", "no-such-world", "--out", str(out)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert "--world" in proc.stderr.splitlines()[-1] and not out.exists()
+
+
 def test_lookup_writes_a_row_per_kind_of_face(tmp_path):
     """generalise/lookup.py --quick: training, new poses and unseen caregivers' rows."""
     out = tmp_path / "lookup.md"

@@ -41,7 +41,8 @@ def test_the_robustness_table_has_a_row_per_group_and_object_count(tmp_path, nee
     _run("robustness.py", str(model), "--caregivers", "2", "--poses", "2", "--trials", "20",
          "--out", str(out))
     rows = [r for r in out.read_text().splitlines() if r.startswith(f"| `{model}`")]
-    assert len(rows) == 2 * 11  # its own world, nine groups, all at once
+    # its own world, nine groups, all at once, the many-caregivers world (the default is its own)
+    assert len(rows) == 2 * 12
     assert all("nan" not in r for r in rows)  # it learned from 3: the novelty is measured
 
 

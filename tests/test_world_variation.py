@@ -129,6 +129,18 @@ def test_many_caregivers_vary_the_look_of_each_scene():
         assert all(lo_hi[0] <= getattr(look, field) <= lo_hi[1] for look in looks), field
 
 
+def test_a_world_peopled_as_another_keeps_its_own_robot():
+    """with_people_of takes the other world's people and setting, and keeps camera and windows."""
+    own = dataclasses.replace(load_config("people").world,
+                              camera=dataclasses.replace(WorldConfig().camera, width_px=160))
+    mixed = own.with_people_of(MANY)
+    for name in ("caregiver", "identity", "lighting", "room", "sensor"):
+        assert getattr(mixed, name) == getattr(MANY, name), name
+    for name in ("camera", "head", "objects", "face_window", "eye_window"):
+        assert getattr(mixed, name) == getattr(own, name), name
+    assert mixed != MANY and own.with_people_of(own) == own
+
+
 def test_camera_effects_change_the_eye_image_only(needs_gl):
     """Blur, gain and noise change the robot's image, not segmentation nor the overview camera."""
     effects = Look(blur_sd_px=1.0, gain=1.3, noise_sd=4.0, noise_seed=7)

@@ -4,7 +4,8 @@ Usage::
 
     python docs/results/generalise/fresh.py [--models runs/trained]
         [--out docs/results/generalise/fresh.md] [--objects 5 10] [--training-seeds 3]
-        [--held-out-seeds 2026 77 4242] [--files population-n{n}-s{i}.npz] [--quick]
+        [--held-out-seeds 2026 77 4242] [--files population-n{n}-s{i}.npz]
+        [--world PRESET|FILE.toml] [--quick]
 
 Reads the models ``population-n5-s{0,1,2}.npz`` and ``population-n10-s{0,1,2}.npz`` that
 ``jointattention train --preset generalise --condition population-nN --seed-index I --out
@@ -15,8 +16,10 @@ object count (:func:`jointattention.evaluate`, 10,000 trials of the model and of
 Writes one row per model and set, then the mean and the worst over them, and the command that
 wrote them. Other models (e.g. the people world's, docs/results/people/sockets_net_n10.md) take
 ``--files`` (``{n}``: the object count, ``{i}``: the seed index) and seeds of their own
-(``--held-out-seeds``). ``--quick`` (the tests' run): one held-out seed, 2 caregivers x 2
-poses, 50 trials.
+(``--held-out-seeds``). ``--world`` records the caregivers of another world instead, with
+the model's own robot (:meth:`~jointattention.config.WorldConfig.with_people_of`: e.g. a
+people-world model among the default world's caregivers, ``--world generalise``).
+``--quick`` (the tests' run): one held-out seed, 2 caregivers x 2 poses, 50 trials.
 """
 
 from __future__ import annotations
@@ -30,6 +33,8 @@ import numpy as np
 
 import jointattention as ja
 from jointattention._files import write_text
+from jointattention.config import load_config
+from jointattention.errors import ConfigError
 from jointattention.experiment.held_out import held_out_datasets
 
 SEEDS = (2026, 77, 4242)
@@ -49,8 +54,16 @@ def main() -> None:
                         "file or test uses them)")
     parser.add_argument("--files", default="population-n{n}-s{i}.npz",
                         help="the models' file names in --models ({n}: objects, {i}: seed index)")
+    parser.add_argument("--world", metavar="PRESET|FILE.toml",
+                        help="record the caregivers, light, room and sensor of this "
+                        "configuration's world, with the model's own camera and windows "
+                        "(default: the model's own world)")
     parser.add_argument("--quick", action="store_true", help="small sets (the tests' run)")
     args = parser.parse_args()
+    try:  # before any recording: a bad name is one line, not a traceback
+        people = None if args.world is None else load_config(args.world).world
+    except ConfigError as e:
+        parser.error(f"--world: {e}")
     seeds, n_caregivers, n_poses, n_trials = (tuple(args.held_out_seeds), N_CAREGIVERS,
                                               N_POSES, N_TRIALS)
     if args.quick:
@@ -66,7 +79,9 @@ def main() -> None:
         for i in range(args.training_seeds):
             model = ja.load_model(args.models / args.files.format(n=n, i=i))
             for seed in seeds:
-                ds = held_out_datasets(model.config.world, n_caregivers, n_poses, seed)
+                world = model.config.world
+                ds = held_out_datasets(world if people is None else world.with_people_of(people),
+                                       n_caregivers, n_poses, seed)
                 e = ja.evaluate(model, ds, n_objects=n, n_trials=n_trials, seed=seed)
                 fractions.append(e.fraction_of_ceiling)
                 medians.append(e.median_error_deg)

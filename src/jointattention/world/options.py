@@ -261,6 +261,17 @@ class WorldConfig(Section):
                 f"{cg.distance_m}{spread}), so that it can look at them"
             )
 
+    def with_people_of(self, other: WorldConfig) -> WorldConfig:
+        """This world with ``other``'s people and setting, and its own robot.
+
+        The caregivers (``caregiver``, ``identity``), ``lighting``, ``room`` and ``sensor``
+        are ``other``'s; the camera, head, objects and windows stay this world's: the world a
+        model learned in, peopled as another world is (e.g. a people-world model among the
+        default world's caregivers).
+        """
+        return dataclasses.replace(self, **{name: getattr(other, name) for name in (
+            "caregiver", "identity", "lighting", "room", "sensor")})
+
     def to_toml(self) -> str:
         """This world as a ``[world]`` section of TOML, which :func:`load_config` reads back."""
         return dumps({"world": to_mapping(self)})
