@@ -78,10 +78,10 @@ def main() -> None:
         fractions, medians, shares = [], [], []
         for i in range(args.training_seeds):
             model = ja.load_model(args.models / args.files.format(n=n, i=i))
+            world = model.config.world
+            world = world if people is None else world.with_people_of(people)
             for seed in seeds:
-                world = model.config.world
-                ds = held_out_datasets(world if people is None else world.with_people_of(people),
-                                       n_caregivers, n_poses, seed)
+                ds = held_out_datasets(world, n_caregivers, n_poses, seed)
                 e = ja.evaluate(model, ds, n_objects=n, n_trials=n_trials, seed=seed)
                 fractions.append(e.fraction_of_ceiling)
                 medians.append(e.median_error_deg)
