@@ -25,6 +25,7 @@ def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path
     learners = [row.split(" | ")[0].lstrip("| ") for row in table[2:] if row.startswith("| ")]
     assert learners == ["PPO", "A2C", "SAC", "TD3", "DQN", "A2C, learning_rate=2e-4",
                         "DQN, gamma=0.9", "TD3, action_noise=N(0, 0.1)",
+                        "TD3, action_noise=N(0, 0.1), learning_rate=1e-4",
                         "own RL model (kind rl), runner",
                         "bootstrap model (paper), runner", "random actions", "random actions"]
     for dqn in (row for row in table if row.startswith("| DQN")):
