@@ -28,9 +28,10 @@ re-run with the same arguments resumes from it). An off-policy run (SAC, TD3: ab
 a second on one core, two and a half hours a seed) also saves its model and replay buffer in
 ``checkpoints/`` every ``--checkpoint-every`` steps; stopped, the same command continues it
 from there, and a finished run deletes them. ``--finished-only`` trains nothing and writes the
-table from the runs that have finished, each row naming its seeds. ``--quick`` runs a few
-hundred steps of each, one seed, 10 episodes per measure (the test suite runs it; its numbers
-mean nothing).
+table from the runs that have finished, each row naming its seeds. ``--merge FOLDER ...``
+first adds the finished runs of other output folders, so that seeds run in parallel, each
+with its own ``--out``, make one table. ``--quick`` runs a few hundred steps of each, one
+seed, 10 episodes per measure (the test suite runs it; its numbers mean nothing).
 """
 
 from __future__ import annotations
@@ -279,6 +280,10 @@ def main() -> None:
                         help="train nothing: write the table from the runs that have finished "
                              "(each row names the seeds it holds; a run still under way is "
                              "left out)")
+    parser.add_argument("--merge", nargs="+", default=[], metavar="FOLDER",
+                        help="first add the finished runs of these output folders (seeds run "
+                             "in parallel, each with its own --out); a run this folder "
+                             "already holds is kept")
     parser.add_argument("--quick", action="store_true",
                         help=f"{QUICK['steps']} steps, the first seed, {QUICK['episodes']} "
                              "episodes per measure (a smoke test)")
@@ -287,9 +292,18 @@ def main() -> None:
     if args.quick:
         steps, episodes, seeds = QUICK["steps"], QUICK["episodes"], seeds[:1]
     out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     done_path = out / "baselines_runs.json"  # every finished run: a re-run resumes
     done = json.loads(done_path.read_text()) if done_path.exists() else {}
+    merged = {}
+    for folder in args.merge:  # all read before anything is written
+        runs = _finished_runs(Path(folder))
+        if isinstance(runs, str):
+            parser.error(f"--merge {folder}: {runs}")
+        merged |= runs
+    out.mkdir(parents=True, exist_ok=True)
+    if merged:
+        done = merged | done
+        _write(done, done_path)
     rows = []
     for algo in args.algos:
         records = []
@@ -305,9 +319,7 @@ def main() -> None:
                              if algo in LEARNERS else
                              sb3_record(algo, args.n_objects, steps, seed, episodes, args.quick,
                                         checkpoint, every))
-                tmp = done_path.with_suffix(".tmp")
-                tmp.write_text(json.dumps(done, indent=1))
-                tmp.replace(done_path)
+                _write(done, done_path)
                 if checkpoint is not None:
                     shutil.rmtree(checkpoint, ignore_errors=True)
             records.append(done[key] | {"seed": seed})
@@ -321,6 +333,28 @@ def main() -> None:
                    algos + " --finished-only" * args.finished_only)
     (out / "baselines.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
+
+
+def _finished_runs(folder: Path) -> dict | str:
+    """The finished runs another output folder holds, or what is wrong with it."""
+    path = folder / "baselines_runs.json"
+    if not path.is_file():
+        return f"no {path.name} there; expected the --out folder of a finished run"
+    try:
+        runs = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
+        return f"{path.name} is not readable JSON ({error})"
+    ok = isinstance(runs, dict) and all(
+        isinstance(run, dict) and {"final", "frozen", "minutes"} <= run.keys()
+        for run in runs.values())
+    return runs if ok else f"{path.name} does not hold this command's runs"
+
+
+def _write(done: dict, path: Path) -> None:
+    """Every finished run, replaced at once, so a stopped command leaves no half file."""
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps(done, indent=1))
+    tmp.replace(path)
 
 
 _NAMES = {"ppo": "PPO", "a2c": "A2C", "sac": "SAC", "td3": "TD3", "dqn": "DQN",

@@ -15,7 +15,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path):
-    """``rl_baselines.py --quick``: every learner's row, a resumed run, ``--finished-only``."""
+    """``rl_baselines.py --quick``: every row, a resumed run, ``--finished-only``, ``--merge``."""
     pytest.importorskip("stable_baselines3", reason="needs the rl extra: make test-rl")
     proc = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
                            "--quick", "--out", str(tmp_path)], capture_output=True, text=True,
@@ -43,7 +43,8 @@ def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path
     assert again.returncode == 0 and "td3 seed 0" in again.stdout  # resumed: no retraining
     assert json.loads((tmp_path / "baselines_runs.json").read_text()) == runs
     # --finished-only: a run not finished is a row that says so, and nothing is trained
-    del runs[next(key for key in runs if key.startswith("td3 "))]
+    td3 = next(key for key in runs if key.startswith("td3 "))
+    elsewhere = {td3: runs.pop(td3)}
     (tmp_path / "baselines_runs.json").write_text(json.dumps(runs))
     table_only = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
                                  "--quick", "--finished-only", "--out", str(tmp_path)],
@@ -54,6 +55,19 @@ def test_the_baselines_command_writes_one_row_per_learner_in_quick_mode(tmp_path
             for row in (tmp_path / "baselines.md").read_text().splitlines()[2:2 + learned]}
     assert rows["TD3"][2] == "not yet run" and rows["TD3"][-1] == "none"
     assert rows["SAC"][-1] == "0" and rows["SAC"][2] != "-"
+    # --merge: a run finished in another output folder joins this one's table
+    # (and a run both folders hold stays as this folder has it)
+    sac = next(key for key in runs if key.startswith("sac "))
+    (tmp_path / "td3-alone").mkdir()
+    (tmp_path / "td3-alone" / "baselines_runs.json").write_text(
+        json.dumps(elsewhere | {sac: runs[sac] | {"minutes": -1.0}}))
+    joined = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
+                             "--quick", "--finished-only", "--out", str(tmp_path),
+                             "--merge", str(tmp_path / "td3-alone")],
+                            capture_output=True, text=True, timeout=900)
+    assert joined.returncode == 0, joined.stderr
+    assert json.loads((tmp_path / "baselines_runs.json").read_text()) == runs | elsewhere
+    assert "| TD3 | JointAttentionFace-N1-v2 | " in (tmp_path / "baselines.md").read_text()
 
 
 def _baselines_module():
@@ -84,3 +98,19 @@ def test_an_off_policy_run_continues_from_its_checkpoint(tmp_path):
     assert again.replay_buffer.pos == rows  # 200 restored, 100 new
     stored = np.load(checkpoint / "at-200" / "replay.npz")
     np.testing.assert_array_equal(again.replay_buffer.actions[:200], stored["actions"])
+
+
+@pytest.mark.parametrize("content", [None, "{not json", '{"ppo | N1": 3}'])
+def test_merging_a_folder_without_runs_is_one_error_line_and_writes_nothing(tmp_path,
+                                                                            content):
+    """``--merge`` of a folder with no, broken or foreign runs: one line, nothing written."""
+    other = tmp_path / "other"
+    other.mkdir()
+    if content is not None:
+        (other / "baselines_runs.json").write_text(content)
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
+                           "--finished-only", "--out", str(tmp_path / "out"),
+                           "--merge", str(other)], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert proc.stderr.strip().splitlines()[-1].startswith("rl_baselines.py: error: --merge ")
+    assert not (tmp_path / "out").exists()
