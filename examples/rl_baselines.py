@@ -358,11 +358,24 @@ def _write(done: dict, path: Path) -> None:
 
 
 _NAMES = {"ppo": "PPO", "a2c": "A2C", "sac": "SAC", "td3": "TD3", "dqn": "DQN",
-          "a2c-lr-2e-4": "A2C, learning_rate=2e-4", "dqn-gamma-0.9": "DQN, gamma=0.9",
-          "td3-noise-0.1": "TD3, action_noise=N(0, 0.1)",
-          "td3-noise-0.1-lr-1e-4": "TD3, action_noise=N(0, 0.1), learning_rate=1e-4",
           "own-rl": "own RL model (kind rl), runner",
           "bootstrap": "bootstrap model (paper), runner"}
+
+
+def _name(algo: str) -> str:
+    """A row's label: the algorithm, then the arguments its tuned setting changes."""
+    if algo not in TUNED:
+        return _NAMES[algo]
+    base, tuned = TUNED[algo]
+    return ", ".join([_NAMES[base], *(f"{arg}={_value(arg, v)}" for arg, v in tuned.items())])
+
+
+def _value(arg: str, value: float) -> str:
+    """An argument as the label writes it: 2e-4, not 0.0002; the noise as its Gaussian."""
+    if arg == "action_noise":
+        return f"N(0, {value:g})"
+    mantissa, exponent = f"{value:e}".split("e")
+    return f"{value:g}" if value >= 1e-2 else f"{float(mantissa):g}e{int(exponent)}"
 
 
 def _fmt(values) -> str:
@@ -381,7 +394,7 @@ def _table(rows, floors, n_objects, steps, seeds, episodes, quick, algos) -> lis
              "deterministic: unseen | minutes per seed | seeds |", "|---" * 11 + "|"]
     for algo, records in rows:
         if not records:  # --finished-only, and none of its runs has finished
-            lines.append(f"| {_NAMES[algo]} | {env_id(algo, n_objects)} | not yet run"
+            lines.append(f"| {_name(algo)} | {env_id(algo, n_objects)} | not yet run"
                          + " | -" * 7 + " | none |")
             continue
         env = env_id(algo, n_objects) if algo not in LEARNERS else \
@@ -392,7 +405,7 @@ def _table(rows, floors, n_objects, steps, seeds, episodes, quick, algos) -> lis
                             for r in records]) for s in SPLITS]
         minutes = np.mean([r["minutes"] for r in records])
         ran = " ".join(str(r["seed"]) for r in records)
-        lines.append(f"| {_NAMES[algo]} | {env} | {' | '.join(cells)} | {minutes:.1f} | {ran} |")
+        lines.append(f"| {_name(algo)} | {env} | {' | '.join(cells)} | {minutes:.1f} | {ran} |")
     for env, values in floors.items():
         lines.append(f"| random actions | {env} | - | "
                      + " | ".join(f"{values[s]:.3f}" for s in SPLITS) + " | - | - | - | - | - |")
