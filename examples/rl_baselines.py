@@ -47,6 +47,7 @@ import gymnasium as gym
 import numpy as np
 
 import jointattention.env  # noqa: F401  (registers the environments)
+from jointattention._files import write_text  # whole or not at all: a stop leaves no half file
 
 ALGOS = ("ppo", "a2c", "sac", "td3", "dqn")
 # Where the defaults fail, a documented setting: {name: (algorithm, its non-default arguments)}.
@@ -303,7 +304,7 @@ def main() -> None:
     out.mkdir(parents=True, exist_ok=True)
     if merged:
         done = merged | done
-        _write(done, done_path)
+        write_text(done_path, json.dumps(done, indent=1))
     rows = []
     for algo in args.algos:
         records = []
@@ -319,7 +320,7 @@ def main() -> None:
                              if algo in LEARNERS else
                              sb3_record(algo, args.n_objects, steps, seed, episodes, args.quick,
                                         checkpoint, every))
-                _write(done, done_path)
+                write_text(done_path, json.dumps(done, indent=1))
                 if checkpoint is not None:
                     shutil.rmtree(checkpoint, ignore_errors=True)
             records.append(done[key] | {"seed": seed})
@@ -331,7 +332,7 @@ def main() -> None:
              f" --algos {' '.join(args.algos)}")
     lines = _table(rows, floors, args.n_objects, steps, seeds, episodes, args.quick,
                    algos + " --finished-only" * args.finished_only)
-    (out / "baselines.md").write_text("\n".join(lines) + "\n")
+    write_text(out / "baselines.md", "\n".join(lines) + "\n")
     print("\n".join(lines))
 
 
@@ -348,13 +349,6 @@ def _finished_runs(folder: Path) -> dict | str:
         isinstance(run, dict) and {"final", "frozen", "minutes"} <= run.keys()
         for run in runs.values())
     return runs if ok else f"{path.name} does not hold this command's runs"
-
-
-def _write(done: dict, path: Path) -> None:
-    """Every finished run, replaced at once, so a stopped command leaves no half file."""
-    tmp = path.with_suffix(".tmp")
-    tmp.write_text(json.dumps(done, indent=1))
-    tmp.replace(path)
 
 
 _NAMES = {"ppo": "PPO", "a2c": "A2C", "sac": "SAC", "td3": "TD3", "dqn": "DQN",
