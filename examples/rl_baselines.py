@@ -289,12 +289,15 @@ def main() -> None:
                         help=f"{QUICK['steps']} steps, the first seed, {QUICK['episodes']} "
                              "episodes per measure (a smoke test)")
     args = parser.parse_args()
+    _check(parser, args)
     steps, episodes, seeds = int(args.steps), args.episodes, args.seeds
     if args.quick:
         steps, episodes, seeds = QUICK["steps"], QUICK["episodes"], seeds[:1]
     out = Path(args.out)
     done_path = out / "baselines_runs.json"  # every finished run: a re-run resumes
-    done = json.loads(done_path.read_text()) if done_path.exists() else {}
+    done = _finished_runs(out) if done_path.exists() else {}
+    if isinstance(done, str):
+        parser.error(f"--out {out}: {done}")
     merged = {}
     for folder in args.merge:  # all read before anything is written
         runs = _finished_runs(Path(folder))
@@ -334,6 +337,26 @@ def main() -> None:
                    algos + " --finished-only" * args.finished_only)
     write_text(out / "baselines.md", "\n".join(lines) + "\n")
     print("\n".join(lines))
+
+
+def _check(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
+    """One error line (argparse's) for an argument out of its range, before anything runs."""
+    if args.steps < 1 or args.steps != int(args.steps):
+        parser.error(f"--steps {args.steps:g}: expected a whole number of steps, at least 1")
+    if args.episodes < 1:
+        parser.error(f"--episodes {args.episodes}: expected at least 1")
+    if args.checkpoint_every < 0:
+        parser.error(f"--checkpoint-every {args.checkpoint_every:g}: expected 0 (never) or "
+                     "more steps")
+    if any(seed < 0 for seed in args.seeds):
+        parser.error(f"--seeds {' '.join(map(str, args.seeds))}: expected seeds of 0 or more")
+    registered = [n for n in range(1, 101) if env_id("ppo", n) in gym.registry]
+    if args.n_objects not in registered:
+        parser.error(f"--n-objects {args.n_objects}: expected one of "
+                     f"{', '.join(map(str, registered))} (the ids JointAttentionFace-N*-v2)")
+    if Path(args.out).exists() and not Path(args.out).is_dir():
+        parser.error(f"--out {args.out}: a file is there; expected a folder (new or an "
+                     "earlier run's)")
 
 
 def _finished_runs(folder: Path) -> dict | str:

@@ -114,3 +114,25 @@ def test_merging_a_folder_without_runs_is_one_error_line_and_writes_nothing(tmp_
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert proc.stderr.strip().splitlines()[-1].startswith("rl_baselines.py: error: --merge ")
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("args, wrong", [
+    (["--steps", "0"], "--steps"), (["--steps", "1.5"], "--steps"),
+    (["--episodes", "0"], "--episodes"), (["--checkpoint-every", "-1"], "--checkpoint-every"),
+    (["--seeds", "0", "-1"], "--seeds"), (["--n-objects", "2"], "--n-objects"),
+    (["--out", "{tmp}/a-file"], "--out"), (["--out", "{tmp}/broken"], "--out")])
+def test_an_argument_out_of_range_is_one_error_line_and_writes_nothing(tmp_path, args, wrong):
+    """Bad steps, episodes, seeds, objects, or an --out that is a file or holds broken runs."""
+    (tmp_path / "a-file").write_text("not a folder")
+    (tmp_path / "broken").mkdir()
+    (tmp_path / "broken" / "baselines_runs.json").write_text("{not json")
+    before = {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()}
+    args = [a.format(tmp=tmp_path) for a in args]
+    out = [] if "--out" in args else ["--out", str(tmp_path / "out")]
+    proc = subprocess.run([sys.executable, str(ROOT / "examples" / "rl_baselines.py"),
+                           "--finished-only", *out, *args], capture_output=True, text=True,
+                          timeout=300)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert proc.stderr.strip().splitlines()[-1].startswith(f"rl_baselines.py: error: {wrong} ")
+    assert not (tmp_path / "out").exists()
+    assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()} == before
