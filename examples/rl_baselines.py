@@ -48,6 +48,7 @@ import numpy as np
 
 import jointattention.env  # noqa: F401  (registers the environments)
 from jointattention._files import write_text  # whole or not at all: a stop leaves no half file
+from jointattention.cli._common import int_in  # argparse's one error line out of range
 
 ALGOS = ("ppo", "a2c", "sac", "td3", "dqn")
 # Where the defaults fail, a documented setting: {name: (algorithm, its non-default arguments)}.
@@ -266,12 +267,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--steps", type=float, default=250_000,
                         help="environment steps of learning per run (default 2.5e5)")
-    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2],
+    parser.add_argument("--seeds", type=int_in(0, 10**6), nargs="+", default=[0, 1, 2],
                         help="seeds (default 0 1 2)")
     parser.add_argument("--algos", nargs="+", default=[*ALGOS, *TUNED, *LEARNERS],
                         choices=[*ALGOS, *TUNED, *LEARNERS], help="what learns (default: all)")
-    parser.add_argument("--n-objects", type=int, default=1, help="objects (default 1)")
-    parser.add_argument("--episodes", type=int, default=1000,
+    parser.add_argument("--n-objects", type=int, default=1, choices=_object_counts(),
+                        help="objects (default 1)")
+    parser.add_argument("--episodes", type=int_in(1, 10**6), default=1000,
                         help="episodes per frozen measure (default 1000)")
     parser.add_argument("--out", default="runs/baselines", help="output folder")
     parser.add_argument("--checkpoint-every", type=float, default=25_000,
@@ -339,21 +341,19 @@ def main() -> None:
     print("\n".join(lines))
 
 
+def _object_counts() -> list[int]:
+    """The object counts with an id to learn: those of the registered ``env_id``s."""
+    return sorted(n for name, spec in gym.registry.items()
+                  if (n := spec.kwargs.get("n_objects")) and name == env_id("ppo", n))
+
+
 def _check(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
-    """One error line (argparse's) for an argument out of its range, before anything runs."""
+    """One error line (argparse's) for an argument its type cannot check, before anything runs."""
     if args.steps < 1 or args.steps != int(args.steps):
         parser.error(f"--steps {args.steps:g}: expected a whole number of steps, at least 1")
-    if args.episodes < 1:
-        parser.error(f"--episodes {args.episodes}: expected at least 1")
     if args.checkpoint_every < 0:
         parser.error(f"--checkpoint-every {args.checkpoint_every:g}: expected 0 (never) or "
                      "more steps")
-    if any(seed < 0 for seed in args.seeds):
-        parser.error(f"--seeds {' '.join(map(str, args.seeds))}: expected seeds of 0 or more")
-    registered = [n for n in range(1, 101) if env_id("ppo", n) in gym.registry]
-    if args.n_objects not in registered:
-        parser.error(f"--n-objects {args.n_objects}: expected one of "
-                     f"{', '.join(map(str, registered))} (the ids JointAttentionFace-N*-v2)")
     if Path(args.out).exists() and not Path(args.out).is_dir():
         parser.error(f"--out {args.out}: a file is there; expected a folder (new or an "
                      "earlier run's)")

@@ -117,10 +117,12 @@ def test_merging_a_folder_without_runs_is_one_error_line_and_writes_nothing(tmp_
 
 
 @pytest.mark.parametrize("args, wrong", [
-    (["--steps", "0"], "--steps"), (["--steps", "1.5"], "--steps"),
-    (["--episodes", "0"], "--episodes"), (["--checkpoint-every", "-1"], "--checkpoint-every"),
-    (["--seeds", "0", "-1"], "--seeds"), (["--n-objects", "2"], "--n-objects"),
-    (["--out", "{tmp}/a-file"], "--out"), (["--out", "{tmp}/broken"], "--out")])
+    (["--steps", "0"], "--steps 0: "), (["--steps", "1.5"], "--steps 1.5: "),
+    (["--episodes", "0"], "argument --episodes: 0: expected an integer in [1, "),
+    (["--checkpoint-every", "-1"], "--checkpoint-every -1: "),
+    (["--seeds", "0", "-1"], "argument --seeds: -1: expected an integer in [0, "),
+    (["--n-objects", "2"], "argument --n-objects: invalid choice: 2 (choose from 1, 3, 5, 10)"),
+    (["--out", "{tmp}/a-file"], "--out "), (["--out", "{tmp}/broken"], "--out ")])
 def test_an_argument_out_of_range_is_one_error_line_and_writes_nothing(tmp_path, args, wrong):
     """Bad steps, episodes, seeds, objects, or an --out that is a file or holds broken runs."""
     (tmp_path / "a-file").write_text("not a folder")
@@ -133,6 +135,6 @@ def test_an_argument_out_of_range_is_one_error_line_and_writes_nothing(tmp_path,
                            "--finished-only", *out, *args], capture_output=True, text=True,
                           timeout=300)
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
-    assert proc.stderr.strip().splitlines()[-1].startswith(f"rl_baselines.py: error: {wrong} ")
+    assert proc.stderr.strip().splitlines()[-1].startswith(f"rl_baselines.py: error: {wrong}")
     assert not (tmp_path / "out").exists()
     assert {p: p.read_bytes() for p in tmp_path.rglob("*") if p.is_file()} == before
