@@ -47,7 +47,7 @@ import gymnasium as gym
 import numpy as np
 
 import jointattention.env  # noqa: F401  (registers the environments)
-from jointattention._files import write_text  # whole or not at all: a stop leaves no half file
+from jointattention._files import atomic_path, write_text  # whole or not at all: no half file
 from jointattention.cli._common import int_in  # argparse's one error line out of range
 
 ALGOS = ("ppo", "a2c", "sac", "td3", "dqn")
@@ -164,15 +164,14 @@ def _save(model, log, checkpoint: Path, seconds: float) -> None:
     folder = checkpoint / f"at-{model.num_timesteps}"
     folder.mkdir(parents=True, exist_ok=True)
     # a replay buffer is a gigabyte: never offered to git, wherever the output folder is
-    (checkpoint.parent / ".gitignore").write_text("*\n")
+    write_text(checkpoint.parent / ".gitignore", "*\n")
     model.save(folder / "model.zip")
     if hasattr(model, "replay_buffer"):
         _save_buffer(model.replay_buffer, folder / "replay.npz")
-    tmp = checkpoint / "log.tmp"
-    tmp.write_text(json.dumps({"steps": model.num_timesteps, "seconds": seconds,
-                               "folder": folder.name, "ends": log.ends,
-                               "wins": [bool(w) for w in log.wins]}))
-    tmp.replace(checkpoint / "log.json")
+    write_text(checkpoint / "log.json",
+               json.dumps({"steps": model.num_timesteps, "seconds": seconds,
+                           "folder": folder.name, "ends": log.ends,
+                           "wins": [bool(w) for w in log.wins]}))
     for old in checkpoint.glob("at-*"):
         if old != folder:
             shutil.rmtree(old, ignore_errors=True)
@@ -201,10 +200,10 @@ def _buffer_arrays(buffer) -> dict[str, np.ndarray]:
 def _save_buffer(buffer, path: Path) -> None:
     """Only the filled rows: SB3's own pickle writes all 10^6 rows (6 GB for this env)."""
     n = buffer.buffer_size if buffer.full else buffer.pos
-    tmp = path.with_suffix(".tmp.npz")
-    np.savez(tmp, pos=buffer.pos, full=buffer.full,
-             **{name: array[:n] for name, array in _buffer_arrays(buffer).items()})
-    tmp.replace(path)
+    # uncompressed: zlib on a gigabyte would cost each checkpoint minutes
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        np.savez(f, pos=buffer.pos, full=buffer.full,
+                 **{name: array[:n] for name, array in _buffer_arrays(buffer).items()})
 
 
 def _load_buffer(buffer, path: Path) -> None:
