@@ -47,8 +47,9 @@ import gymnasium as gym
 import numpy as np
 
 import jointattention.env  # noqa: F401  (registers the environments)
-from jointattention._files import atomic_path, write_text  # whole or not at all: no half file
+from jointattention._files import atomic_path, check_writable, write_text  # no half file
 from jointattention.cli._common import int_in  # argparse's one error line out of range
+from jointattention.errors import FileError
 
 ALGOS = ("ppo", "a2c", "sac", "td3", "dqn")
 # Where the defaults fail, a documented setting: {name: (algorithm, its non-default arguments)}.
@@ -353,9 +354,10 @@ def _check(parser: argparse.ArgumentParser, args: argparse.Namespace) -> None:
     if args.checkpoint_every < 0:
         parser.error(f"--checkpoint-every {args.checkpoint_every:g}: expected 0 (never) or "
                      "more steps")
-    if Path(args.out).exists() and not Path(args.out).is_dir():
-        parser.error(f"--out {args.out}: a file is there; expected a folder (new or an "
-                     "earlier run's)")
+    try:  # a file there, or a place that cannot be written
+        check_writable(args.out, "folder", "--out")
+    except FileError as error:
+        parser.error(str(error))
 
 
 def _finished_runs(folder: Path) -> dict | str:
